@@ -1,0 +1,111 @@
+//! Blinn's homogeneous line clipper (Blinn & Newell 1978; as taught in the seed lecture
+//! `clipping-cohen-sutherland-and-blinn-3d.txt`).
+//!
+//! For an edge A→C, each endpoint gets six boundary coordinates (BCs) and a 6-bit outcode.
+//! `a | c == 0` accepts the edge untouched, `a & c != 0` rejects it untouched. Otherwise the
+//! edge is the parametric segment `P(t) = A + t·(C − A)`, `t ∈ [0, 1]`; every BC is linear in t,
+//! so a plane the edge crosses is hit at `t_hit = BC_A / (BC_A − BC_C)`. Crossings where A is
+//! outside raise `t_in`, crossings where C is outside lower `t_out`; as soon as
+//! `t_in > t_out` the candidate interval is empty and the edge is gone. The survivors are
+//! recomputed from the *original* A and C at `t_in` and `t_out`.
+//!
+//! Only planes that one endpoint is outside of are visited (the others cannot change the
+//! interval), and there is no division by zero: a visited plane has one BC < 0 ≤ the other.
+
+use glam::Vec4;
+
+use super::{boundary_coords, outcode, DepthRange, PLANE_COUNT};
+
+/// What happened to one edge.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClipOutcome {
+    /// Both endpoints inside: the edge, unchanged.
+    Accepted(Vec4, Vec4),
+    /// Both endpoints outside the same plane: nothing visible.
+    Rejected,
+    /// The visible part `[P(t_in), P(t_out)]`, in the original direction A→C.
+    Clipped(Vec4, Vec4),
+    /// Not trivially rejected, but no part is visible (empty candidate interval), or what
+    /// survived is the single point w = 0, the eye itself, which has no image.
+    ClippedAway,
+    /// An endpoint had a NaN or infinite coordinate; the edge is dropped.
+    NonFinite,
+}
+
+impl ClipOutcome {
+    /// The visible segment, if any (homogeneous clip coordinates, w > 0 at both ends).
+    #[inline]
+    pub fn segment(&self) -> Option<(Vec4, Vec4)> {
+        match *self {
+            ClipOutcome::Accepted(a, c) | ClipOutcome::Clipped(a, c) => Some((a, c)),
+            _ => None,
+        }
+    }
+}
+
+/// Clip the edge `a`→`c` (homogeneous clip coordinates) against the view volume.
+///
+/// Never panics and never allocates; non-finite input gives [`ClipOutcome::NonFinite`].
+/// Points on a boundary plane count as inside.
+///
+/// ```
+/// use glam::Vec4;
+/// use wireflight::clip::{clip_edge, ClipOutcome, DepthRange};
+/// // From inside to beyond x = w: cut where x = w.
+/// let a = Vec4::new(0.0, 0.0, 0.5, 1.0);
+/// let c = Vec4::new(3.0, 0.0, 0.5, 1.0);
+/// let ClipOutcome::Clipped(a2, c2) = clip_edge(a, c, DepthRange::ZeroToOne) else { panic!() };
+/// assert_eq!(a2, a);
+/// assert!((c2 - Vec4::new(1.0, 0.0, 0.5, 1.0)).abs().max_element() < 1e-6);
+/// ```
+#[inline]
+pub fn clip_edge(a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
+    if !(a.is_finite() && c.is_finite()) {
+        return ClipOutcome::NonFinite;
+    }
+    let a_bc = boundary_coords(a, depth);
+    let c_bc = boundary_coords(c, depth);
+    let a_code = outcode(&a_bc);
+    let c_code = outcode(&c_bc);
+
+    if a_code & c_code != 0 {
+        return ClipOutcome::Rejected;
+    }
+    if a_code | c_code == 0 {
+        // Inside points have w ≥ 0; w = 0 only at the eye (0,0,0,0), whose segment to any
+        // other point projects to a single point.
+        return if a.w > 0.0 && c.w > 0.0 {
+            ClipOutcome::Accepted(a, c)
+        } else {
+            ClipOutcome::ClippedAway
+        };
+    }
+
+    let mut t_in = 0.0f32;
+    let mut t_out = 1.0f32;
+    let crossed = a_code | c_code;
+    for i in 0..PLANE_COUNT {
+        if crossed & (1 << i) == 0 {
+            continue; // both endpoints inside this plane: it cannot shorten the interval
+        }
+        let t_hit = a_bc[i] / (a_bc[i] - c_bc[i]);
+        if c_bc[i] < 0.0 {
+            t_out = t_out.min(t_hit); // leaving: C is outside
+        } else {
+            t_in = t_in.max(t_hit); // entering: A is outside
+        }
+        if t_in > t_out {
+            return ClipOutcome::ClippedAway; // empty candidate interval: early exit
+        }
+    }
+
+    let d = c - a;
+    let a_out = if a_code != 0 { a + t_in * d } else { a };
+    let c_out = if c_code != 0 { a + t_out * d } else { c };
+    debug_assert!(t_in >= 0.0 && t_out <= 1.0 && t_in <= t_out);
+    if a_out.w > 0.0 && c_out.w > 0.0 {
+        ClipOutcome::Clipped(a_out, c_out)
+    } else {
+        ClipOutcome::ClippedAway
+    }
+}

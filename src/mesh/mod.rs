@@ -1,0 +1,268 @@
+//! Wireframe models: vertex positions and deduplicated edges, in model (body) coordinates.
+//!
+//! Every source (the built-in plane, OBJ, glTF) goes through [`EdgeMeshBuilder`], which welds
+//! vertices with bit-identical positions and keeps each undirected edge once, so an edge
+//! shared by two faces, or by two copies of a vertex that differ only in normal or UV, is drawn
+//! once. Degenerate edges (both ends the same welded vertex) are dropped.
+
+pub mod gltf;
+pub mod obj;
+pub mod plane;
+
+use std::collections::HashMap;
+use std::collections::HashSet;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+/// An edge list over shared vertices. Invariants (checked by the builder): at least one edge,
+/// all positions finite, indices in range, no degenerate or repeated edge, `a < b`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EdgeMesh {
+    positions: Vec<Vec3>,
+    edges: Vec<[u32; 2]>,
+}
+
+impl EdgeMesh {
+    /// Vertex positions in model coordinates.
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// Edges as index pairs into [`positions`](Self::positions), `a < b`, each once.
+    pub fn edges(&self) -> &[[u32; 2]] {
+        &self.edges
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the vertices used by edges.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mut min = Vec3::splat(f32::INFINITY);
+        let mut max = Vec3::splat(f32::NEG_INFINITY);
+        for p in &self.positions {
+            min = min.min(*p);
+            max = max.max(*p);
+        }
+        (min, max)
+    }
+
+    /// Centre of the bounding box and the radius of the bounding sphere about it; used to frame
+    /// cameras so that a model of any size fills the picture.
+    pub fn bounding_sphere(&self) -> (Vec3, f32) {
+        let (min, max) = self.bounds();
+        let centre = 0.5 * (min + max);
+        let radius = self
+            .positions
+            .iter()
+            .map(|p| p.distance(centre))
+            .fold(0.0f32, f32::max);
+        (centre, radius.max(f32::MIN_POSITIVE))
+    }
+}
+
+/// Builds an [`EdgeMesh`], welding equal positions and deduplicating edges.
+#[derive(Default)]
+pub struct EdgeMeshBuilder {
+    positions: Vec<Vec3>,
+    index_of: HashMap<[u32; 3], u32>,
+    edges: Vec<[u32; 2]>,
+    seen: HashSet<[u32; 2]>,
+}
+
+impl EdgeMeshBuilder {
+    /// An empty builder.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Index of the vertex at `p`, adding it if no vertex has bit-identical coordinates.
+    /// `-0.0` and `0.0` are the same vertex.
+    ///
+    /// # Errors
+    /// [`MeshProblem::NonFinite`] if a coordinate is NaN or infinite.
+    pub fn vertex(&mut self, p: Vec3) -> Result<u32, MeshProblem> {
+        if !p.is_finite() {
+            return Err(MeshProblem::NonFinite(p));
+        }
+        let key = (p + Vec3::ZERO).to_array().map(f32::to_bits); // + 0.0 turns −0.0 into 0.0
+        if let Some(&i) = self.index_of.get(&key) {
+            return Ok(i);
+        }
+        let i = u32::try_from(self.positions.len()).map_err(|_| MeshProblem::TooLarge)?;
+        self.positions.push(p);
+        self.index_of.insert(key, i);
+        Ok(i)
+    }
+
+    /// Add the edge between two vertex indices from [`vertex`](Self::vertex). Repeated edges
+    /// (either direction) and degenerate ones (`a == b`) are ignored; returns whether it was new.
+    pub fn edge(&mut self, a: u32, b: u32) -> bool {
+        debug_assert!((a as usize) < self.positions.len() && (b as usize) < self.positions.len());
+        if a == b {
+            return false;
+        }
+        let key = [a.min(b), a.max(b)];
+        if self.seen.insert(key) {
+            self.edges.push(key);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// Add the edge between two positions.
+    ///
+    /// # Errors
+    /// As [`vertex`](Self::vertex).
+    pub fn edge_between(&mut self, a: Vec3, b: Vec3) -> Result<bool, MeshProblem> {
+        let a = self.vertex(a)?;
+        let b = self.vertex(b)?;
+        Ok(self.edge(a, b))
+    }
+
+    /// Add a closed polygon's edges (v0→v1→…→vn−1→v0).
+    ///
+    /// # Errors
+    /// As [`vertex`](Self::vertex).
+    pub fn polygon(&mut self, corners: &[Vec3]) -> Result<(), MeshProblem> {
+        for (i, &p) in corners.iter().enumerate() {
+            self.edge_between(p, corners[(i + 1) % corners.len()])?;
+        }
+        Ok(())
+    }
+
+    /// Add an open polyline's edges (v0→v1→…→vn−1).
+    ///
+    /// # Errors
+    /// As [`vertex`](Self::vertex).
+    pub fn polyline(&mut self, points: &[Vec3]) -> Result<(), MeshProblem> {
+        for pair in points.windows(2) {
+            self.edge_between(pair[0], pair[1])?;
+        }
+        Ok(())
+    }
+
+    /// Number of distinct edges so far.
+    pub fn edge_count(&self) -> usize {
+        self.edges.len()
+    }
+
+    /// The finished mesh, keeping only vertices that some edge uses.
+    ///
+    /// # Errors
+    /// [`MeshProblem::NoEdges`] if there is nothing to draw.
+    pub fn build(self) -> Result<EdgeMesh, MeshProblem> {
+        if self.edges.is_empty() {
+            return Err(MeshProblem::NoEdges);
+        }
+        let mut remap = vec![u32::MAX; self.positions.len()];
+        let mut positions = Vec::new();
+        let mut edges = self.edges;
+        for e in &mut edges {
+            for i in e.iter_mut() {
+                let slot = &mut remap[*i as usize];
+                if *slot == u32::MAX {
+                    *slot = positions.len() as u32;
+                    positions.push(self.positions[*i as usize]);
+                }
+                *i = *slot;
+            }
+            *e = [e[0].min(e[1]), e[0].max(e[1])];
+        }
+        Ok(EdgeMesh { positions, edges })
+    }
+}
+
+/// What is wrong with a model, independent of where it came from.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum MeshProblem {
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex position {0} is not finite")]
+    NonFinite(Vec3),
+    /// No drawable edge (empty file, only points, or only degenerate edges).
+    #[error("the model has no edges to draw (empty, or only points/degenerate edges)")]
+    NoEdges,
+    /// More than 2³² vertices.
+    #[error("the model has more than 4294967295 vertices")]
+    TooLarge,
+}
+
+/// A model file could not be used. Always names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// The file could not be read.
+    #[error("{path}: cannot read: {source}")]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// The file's extension names no supported format.
+    #[error("{path}: unknown model format (expected .obj, .gltf or .glb)")]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The file is malformed; `detail` says where (line, element) and what.
+    #[error("{path}: {detail}")]
+    Malformed {
+        /// The file.
+        path: PathBuf,
+        /// Where and what, e.g. "line 12: face index 9 out of range (8 vertices)".
+        detail: String,
+    },
+    /// The file parsed but its content is unusable.
+    #[error("{path}: {problem}")]
+    Content {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong.
+        problem: MeshProblem,
+    },
+}
+
+/// Load a model, choosing the format by extension (`.obj`, `.gltf`, `.glb`; case-insensitive).
+///
+/// # Errors
+/// A [`MeshError`] naming the file and the problem.
+pub fn load(path: &Path) -> Result<EdgeMesh, MeshError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match ext.as_deref() {
+        Some("obj") => obj::load(path),
+        Some("gltf") | Some("glb") => gltf::load(path),
+        _ => Err(MeshError::UnknownFormat {
+            path: path.to_path_buf(),
+        }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builder_welds_and_dedups() {
+        let mut b = EdgeMeshBuilder::new();
+        let tri = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        b.polygon(&tri).unwrap();
+        b.polygon(&[Vec3::Y, Vec3::X, Vec3::ZERO]).unwrap(); // same edges, reversed
+        b.edge_between(Vec3::new(-0.0, 0.0, 0.0), Vec3::ZERO)
+            .unwrap(); // degenerate via −0
+        let m = b.build().unwrap();
+        assert_eq!(m.edges().len(), 3);
+        assert_eq!(m.positions().len(), 3);
+    }
+
+    #[test]
+    fn builder_rejects_nan_and_empty() {
+        let mut b = EdgeMeshBuilder::new();
+        assert!(matches!(
+            b.vertex(Vec3::new(f32::NAN, 0.0, 0.0)),
+            Err(MeshProblem::NonFinite(_))
+        ));
+        assert_eq!(b.build(), Err(MeshProblem::NoEdges));
+    }
+}

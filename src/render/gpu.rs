@@ -1,0 +1,1 @@
+//! wgpu offscreen line renderer.
