@@ -110,6 +110,20 @@ impl Camera {
         )
     }
 
+    /// The same camera moved sideways by `right` and `up` (world units, along its own axes),
+    /// looking in the same direction: the subject slides the other way in the picture.
+    pub fn panned(&self, right: f32, up: f32) -> Camera {
+        let f = (self.target - self.eye).normalize();
+        let s = f.cross(self.up).normalize();
+        let u = s.cross(f);
+        let shift = s * right + u * up;
+        Camera {
+            eye: self.eye + shift,
+            target: self.target + shift,
+            ..*self
+        }
+    }
+
     /// Clip-from-world matrix: projection · view.
     pub fn clip_from_world(&self, aspect: f32, depth: DepthRange) -> Mat4 {
         self.projection.matrix(aspect, depth) * self.view()
@@ -156,8 +170,9 @@ impl CameraPreset {
         let r = subject.radius;
         let rot = subject.attitude.to_mat3();
         let centre = subject.position + rot * subject.centre;
-        // Distance at which the bounding sphere fills about 80% of the vertical view.
-        let dist = r / (0.4 * fov_y).sin().max(1e-3);
+        // Distance at which the bounding sphere's diameter spans about 85% of the image height;
+        // aircraft are flat, so this frames them large without cutting them.
+        let dist = 1.15 * r / (0.5 * fov_y).tan().max(1e-3);
         let persp = |near: f32| Projection::Perspective {
             fov_y,
             near,
@@ -165,12 +180,12 @@ impl CameraPreset {
         };
         match self {
             CameraPreset::Chase => {
-                let heading = Vec3::new(
-                    subject.attitude.yaw.cos() as f32,
-                    subject.attitude.yaw.sin() as f32,
-                    0.0,
-                );
-                let back_up = (-heading * 0.92 + Vec3::Z * 0.38).normalize();
+                let (sin_yaw, cos_yaw) = (subject.attitude.yaw as f32).sin_cos();
+                let heading = Vec3::new(cos_yaw, sin_yaw, 0.0);
+                let right = Vec3::new(sin_yaw, -cos_yaw, 0.0);
+                // Mostly behind, a little to the right and above: a three-quarter view reads
+                // better than a pure tail-on one.
+                let back_up = (-heading * 0.85 + right * 0.3 + Vec3::Z * 0.42).normalize();
                 Camera {
                     eye: centre + back_up * dist,
                     target: centre,
@@ -294,7 +309,7 @@ mod tests {
         let cam = CameraPreset::Chase.camera(&subject, 50f32.to_radians());
         let rel = cam.eye - subject.position;
         assert!(rel.y < -5.0, "behind means −Y when heading +Y: {rel}");
-        assert!(rel.x.abs() < 1e-3 && rel.z > 1.0, "{rel}");
+        assert!(rel.y.abs() > 2.0 * rel.x.abs() && rel.z > 1.0, "{rel}");
     }
 
     #[test]

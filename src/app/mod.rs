@@ -1,1 +1,40 @@
-//! The command line.
+//! The command line: parse (clap) → validate → run. `main` only calls [`main_with_args`].
+//!
+//! Errors travel up as `anyhow::Error` chains and are printed once, prefixed with the program
+//! name; the process then exits with status 2.
+
+pub mod cli;
+pub mod render;
+
+use std::ffi::OsString;
+use std::process::ExitCode;
+
+use clap::Parser;
+
+use cli::{Cli, Command};
+
+/// Run the program on the given arguments (the first is the program name).
+///
+/// # Errors
+/// Any failure of the chosen command, with context naming files and options.
+pub fn run<I, T>(args: I) -> anyhow::Result<()>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = Cli::parse_from(args);
+    match cli.command {
+        Command::Render(args) => render::run(&args),
+    }
+}
+
+/// `main` for the `wireflight` binary: run, print the error chain once, exit 2 on failure.
+pub fn main_with_args() -> ExitCode {
+    match run(std::env::args_os()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("wireflight: {err:#}");
+            ExitCode::from(2)
+        }
+    }
+}

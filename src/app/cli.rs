@@ -1,0 +1,217 @@
+//! Command-line syntax (clap derive) and the parsers that validate raw values.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::camera::CameraPreset;
+
+/// wireflight: a wireframe flight viewer with a CPU homogeneous clipper.
+#[derive(Debug, Parser)]
+#[command(name = "wireflight", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render one oriented aircraft as a wireframe into a PNG or SVG file.
+    Render(RenderArgs),
+}
+
+const RENDER_EXAMPLES: &str = "\
+Examples:
+  wireflight render --out plane.png
+  wireflight render --yaw 30 --pitch -15 --roll 40 --camera chase --out banked.png
+  wireflight render --camera cockpit --size 1280x720 --backend cpu --out cockpit.png
+  wireflight render --model assets/plane.gltf --camera top --out top.svg
+  wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
+  wireflight render --pan 1,0 --out half.png                   # half out of the frame
+
+Angles are z-y-x Tait-Bryan in degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll), about the body axes
+nose +X, left wing +Y, rudder +Z (Z up): positive yaw turns the nose left, positive pitch
+lowers it, positive roll drops the right wing. The clipper's counts are printed after drawing.";
+
+/// `wireflight render` options.
+#[derive(Debug, Args)]
+#[command(after_help = RENDER_EXAMPLES)]
+pub struct RenderArgs {
+    /// `plane` for the built-in aircraft, or a model file (.obj, .gltf, .glb).
+    #[arg(long, default_value = "plane", value_name = "plane|FILE")]
+    pub model: String,
+    /// Yaw ψ, degrees: rotation about Z (up).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    pub yaw: f64,
+    /// Pitch θ, degrees: rotation about Y (left wing).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    pub pitch: f64,
+    /// Roll φ, degrees: rotation about X (nose).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    pub roll: f64,
+    /// Where the eye is.
+    #[arg(long, value_enum, default_value_t = CameraArg::Chase)]
+    pub camera: CameraArg,
+    /// Perspective or orthographic projection.
+    #[arg(long, value_enum, default_value_t = ProjectionArg::Perspective)]
+    pub projection: ProjectionArg,
+    /// Pan the camera by RIGHT,UP bounding radii (e.g. `1,0` puts the model half out of the
+    /// frame on the left).
+    #[arg(long, default_value = "0,0", value_name = "RIGHT,UP", allow_hyphen_values = true, value_parser = parse_pan)]
+    pub pan: [f32; 2],
+    /// Vertical field of view of the perspective projection, degrees.
+    #[arg(long, default_value_t = 50.0, value_parser = fov_deg)]
+    pub fov: f64,
+    /// Image size in pixels, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Which rasterizer draws a PNG: `auto` uses any wgpu adapter (Mesa lavapipe counts) and
+    /// falls back to the CPU, saying so on stderr.
+    #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
+    pub backend: BackendArg,
+    /// Output file; the extension picks the format: `.png` raster, `.svg` vector (the exact
+    /// clipped segments). Written atomically.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+}
+
+/// Camera presets (see [`CameraPreset`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum CameraArg {
+    /// Behind and above, following the heading.
+    Chase,
+    /// From ahead (world +X), looking back.
+    Front,
+    /// From above, +X up the picture.
+    Top,
+    /// From the right side (world −Y).
+    Side,
+    /// From the pilot's seat, fixed to the body.
+    Cockpit,
+}
+
+impl From<CameraArg> for CameraPreset {
+    fn from(c: CameraArg) -> Self {
+        match c {
+            CameraArg::Chase => CameraPreset::Chase,
+            CameraArg::Front => CameraPreset::Front,
+            CameraArg::Top => CameraPreset::Top,
+            CameraArg::Side => CameraPreset::Side,
+            CameraArg::Cockpit => CameraPreset::Cockpit,
+        }
+    }
+}
+
+/// Projection kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ProjectionArg {
+    /// Pinhole perspective.
+    Perspective,
+    /// Parallel projection framing the model.
+    Ortho,
+}
+
+/// Rasterizer choice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum BackendArg {
+    /// GPU if any wgpu adapter exists, else CPU.
+    Auto,
+    /// wgpu only; fails without an adapter.
+    Gpu,
+    /// Bresenham on the CPU (bit-exact).
+    Cpu,
+}
+
+/// A finite float (clap's f64 parser accepts "nan" and "inf").
+pub fn finite_f64(s: &str) -> Result<f64, String> {
+    let v: f64 = s.parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("`{s}` is not a finite number"))
+    }
+}
+
+fn fov_deg(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v > 0.0 && v < 180.0 {
+        Ok(v)
+    } else {
+        Err(format!("field of view {v}° is outside (0°, 180°)"))
+    }
+}
+
+fn parse_pan(s: &str) -> Result<[f32; 2], String> {
+    let (r, u) = s
+        .split_once(',')
+        .ok_or_else(|| format!("`{s}` is not RIGHT,UP (e.g. 1,0)"))?;
+    let r = finite_f64(r.trim())?;
+    let u = finite_f64(u.trim())?;
+    if r.abs() > 100.0 || u.abs() > 100.0 {
+        return Err(format!("pan `{s}` is more than 100 radii"));
+    }
+    Ok([r as f32, u as f32])
+}
+
+/// Largest accepted image side, pixels.
+pub const MAX_SIDE: u32 = 16384;
+
+/// Parse `WIDTHxHEIGHT` (e.g. `800x600`), each side in 1..=16384.
+pub fn parse_size(s: &str) -> Result<(u32, u32), String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT (e.g. 800x600)"))?;
+    let side = |t: &str, name: &str| -> Result<u32, String> {
+        let v: u32 = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("{name} `{t}` is not a whole number"))?;
+        if (1..=MAX_SIDE).contains(&v) {
+            Ok(v)
+        } else {
+            Err(format!("{name} {v} is outside 1..={MAX_SIDE}"))
+        }
+    };
+    Ok((side(w, "width")?, side(h, "height")?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn size_parsing() {
+        assert_eq!(parse_size("800x600"), Ok((800, 600)));
+        assert_eq!(parse_size("1X1"), Ok((1, 1)));
+        for bad in ["800", "0x600", "800x-1", "axb", "99999x10", ""] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn angles_must_be_finite() {
+        assert_eq!(finite_f64("-12.5"), Ok(-12.5));
+        for bad in ["nan", "inf", "-inf", "NaN", "x"] {
+            assert!(finite_f64(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn negative_angles_parse() {
+        let cli = Cli::try_parse_from([
+            "wireflight",
+            "render",
+            "--pitch",
+            "-15",
+            "--yaw",
+            "-90",
+            "--out",
+            "x.png",
+        ])
+        .unwrap();
+        let Command::Render(r) = cli.command;
+        assert_eq!((r.yaw, r.pitch), (-90.0, -15.0));
+    }
+}
