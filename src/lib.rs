@@ -10,6 +10,7 @@ pub mod app;
 pub mod camera;
 pub mod clip;
 pub mod euler;
+pub mod flight;
 pub mod mesh;
 pub mod pipeline;
 pub mod render;

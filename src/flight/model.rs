@@ -1,0 +1,502 @@
+//! The model: a vehicle family with its parameters plus a list of effects, its equations of
+//! motion, and a fixed-step RK4 integrator.
+//!
+//! State vector layout ([`State`], 16 numbers, so both families share one integrator):
+//!
+//! | index | point-mass | fixed-wing |
+//! |---|---|---|
+//! | 0..3 | position NED, m | position NED, m |
+//! | 3..6 | velocity NED, m/s | body velocity u, v, w (FRD), m/s |
+//! | 6..10 | unused | attitude quaternion body→NED (x, y, z, w) |
+//! | 10..13 | unused | body rates p, q, r, rad/s |
+//! | 13..16 | unused | surface positions δe, δa, δr, rad (move only under `actuator_lag`) |
+//!
+//! The fixed-wing attitude is integrated as a quaternion (no singularity at θ = ±90°) and
+//! reported as aerospace z-y-x angles through [`crate::euler::EulerZyx::from_matrix`], as the
+//! spec allows. The quaternion is renormalised after every step.
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::effects::{Effect, Origin, Sample, RHO_SEA_LEVEL};
+use super::params::{FixedWingParams, Gammas};
+use super::{Controls, VehicleKind, G0};
+use crate::euler::EulerZyx;
+
+/// Number of state variables.
+pub const STATE_LEN: usize = 16;
+
+/// The integrated state (layout in the module docs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct State(pub [f64; STATE_LEN]);
+
+impl Default for State {
+    fn default() -> Self {
+        let mut x = [0.0; STATE_LEN];
+        x[9] = 1.0; // identity quaternion
+        State(x)
+    }
+}
+
+impl State {
+    /// Position, NED, m.
+    pub fn pos_ned(&self) -> DVec3 {
+        DVec3::new(self.0[0], self.0[1], self.0[2])
+    }
+    /// Velocity slot: NED for a point mass, body (u, v, w) for a fixed-wing.
+    pub fn vel(&self) -> DVec3 {
+        DVec3::new(self.0[3], self.0[4], self.0[5])
+    }
+    /// Attitude quaternion body → NED (fixed-wing).
+    pub fn quat(&self) -> DQuat {
+        DQuat::from_xyzw(self.0[6], self.0[7], self.0[8], self.0[9])
+    }
+    /// Body rates p, q, r, rad/s (fixed-wing).
+    pub fn omega(&self) -> DVec3 {
+        DVec3::new(self.0[10], self.0[11], self.0[12])
+    }
+    /// Surface positions δe, δa, δr, rad (fixed-wing under `actuator_lag`).
+    pub fn surfaces(&self) -> DVec3 {
+        DVec3::new(self.0[13], self.0[14], self.0[15])
+    }
+    /// Set the position.
+    pub fn set_pos_ned(&mut self, p: DVec3) {
+        self.0[0..3].copy_from_slice(&p.to_array());
+    }
+    /// Set the velocity slot.
+    pub fn set_vel(&mut self, v: DVec3) {
+        self.0[3..6].copy_from_slice(&v.to_array());
+    }
+    /// Set the attitude from aerospace angles.
+    pub fn set_attitude(&mut self, e: EulerZyx) {
+        let q = DQuat::from_mat3(&e.to_matrix()).normalize();
+        self.0[6..10].copy_from_slice(&q.to_array());
+    }
+    /// Set the body rates.
+    pub fn set_omega(&mut self, w: DVec3) {
+        self.0[10..13].copy_from_slice(&w.to_array());
+    }
+    /// Set the surface positions.
+    pub fn set_surfaces(&mut self, s: DVec3) {
+        self.0[13..16].copy_from_slice(&s.to_array());
+    }
+    /// Body → NED rotation matrix.
+    pub fn rot(&self) -> DMat3 {
+        DMat3::from_quat(self.quat())
+    }
+    /// Aerospace z-y-x angles of the attitude.
+    pub fn attitude(&self) -> EulerZyx {
+        EulerZyx::from_matrix(self.rot()).0
+    }
+    /// True when every number is finite.
+    pub fn is_finite(&self) -> bool {
+        self.0.iter().all(|v| v.is_finite())
+    }
+}
+
+/// The vehicle family and its parameters.
+#[derive(Clone, Debug)]
+pub enum Vehicle {
+    /// Point mass; effects are accelerations (mass only scales nothing in the catalogue).
+    PointMass,
+    /// Fixed-wing aircraft.
+    FixedWing(Box<FixedWingParams>),
+}
+
+impl Vehicle {
+    /// The family.
+    pub fn kind(&self) -> VehicleKind {
+        match self {
+            Vehicle::PointMass => VehicleKind::PointMass,
+            Vehicle::FixedWing(_) => VehicleKind::FixedWing,
+        }
+    }
+    /// Wing span, m (0 for a point mass).
+    pub fn span(&self) -> f64 {
+        match self {
+            Vehicle::PointMass => 0.0,
+            Vehicle::FixedWing(p) => p.geometry.b,
+        }
+    }
+}
+
+/// Aerodynamic angles and airspeed of a fixed-wing state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AirData {
+    /// Airspeed Va, m/s.
+    pub airspeed: f64,
+    /// Angle of attack α, rad.
+    pub alpha: f64,
+    /// Sideslip β, rad.
+    pub beta: f64,
+    /// Air density, kg/m³.
+    pub rho: f64,
+}
+
+/// Airspeed below which aerodynamic angles are taken as zero (no division by ~0).
+const MIN_AIRSPEED: f64 = 0.1;
+
+/// A model: vehicle + origin + effects. Cheap to clone (for fitting).
+#[derive(Clone, Debug)]
+pub struct Model {
+    /// Vehicle family and parameters.
+    pub vehicle: Vehicle,
+    /// Geodetic origin of the NED frame.
+    pub origin: Origin,
+    /// Effects, applied in order.
+    pub effects: Vec<Box<dyn Effect>>,
+    gammas: Gammas,
+}
+
+impl Model {
+    /// A baseline model (no effects).
+    pub fn new(vehicle: Vehicle, origin: Origin) -> Self {
+        let gammas = match &vehicle {
+            Vehicle::FixedWing(p) => Gammas::new(&p.mass),
+            Vehicle::PointMass => Gammas { g: [0.0; 8] },
+        };
+        Self {
+            vehicle,
+            origin,
+            effects: Vec::new(),
+            gammas,
+        }
+    }
+
+    /// Add an effect.
+    ///
+    /// # Errors
+    /// The effect does not apply to this vehicle, or one of that name is already present.
+    pub fn add_effect(&mut self, effect: Box<dyn Effect>) -> Result<(), String> {
+        if !effect.applies_to(self.vehicle.kind()) {
+            return Err(format!(
+                "effect `{}` does not apply to a {} model",
+                effect.name(),
+                self.vehicle.kind()
+            ));
+        }
+        if self.has_effect(effect.name()) {
+            return Err(format!(
+                "effect `{}` is already in the model",
+                effect.name()
+            ));
+        }
+        self.effects.push(effect);
+        Ok(())
+    }
+
+    /// Whether an effect of that name is present.
+    pub fn has_effect(&self, name: &str) -> bool {
+        self.effects.iter().any(|e| e.name() == name)
+    }
+
+    /// Names of the effects, in order.
+    pub fn effect_names(&self) -> Vec<String> {
+        self.effects.iter().map(|e| e.name().to_string()).collect()
+    }
+
+    /// Mutable access to an effect by name.
+    pub fn effect_mut(&mut self, name: &str) -> Option<&mut Box<dyn Effect>> {
+        self.effects.iter_mut().find(|e| e.name() == name)
+    }
+
+    fn actuator_tau(&self) -> Option<f64> {
+        self.effects.iter().find_map(|e| e.actuator_tau())
+    }
+
+    /// The surface deflections in effect: the lagged state under `actuator_lag`, else the
+    /// commands.
+    pub fn surfaces_in_effect(&self, x: &State, cmd: &Controls) -> Controls {
+        if self.actuator_tau().is_some() {
+            let s = x.surfaces();
+            Controls {
+                throttle: cmd.throttle,
+                elevator: s.x,
+                aileron: s.y,
+                rudder: s.z,
+            }
+        } else {
+            *cmd
+        }
+    }
+
+    /// Altitude above sea level, m, of a NED position.
+    pub fn altitude(&self, pos_ned: DVec3) -> f64 {
+        self.origin.altitude_m - pos_ned.z
+    }
+
+    /// Environment at a position: (wind NED, density, gravity magnitude).
+    fn environment(&self, pos_ned: DVec3) -> (DVec3, f64, f64) {
+        let h = self.altitude(pos_ned);
+        let base_rho = match &self.vehicle {
+            Vehicle::PointMass => RHO_SEA_LEVEL,
+            Vehicle::FixedWing(p) => p.geometry.rho,
+        };
+        let mut wind = DVec3::ZERO;
+        let mut rho = base_rho;
+        let mut g = G0;
+        for e in &self.effects {
+            wind += e.wind_ned();
+            rho = e.density(h, rho);
+            g = e.gravity(h, g);
+        }
+        (wind, rho, g)
+    }
+
+    /// Air data of a fixed-wing state (airspeed, α, β, ρ).
+    pub fn air_data(&self, x: &State) -> AirData {
+        let (wind, rho, _) = self.environment(x.pos_ned());
+        let v_r = x.vel() - x.rot().transpose() * wind;
+        air_angles(v_r, rho)
+    }
+
+    /// Time derivative of the state under commands `cmd` (held constant).
+    pub fn derivative(&self, t: f64, x: &State, cmd: &Controls) -> State {
+        match &self.vehicle {
+            Vehicle::PointMass => self.point_mass_derivative(t, x),
+            Vehicle::FixedWing(p) => self.fixed_wing_derivative(p, t, x, cmd),
+        }
+    }
+
+    fn point_mass_derivative(&self, t: f64, x: &State) -> State {
+        let pos = x.pos_ned();
+        let vel = x.vel();
+        let (wind, rho, g) = self.environment(pos);
+        let s = Sample {
+            t,
+            pos_ned: pos,
+            vel_ned: vel,
+            rot: DMat3::IDENTITY,
+            omega: DVec3::ZERO,
+            altitude_m: self.altitude(pos),
+            rho,
+            g,
+            air_vel_ned: vel - wind,
+            controls: Controls::default(),
+            mass: 1.0,
+        };
+        let mut acc = DVec3::new(0.0, 0.0, g);
+        for e in &self.effects {
+            acc += e.accel_ned(&s);
+        }
+        let mut d = [0.0; STATE_LEN];
+        d[0..3].copy_from_slice(&vel.to_array());
+        d[3..6].copy_from_slice(&acc.to_array());
+        State(d)
+    }
+
+    fn fixed_wing_derivative(
+        &self,
+        p: &FixedWingParams,
+        t: f64,
+        x: &State,
+        cmd: &Controls,
+    ) -> State {
+        let pos = x.pos_ned();
+        let uvw = x.vel();
+        let q = x.quat();
+        let rot = DMat3::from_quat(q);
+        let omega = x.omega();
+        let (wind, rho, g) = self.environment(pos);
+        let tau = self.actuator_tau();
+        let ctl = self.surfaces_in_effect(x, cmd);
+        let vel_ned = rot * uvw;
+        let v_r = uvw - rot.transpose() * wind;
+        let air = air_angles(v_r, rho);
+        let s = Sample {
+            t,
+            pos_ned: pos,
+            vel_ned,
+            rot,
+            omega,
+            altitude_m: self.altitude(pos),
+            rho,
+            g,
+            air_vel_ned: rot * v_r,
+            controls: ctl,
+            mass: p.mass.mass_kg,
+        };
+
+        let mut induced_factor = 1.0;
+        let mut force = DVec3::ZERO;
+        let mut moment = DVec3::ZERO;
+        let mut acc_ned = DVec3::new(0.0, 0.0, g);
+        for e in &self.effects {
+            induced_factor *= e.induced_drag_factor(&s);
+            let (f, m) = e.force_moment_body(&s);
+            force += f;
+            moment += m;
+            acc_ned += e.accel_ned(&s);
+        }
+        let (f_aero, m_aero) = aero_force_moment(p, &air, omega, &ctl, induced_factor);
+        // Gravity (and the world-frame accelerations of effects) in body axes, times mass.
+        force += f_aero + p.mass.mass_kg * (rot.transpose() * acc_ned);
+        moment += m_aero;
+
+        let m = p.mass.mass_kg;
+        let (pr, qr, rr) = (omega.x, omega.y, omega.z);
+        let (u, v, w) = (uvw.x, uvw.y, uvw.z);
+        let uvw_dot = DVec3::new(rr * v - qr * w, pr * w - rr * u, qr * u - pr * v) + force / m;
+        let gm = &self.gammas.g;
+        let (l, mm, n) = (moment.x, moment.y, moment.z);
+        let omega_dot = DVec3::new(
+            gm[0] * pr * qr - gm[1] * qr * rr + gm[2] * l + gm[3] * n,
+            gm[4] * pr * rr - gm[5] * (pr * pr - rr * rr) + mm / p.mass.jy,
+            gm[6] * pr * qr - gm[0] * qr * rr + gm[3] * l + gm[7] * n,
+        );
+        // q̇ = ½ q ⊗ (ω, 0), ω in body axes.
+        let q_dot = (q * DQuat::from_xyzw(pr, qr, rr, 0.0)) * 0.5;
+        let surf_dot = match tau {
+            Some(tau) => (DVec3::new(cmd.elevator, cmd.aileron, cmd.rudder) - x.surfaces()) / tau,
+            None => DVec3::ZERO,
+        };
+
+        let mut d = [0.0; STATE_LEN];
+        d[0..3].copy_from_slice(&vel_ned.to_array());
+        d[3..6].copy_from_slice(&uvw_dot.to_array());
+        d[6..10].copy_from_slice(&q_dot.to_array());
+        d[10..13].copy_from_slice(&omega_dot.to_array());
+        d[13..16].copy_from_slice(&surf_dot.to_array());
+        State(d)
+    }
+
+    /// One RK4 step of length `dt` with commands held constant; renormalises the quaternion.
+    pub fn step(&self, t: f64, x: &State, cmd: &Controls, dt: f64) -> State {
+        let add = |a: &State, b: &State, h: f64| {
+            let mut r = a.0;
+            for (ri, bi) in r.iter_mut().zip(b.0.iter()) {
+                *ri += h * bi;
+            }
+            State(r)
+        };
+        let k1 = self.derivative(t, x, cmd);
+        let k2 = self.derivative(t + 0.5 * dt, &add(x, &k1, 0.5 * dt), cmd);
+        let k3 = self.derivative(t + 0.5 * dt, &add(x, &k2, 0.5 * dt), cmd);
+        let k4 = self.derivative(t + dt, &add(x, &k3, dt), cmd);
+        let mut out = x.0;
+        for i in 0..STATE_LEN {
+            out[i] += dt / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);
+        }
+        if matches!(self.vehicle, Vehicle::FixedWing(_)) {
+            let q = DQuat::from_xyzw(out[6], out[7], out[8], out[9]).normalize();
+            out[6..10].copy_from_slice(&q.to_array());
+        }
+        State(out)
+    }
+
+    /// Integrate from `t0` to `t1` with steps of at most `max_dt`, commands held constant.
+    pub fn advance(&self, t0: f64, x: &State, cmd: &Controls, t1: f64, max_dt: f64) -> State {
+        let span = t1 - t0;
+        if span <= 0.0 {
+            return *x;
+        }
+        let n = (span / max_dt).ceil().max(1.0) as usize;
+        let dt = span / n as f64;
+        let mut s = *x;
+        for i in 0..n {
+            s = self.step(t0 + i as f64 * dt, &s, cmd, dt);
+        }
+        s
+    }
+}
+
+/// Airspeed, α = atan2(w_r, u_r), β = asin(v_r/Va) of an air-relative body velocity.
+pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
+    let va = v_r.length();
+    if va < MIN_AIRSPEED {
+        return AirData {
+            airspeed: va,
+            alpha: 0.0,
+            beta: 0.0,
+            rho,
+        };
+    }
+    AirData {
+        airspeed: va,
+        alpha: v_r.z.atan2(v_r.x),
+        beta: (v_r.y / va).clamp(-1.0, 1.0).asin(),
+        rho,
+    }
+}
+
+/// Stall blend σ(α) of Beard & McLain:
+/// σ = (1 + e1 + e2)/((1 + e1)(1 + e2)), e1 = e^{−M(α−α0)}, e2 = e^{M(α+α0)}.
+///
+/// Computed as σ = a + b − a·b with the logistic terms a = 1/(1 + e1), b = 1/(1 + e2)
+/// (the same expression multiplied out), which stays finite for any α where the quotient
+/// of exponentials would overflow to ∞/∞.
+pub fn stall_blend(alpha: f64, m: f64, alpha0: f64) -> f64 {
+    let a = 1.0 / (1.0 + (-m * (alpha - alpha0)).exp());
+    let b = 1.0 / (1.0 + (m * (alpha + alpha0)).exp());
+    a + b - a * b
+}
+
+/// Aerodynamic and propulsive force (body) and moment (body) of the fixed-wing model.
+/// `induced_factor` multiplies the induced-drag term (ground effect).
+pub fn aero_force_moment(
+    p: &FixedWingParams,
+    air: &AirData,
+    omega: DVec3,
+    ctl: &Controls,
+    induced_factor: f64,
+) -> (DVec3, DVec3) {
+    let lon = &p.longitudinal;
+    let lat = &p.lateral;
+    let geo = &p.geometry;
+    let va = air.airspeed;
+    let (alpha, beta) = (air.alpha, air.beta);
+    let qbar_s = 0.5 * air.rho * va * va * geo.s_wing;
+    // Non-dimensional rates; zero at (almost) zero airspeed where they are undefined.
+    let (c2v, b2v) = if va > MIN_AIRSPEED {
+        (geo.c / (2.0 * va), geo.b / (2.0 * va))
+    } else {
+        (0.0, 0.0)
+    };
+    let (pr, qr, rr) = (omega.x, omega.y, omega.z);
+
+    let sigma = stall_blend(alpha, lon.m_blend, lon.alpha0);
+    let (sa, ca) = alpha.sin_cos();
+    let cl_lin = lon.c_l_0 + lon.c_l_alpha * alpha;
+    let c_l = (1.0 - sigma) * cl_lin + sigma * 2.0 * alpha.signum() * sa * sa * ca;
+    let aspect = geo.b * geo.b / geo.s_wing;
+    let c_d =
+        lon.c_d_p + induced_factor * cl_lin * cl_lin / (std::f64::consts::PI * geo.e * aspect);
+
+    let lift = qbar_s * (c_l + lon.c_l_q * c2v * qr + lon.c_l_delta_e * ctl.elevator);
+    let drag = qbar_s * (c_d + lon.c_d_q * c2v * qr + lon.c_d_delta_e * ctl.elevator);
+    let fx_aero = -drag * ca + lift * sa;
+    let fz = -drag * sa - lift * ca;
+    let fy = qbar_s
+        * (lat.c_y_0
+            + lat.c_y_beta * beta
+            + lat.c_y_p * b2v * pr
+            + lat.c_y_r * b2v * rr
+            + lat.c_y_delta_a * ctl.aileron
+            + lat.c_y_delta_r * ctl.rudder);
+    let prop = &p.propulsion;
+    let k = prop.k_motor * ctl.throttle;
+    let thrust = 0.5 * air.rho * prop.s_prop * prop.c_prop * (k * k - va * va);
+
+    let l = qbar_s
+        * geo.b
+        * (lat.c_ell_0
+            + lat.c_ell_beta * beta
+            + lat.c_ell_p * b2v * pr
+            + lat.c_ell_r * b2v * rr
+            + lat.c_ell_delta_a * ctl.aileron
+            + lat.c_ell_delta_r * ctl.rudder);
+    let m = qbar_s
+        * geo.c
+        * (lon.c_m_0
+            + lon.c_m_alpha * alpha
+            + lon.c_m_q * c2v * qr
+            + lon.c_m_delta_e * ctl.elevator);
+    let n = qbar_s
+        * geo.b
+        * (lat.c_n_0
+            + lat.c_n_beta * beta
+            + lat.c_n_p * b2v * pr
+            + lat.c_n_r * b2v * rr
+            + lat.c_n_delta_a * ctl.aileron
+            + lat.c_n_delta_r * ctl.rudder);
+    (DVec3::new(fx_aero + thrust, fy, fz), DVec3::new(l, m, n))
+}
