@@ -1,0 +1,1 @@
+//! Flight data: the CSV format of `shared/specs/flight-data.md`.
