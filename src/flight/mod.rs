@@ -6,10 +6,12 @@
 //! R_body→NED = Rz(ψ)·Ry(θ)·Rx(φ). The viewer's Z-up frames relate to these through
 //! [`crate::euler::EulerZyx::from_aerospace`] and [`crate::euler::viewer_from_ned`].
 
+pub mod autopilot;
 pub mod data;
 pub mod effects;
 pub mod model;
 pub mod params;
+pub mod trim;
 
 use std::fmt;
 use std::str::FromStr;

@@ -1,0 +1,198 @@
+//! Trim: the steady, straight, wings-level flight of a fixed-wing model at a given airspeed,
+//! in whatever effects the model has (wind, density, propeller torque, …).
+//!
+//! Unknowns z = (α, β, θ, φ, δe, δa, δr, δt); residuals: the six body accelerations
+//! (u̇, v̇, ẇ, ṗ, q̇, ṙ), the inertial climb rate ḋ, and β itself (so a side force is balanced
+//! by bank, not by sideslip). Eight equations, eight unknowns, solved by Newton's method with a
+//! central-difference Jacobian and step halving. Body rates are zero: straight flight.
+
+use glam::DVec3;
+
+use super::model::{Model, State, Vehicle};
+use super::Controls;
+use crate::euler::EulerZyx;
+
+/// A trimmed flight condition.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trim {
+    /// The state (position as given, attitude, body velocity, zero rates, surfaces = commands).
+    pub state: State,
+    /// The commands that hold it.
+    pub controls: Controls,
+    /// Angle of attack, rad.
+    pub alpha: f64,
+    /// Largest absolute residual left (accelerations m/s², rad/s², climb rate m/s).
+    pub residual: f64,
+}
+
+const N: usize = 8;
+
+fn build(model: &Model, z: &[f64; N], va: f64, yaw: f64, pos: DVec3) -> (State, Controls) {
+    let [alpha, beta, theta, phi, de, da, dr, dt] = *z;
+    let attitude = EulerZyx::new(yaw, theta, phi);
+    let mut x = State::default();
+    x.set_pos_ned(pos);
+    x.set_attitude(attitude);
+    let v_air = va
+        * DVec3::new(
+            alpha.cos() * beta.cos(),
+            beta.sin(),
+            alpha.sin() * beta.cos(),
+        );
+    let wind: DVec3 = model.effects.iter().map(|e| e.wind_ned()).sum();
+    x.set_vel(v_air + attitude.to_matrix().transpose() * wind);
+    x.set_surfaces(DVec3::new(de, da, dr));
+    let cmd = Controls {
+        throttle: dt,
+        elevator: de,
+        aileron: da,
+        rudder: dr,
+    };
+    (x, cmd)
+}
+
+fn residuals(model: &Model, z: &[f64; N], va: f64, yaw: f64, pos: DVec3) -> [f64; N] {
+    let (x, cmd) = build(model, z, va, yaw, pos);
+    let d = model.derivative(0.0, &x, &cmd);
+    [
+        d.0[3], d.0[4], d.0[5], d.0[10], d.0[11], d.0[12], d.0[2], z[1],
+    ]
+}
+
+/// Solve `a·x = b` (8×8) by Gaussian elimination with partial pivoting; None if singular.
+fn solve(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    for col in 0..N {
+        let piv = (col..N).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if a[piv][col].abs() < 1e-14 {
+            return None;
+        }
+        a.swap(col, piv);
+        b.swap(col, piv);
+        for row in col + 1..N {
+            let f = a[row][col] / a[col][col];
+            for k in col..N {
+                a[row][k] -= f * a[col][k];
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = [0.0; N];
+    for row in (0..N).rev() {
+        let s: f64 = (row + 1..N).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    Some(x)
+}
+
+/// Trim a fixed-wing model for straight, wings-level flight at airspeed `va` (m/s), heading
+/// `yaw` (rad), position `pos_ned`.
+///
+/// # Errors
+/// A point-mass model, or no trim found (residual above 1e-6 after 50 iterations, or a
+/// throttle outside 0..1): the aircraft cannot fly that condition.
+pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Trim, String> {
+    if !matches!(model.vehicle, Vehicle::FixedWing(_)) {
+        return Err("trim needs a fixed-wing model".into());
+    }
+    let norm = |r: &[f64; N]| r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let mut z = [0.05, 0.0, 0.05, 0.0, -0.1, 0.0, 0.0, 0.5];
+    let mut r = residuals(model, &z, va, yaw, pos_ned);
+    for _ in 0..50 {
+        if norm(&r) < 1e-10 {
+            break;
+        }
+        let mut jac = [[0.0; N]; N];
+        for j in 0..N {
+            let h = 1e-6 * z[j].abs().max(1.0);
+            let mut zp = z;
+            let mut zm = z;
+            zp[j] += h;
+            zm[j] -= h;
+            let rp = residuals(model, &zp, va, yaw, pos_ned);
+            let rm = residuals(model, &zm, va, yaw, pos_ned);
+            for i in 0..N {
+                jac[i][j] = (rp[i] - rm[i]) / (2.0 * h);
+            }
+        }
+        let step = solve(jac, r.map(|v| -v)).ok_or("trim Jacobian is singular")?;
+        // Step halving: accept the first fraction of the Newton step that reduces |r|.
+        let mut lambda = 1.0;
+        loop {
+            let mut zn = z;
+            for i in 0..N {
+                zn[i] += lambda * step[i];
+            }
+            let rn = residuals(model, &zn, va, yaw, pos_ned);
+            if norm(&rn) < norm(&r) || lambda < 1e-3 {
+                z = zn;
+                r = rn;
+                break;
+            }
+            lambda *= 0.5;
+        }
+    }
+    let residual = norm(&r);
+    if !(residual < 1e-6) {
+        return Err(format!(
+            "no trim at {va} m/s (residual {residual:.2e}): the aircraft cannot hold that speed level"
+        ));
+    }
+    let (state, controls) = build(model, &z, va, yaw, pos_ned);
+    if !(0.0..=1.0).contains(&controls.throttle) {
+        return Err(format!(
+            "trim at {va} m/s needs throttle {:.2}, outside 0..1",
+            controls.throttle
+        ));
+    }
+    Ok(Trim {
+        state,
+        controls,
+        alpha: z[0],
+        residual,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flight::effects::{Origin, Wind};
+    use crate::flight::params::FixedWingParams;
+
+    fn aerosonde() -> Model {
+        Model::new(
+            Vehicle::FixedWing(Box::new(FixedWingParams::aerosonde())),
+            Origin::default(),
+        )
+    }
+
+    #[test]
+    fn aerosonde_trims_at_25_mps_with_sensible_controls() {
+        let t = trim_level(&aerosonde(), 25.0, 0.3, DVec3::new(0.0, 0.0, -100.0)).unwrap();
+        assert!(t.alpha > 0.0 && t.alpha < 0.15, "alpha {}", t.alpha);
+        assert!(
+            t.controls.throttle > 0.2 && t.controls.throttle < 1.0,
+            "{:?}",
+            t.controls
+        );
+        assert!(t.controls.elevator.abs() < 0.3);
+        assert!(t.controls.aileron.abs() < 1e-9 && t.controls.rudder.abs() < 1e-9);
+        let e = t.state.attitude();
+        assert!((e.yaw - 0.3).abs() < 1e-9 && e.roll.abs() < 1e-9);
+    }
+
+    #[test]
+    fn trim_in_wind_is_steady_relative_to_the_air() {
+        let mut m = aerosonde();
+        m.add_effect(Box::new(Wind {
+            ned: DVec3::new(5.0, -3.0, 0.0),
+        }))
+        .unwrap();
+        let t = trim_level(&m, 25.0, 0.0, DVec3::new(0.0, 0.0, -100.0)).unwrap();
+        assert!((m.air_data(&t.state).airspeed - 25.0).abs() < 1e-9);
+        let ground_vel = t.state.rot() * t.state.vel();
+        assert!(
+            (ground_vel - DVec3::new(25.0 * 0.0f64.cos() + 5.0, -3.0, 0.0)).length() < 0.05,
+            "{ground_vel}"
+        );
+    }
+}
