@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::camera::CameraPreset;
+use crate::flight::VehicleKind;
 
 /// wireflight: a wireframe flight viewer with a CPU homogeneous clipper.
 #[derive(Debug, Parser)]
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Render one oriented aircraft as a wireframe into a PNG or SVG file.
     Render(RenderArgs),
+    /// Generate a flight (CSV) with the flight model, optionally with hidden effects and noise.
+    Simulate(SimulateArgs),
 }
 
 const RENDER_EXAMPLES: &str = "\
@@ -30,6 +33,7 @@ Examples:
   wireflight render --model assets/plane.gltf --camera top --out top.svg
   wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
+  wireflight render --flight test.csv --frames-dir frames --fps 10   # replay a flight
 
 Angles are z-y-x Tait-Bryan in degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll), about the body axes
 nose +X, left wing +Y, rudder +Z (Z up): positive yaw turns the nose left, positive pitch
@@ -73,8 +77,115 @@ pub struct RenderArgs {
     pub backend: BackendArg,
     /// Output file; the extension picks the format: `.png` raster, `.svg` vector (the exact
     /// clipped segments). Written atomically.
+    #[arg(long, value_name = "FILE", required_unless_present = "flight")]
+    pub out: Option<PathBuf>,
+    /// Replay a recorded flight (CSV) instead: one PNG per frame into --frames-dir.
+    #[arg(
+        long,
+        value_name = "FILE.csv",
+        requires = "frames_dir",
+        conflicts_with = "out"
+    )]
+    pub flight: Option<PathBuf>,
+    /// Directory for the replay's frames (`frame_00000.png`, ...).
+    #[arg(long, value_name = "DIR")]
+    pub frames_dir: Option<PathBuf>,
+    /// Frames per second of flight time for the replay.
+    #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
+    pub fps: f64,
+}
+
+const SIMULATE_EXAMPLES: &str = "\
+Examples:
+  wireflight simulate --manoeuvre flight-test --duration 120 --out test.csv
+  wireflight simulate --manoeuvre climbing-turn --hidden wind:north_mps=4,east_mps=-3 \\
+      --noise-pos 0.5 --noise-att 0.3 --seed 7 --out windy.csv
+  wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
+  wireflight simulate --model my-model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
+
+Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
+figure-eight, flight-test (fixed-wing); ballistic (point-mass).
+Effects: wind, drag, density_altitude, gravity_model, earth_rotation, earth_curvature,
+prop_torque, ground_effect, actuator_lag, gyroscopic (see README).
+--hidden effects fly in the truth but nothing about them is written to the file.";
+
+/// `wireflight simulate` options.
+#[derive(Debug, Args)]
+#[command(after_help = SIMULATE_EXAMPLES)]
+pub struct SimulateArgs {
+    /// Vehicle family.
+    #[arg(long, default_value = "fixed-wing", value_parser = parse_vehicle)]
+    pub vehicle: VehicleKind,
+    /// Parameter set of a fixed-wing: `aerosonde` or a .toml file.
+    #[arg(long, default_value = "aerosonde")]
+    pub aircraft: String,
+    /// A model file (TOML) instead of --vehicle/--aircraft (--effects/--add still add to it).
     #[arg(long, value_name = "FILE")]
-    pub out: PathBuf,
+    pub model: Option<std::path::PathBuf>,
+    /// Manoeuvre to fly (default: level, or ballistic for a point mass).
+    #[arg(long)]
+    pub manoeuvre: Option<String>,
+    /// Length of the flight, s.
+    #[arg(long, default_value_t = 60.0, value_parser = finite_f64)]
+    pub duration: f64,
+    /// Effects of the model, comma-separated names (listed in the file's metadata).
+    #[arg(long, value_name = "A,B")]
+    pub effects: Option<String>,
+    /// Add an effect with parameters, `name[:k=v,...]` (repeatable; listed in the metadata).
+    #[arg(long, value_name = "NAME[:K=V,...]")]
+    pub add: Vec<String>,
+    /// Add an effect to the truth only, `name[:k=v,...]` (repeatable; not in the file).
+    #[arg(long, value_name = "NAME[:K=V,...]")]
+    pub hidden: Vec<String>,
+    /// Position noise (standard deviation), m.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub noise_pos: f64,
+    /// Attitude noise, degrees.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub noise_att: f64,
+    /// Velocity and airspeed noise, m/s.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub noise_vel: f64,
+    /// Body-rate noise, degrees/s.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub noise_rate: f64,
+    /// Output and autopilot rate, Hz.
+    #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]
+    pub rate: f64,
+    /// Noise seed (output is deterministic for a seed).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Trim airspeed, m/s (fixed-wing).
+    #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
+    pub airspeed: f64,
+    /// Starting height above the origin, m.
+    #[arg(long, default_value_t = 200.0, value_parser = finite_f64)]
+    pub height: f64,
+    /// Latitude of the origin, degrees.
+    #[arg(long, default_value_t = 45.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    pub latitude: f64,
+    /// Longitude of the origin, degrees.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    pub longitude: f64,
+    /// Altitude of the origin above sea level, m.
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    pub altitude: f64,
+    /// Output CSV file (written atomically).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: std::path::PathBuf,
+}
+
+fn parse_vehicle(s: &str) -> Result<VehicleKind, String> {
+    s.parse()
+}
+
+fn non_negative(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v >= 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} must not be negative"))
+    }
 }
 
 /// Camera presets (see [`CameraPreset`]).
@@ -211,7 +322,9 @@ mod tests {
             "x.png",
         ])
         .unwrap();
-        let Command::Render(r) = cli.command;
+        let Command::Render(r) = cli.command else {
+            panic!()
+        };
         assert_eq!((r.yaw, r.pitch), (-90.0, -15.0));
     }
 }

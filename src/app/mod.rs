@@ -5,6 +5,8 @@
 
 pub mod cli;
 pub mod render;
+pub mod replay;
+pub mod simulate;
 
 use std::ffi::OsString;
 use std::process::ExitCode;
@@ -25,6 +27,7 @@ where
     let cli = Cli::parse_from(args);
     match cli.command {
         Command::Render(args) => render::run(&args),
+        Command::Simulate(args) => simulate::run(&args),
     }
 }
 

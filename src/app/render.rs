@@ -176,17 +176,37 @@ impl OutputFormat {
 /// # Errors
 /// Bad model files, unknown output format, GPU failures with `--backend gpu`, write errors.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let format = OutputFormat::of(&args.out)?;
     let mesh = load_model(&args.model)?;
+    let viewport = Viewport {
+        width: args.size.0,
+        height: args.size.1,
+    };
+    if let (Some(flight), Some(dir)) = (&args.flight, &args.frames_dir) {
+        let data = crate::flight::data::read(flight)?;
+        let mut rasterizer = Rasterizer::choose(args.backend)?;
+        let (frames, stats) =
+            super::replay::write_frames(&data, &mesh, viewport, args.fps, dir, &mut rasterizer)?;
+        println!(
+            "wrote {frames} frames of {} ({:.1} s at {} fps, {}x{}, {}) to {}",
+            flight.display(),
+            data.duration(),
+            args.fps,
+            viewport.width,
+            viewport.height,
+            rasterizer.describe(),
+            dir.display()
+        );
+        println!("clip, all frames: {stats}");
+        return Ok(());
+    }
+    let out = args.out.as_deref().context("--out is required")?;
+    let format = OutputFormat::of(out)?;
     let spec = ViewSpec {
         attitude: EulerZyx::from_degrees(args.yaw, args.pitch, args.roll),
         camera: args.camera.into(),
         orthographic: args.projection == ProjectionArg::Ortho,
         fov_y_deg: args.fov,
-        viewport: Viewport {
-            width: args.size.0,
-            height: args.size.1,
-        },
+        viewport,
         depth: DepthRange::ZeroToOne,
         pan: args.pan,
     };
@@ -200,11 +220,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
         OutputFormat::Svg => (render::svg::to_svg(&scene).into_bytes(), "svg".to_string()),
     };
-    render::write_atomic(&args.out, &bytes)?;
+    render::write_atomic(out, &bytes)?;
     let (_, gimbal) = spec.attitude.canonical();
     println!(
         "wrote {} ({}x{}, {how}); {} segments drawn",
-        args.out.display(),
+        out.display(),
         spec.viewport.width,
         spec.viewport.height,
         scene.segment_count()

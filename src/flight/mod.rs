@@ -11,6 +11,8 @@ pub mod data;
 pub mod effects;
 pub mod model;
 pub mod params;
+pub mod simulate;
+pub mod spec;
 pub mod trim;
 
 use std::fmt;

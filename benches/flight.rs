@@ -1,0 +1,65 @@
+//! Flight-model integrator throughput: fixed-wing RK4 steps per second (baseline and with every
+//! applicable effect on), and one hour of flight at 100 Hz with all effects.
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::DVec3;
+
+use wireflight::flight::effects::{catalogue_effect, Origin, CATALOGUE};
+use wireflight::flight::model::{Model, Vehicle};
+use wireflight::flight::params::FixedWingParams;
+use wireflight::flight::trim::trim_level;
+use wireflight::flight::VehicleKind;
+
+fn aerosonde(all_effects: bool) -> Model {
+    let params = FixedWingParams::aerosonde();
+    let span = params.geometry.b;
+    let mut m = Model::new(Vehicle::FixedWing(Box::new(params)), Origin::default());
+    if all_effects {
+        for name in CATALOGUE {
+            let e = catalogue_effect(name, &m.origin, span).unwrap();
+            if e.applies_to(VehicleKind::FixedWing) {
+                m.add_effect(e).unwrap();
+            }
+        }
+        for (name, param, value) in [
+            ("wind", "north_mps", 3.0),
+            ("prop_torque", "k_torque", 0.2),
+            ("gyroscopic", "k_gyro", 0.05),
+        ] {
+            m.effect_mut(name).unwrap().set_param(param, value).unwrap();
+        }
+    }
+    m
+}
+
+fn integrator(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fixed_wing_rk4");
+    group.sample_size(20);
+    group.measurement_time(std::time::Duration::from_secs(3));
+    for (label, all) in [("baseline", false), ("all effects", true)] {
+        let model = aerosonde(all);
+        let trim = trim_level(&model, 25.0, 0.0, DVec3::new(0.0, 0.0, -200.0)).unwrap();
+        const STEPS: u64 = 10_000;
+        group.throughput(Throughput::Elements(STEPS));
+        group.bench_function(format!("{label}: steps (dt = 0.01 s)"), |b| {
+            b.iter(|| {
+                let mut x = trim.state;
+                for k in 0..STEPS {
+                    x = model.step(k as f64 * 0.01, &x, &trim.controls, 0.01);
+                }
+                x
+            })
+        });
+    }
+    let model = aerosonde(true);
+    let trim = trim_level(&model, 25.0, 0.0, DVec3::new(0.0, 0.0, -200.0)).unwrap();
+    group.throughput(Throughput::Elements(1));
+    group.sample_size(10);
+    group.bench_function("one hour at 100 Hz, all effects", |b| {
+        b.iter(|| model.advance(0.0, &trim.state, &trim.controls, 3600.0, 0.01))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, integrator);
+criterion_main!(benches);

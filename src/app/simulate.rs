@@ -1,0 +1,99 @@
+//! `wireflight simulate`: generate a flight (CSV) with a model, optionally with hidden effects.
+
+use anyhow::Context;
+
+use crate::app::cli::SimulateArgs;
+use crate::flight::autopilot::Manoeuvre;
+use crate::flight::data;
+use crate::flight::effects::Origin;
+use crate::flight::simulate::{simulate, Noise, SimSpec};
+use crate::flight::spec::{EffectSpec, ModelSpec};
+use crate::flight::VehicleKind;
+
+/// Run `wireflight simulate`.
+///
+/// # Errors
+/// Bad model or effect specs, a manoeuvre for the other vehicle, no trim, divergence, write
+/// errors.
+pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let mut spec = match &args.model {
+        Some(path) => ModelSpec::load(path)?,
+        None => {
+            let mut s = ModelSpec::baseline(args.vehicle);
+            s.aircraft = args.aircraft.clone();
+            s
+        }
+    };
+    if let Some(list) = &args.effects {
+        spec.add_effect_list(list).map_err(anyhow::Error::msg)?;
+    }
+    for add in &args.add {
+        spec.effects
+            .push(EffectSpec::parse(add).map_err(anyhow::Error::msg)?);
+    }
+    let listed: Vec<String> = spec.effects.iter().map(EffectSpec::to_arg).collect();
+    let mut truth = spec.clone();
+    for hidden in &args.hidden {
+        truth
+            .effects
+            .push(EffectSpec::parse(hidden).map_err(anyhow::Error::msg)?);
+    }
+    let origin = Origin {
+        latitude_deg: args.latitude,
+        longitude_deg: args.longitude,
+        altitude_m: args.altitude,
+    };
+    let model = truth.build(origin).context("building the model")?;
+    let manoeuvre: Manoeuvre = match &args.manoeuvre {
+        Some(m) => m.parse().map_err(anyhow::Error::msg)?,
+        None if spec.vehicle == VehicleKind::PointMass => Manoeuvre::Ballistic,
+        None => Manoeuvre::Level,
+    };
+    let sim = SimSpec {
+        manoeuvre,
+        duration_s: args.duration,
+        rate_hz: args.rate,
+        airspeed_mps: args.airspeed,
+        height_m: args.height,
+        noise: Noise {
+            pos_m: args.noise_pos,
+            att_deg: args.noise_att,
+            vel_mps: args.noise_vel,
+            rate_dps: args.noise_rate,
+        },
+        seed: args.seed,
+        source: format!(
+            "wireflight simulate --manoeuvre {manoeuvre} --seed {}",
+            args.seed
+        ),
+        aircraft: (spec.vehicle == VehicleKind::FixedWing).then(|| spec.aircraft.clone()),
+        listed_effects: listed.clone(),
+    };
+    let flight = simulate(&model, &sim).map_err(anyhow::Error::msg)?;
+    data::write(&args.out, &flight)?;
+    println!(
+        "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}",
+        args.out.display(),
+        flight.len(),
+        flight.duration(),
+        args.rate,
+        spec.vehicle,
+        manoeuvre,
+        if spec.vehicle == VehicleKind::FixedWing {
+            spec.aircraft.as_str()
+        } else {
+            "point mass"
+        },
+        if listed.is_empty() {
+            "none".to_string()
+        } else {
+            listed.join(" ")
+        },
+        if args.hidden.is_empty() {
+            String::new()
+        } else {
+            format!(" (+{} hidden, not in the file)", args.hidden.len())
+        }
+    );
+    Ok(())
+}

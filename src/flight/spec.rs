@@ -1,0 +1,294 @@
+//! Model descriptions: which vehicle, which parameter set, which effects with which
+//! parameters. Written as a small TOML file or assembled from command-line options:
+//!
+//! ```toml
+//! vehicle = "fixed-wing"        # or "point-mass"
+//! aircraft = "aerosonde"        # built-in name or a parameter-set .toml (fixed-wing)
+//! effects = ["wind", "density_altitude"]
+//!
+//! [wind]                        # parameters of an effect; omitted ones keep defaults
+//! north_mps = 5.0
+//!
+//! [origin]                      # optional; defaults to the flight data's metadata
+//! latitude_deg = 45.0
+//! altitude_m = 0.0
+//! ```
+//!
+//! `--effects a,b` and `--add name[:k=v,...]` on the command line do the same.
+
+use std::path::Path;
+
+use anyhow::{bail, Context};
+
+use super::effects::{catalogue_effect, Origin, CATALOGUE};
+use super::model::{Model, Vehicle};
+use super::params::FixedWingParams;
+use super::VehicleKind;
+
+/// One effect with the parameters given explicitly (the rest keep their defaults).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EffectSpec {
+    /// Catalogue name.
+    pub name: String,
+    /// Parameters given, name → value.
+    pub params: Vec<(String, f64)>,
+}
+
+impl EffectSpec {
+    /// Parse `name[:k=v,k=v]`.
+    ///
+    /// # Errors
+    /// Unknown effect name, malformed `k=v`, non-numeric or non-finite value.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let (name, rest) = match text.split_once(':') {
+            Some((n, r)) => (n.trim(), r),
+            None => (text.trim(), ""),
+        };
+        if !CATALOGUE.contains(&name) {
+            return Err(format!(
+                "unknown effect `{name}` (known: {})",
+                CATALOGUE.join(", ")
+            ));
+        }
+        let mut params = Vec::new();
+        for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let (k, v) = kv
+                .split_once('=')
+                .ok_or_else(|| format!("`{kv}` in `{text}` is not name=value"))?;
+            let value: f64 = v
+                .trim()
+                .parse()
+                .ok()
+                .filter(|x: &f64| x.is_finite())
+                .ok_or_else(|| format!("`{v}` for `{k}` in `{text}` is not a finite number"))?;
+            params.push((k.trim().to_string(), value));
+        }
+        Ok(Self {
+            name: name.to_string(),
+            params,
+        })
+    }
+
+    /// `name:k=v,...` as given on a command line (inverse of [`parse`](Self::parse)).
+    pub fn to_arg(&self) -> String {
+        if self.params.is_empty() {
+            return self.name.clone();
+        }
+        let kv: Vec<String> = self
+            .params
+            .iter()
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect();
+        format!("{}:{}", self.name, kv.join(","))
+    }
+}
+
+/// A model description, buildable into a [`Model`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelSpec {
+    /// Vehicle family.
+    pub vehicle: VehicleKind,
+    /// Parameter set (fixed-wing): built-in name or file path.
+    pub aircraft: String,
+    /// Effects in order.
+    pub effects: Vec<EffectSpec>,
+    /// Origin fields given explicitly (latitude, longitude, altitude).
+    pub origin: [Option<f64>; 3],
+}
+
+impl ModelSpec {
+    /// The baseline of a vehicle family (Aerosonde for fixed-wing).
+    pub fn baseline(vehicle: VehicleKind) -> Self {
+        Self {
+            vehicle,
+            aircraft: "aerosonde".into(),
+            effects: Vec::new(),
+            origin: [None; 3],
+        }
+    }
+
+    /// Read a model file.
+    ///
+    /// # Errors
+    /// Unreadable file, bad TOML, unknown keys, effects or parameters — naming the file and
+    /// the field.
+    pub fn load(path: &Path) -> anyhow::Result<Self> {
+        let text = std::fs::read_to_string(path)
+            .with_context(|| format!("{}: cannot read", path.display()))?;
+        Self::from_toml(&text).with_context(|| format!("{}: bad model file", path.display()))
+    }
+
+    /// Parse model-file text.
+    ///
+    /// # Errors
+    /// As [`load`](Self::load), without the file name.
+    pub fn from_toml(text: &str) -> anyhow::Result<Self> {
+        let table: toml::Table = text.parse()?;
+        let vehicle: VehicleKind = match table.get("vehicle") {
+            Some(toml::Value::String(s)) => s.parse().map_err(anyhow::Error::msg)?,
+            Some(_) => bail!("field `vehicle` must be a string"),
+            None => bail!("missing field `vehicle` (point-mass or fixed-wing)"),
+        };
+        let mut spec = Self::baseline(vehicle);
+        if let Some(v) = table.get("aircraft") {
+            spec.aircraft = v
+                .as_str()
+                .context("field `aircraft` must be a string")?
+                .to_string();
+        }
+        let names: Vec<String> = match table.get("effects") {
+            None => Vec::new(),
+            Some(toml::Value::Array(a)) => a
+                .iter()
+                .map(|v| {
+                    v.as_str()
+                        .map(str::to_string)
+                        .context("field `effects` must list effect names as strings")
+                })
+                .collect::<anyhow::Result<_>>()?,
+            Some(_) => bail!("field `effects` must be an array of names"),
+        };
+        for name in &names {
+            let mut effect = EffectSpec::parse(name).map_err(anyhow::Error::msg)?;
+            if let Some(params) = table.get(name.as_str()) {
+                let params = params
+                    .as_table()
+                    .with_context(|| format!("`[{name}]` must be a table of parameters"))?;
+                for (k, v) in params {
+                    let value = v
+                        .as_float()
+                        .or_else(|| v.as_integer().map(|i| i as f64))
+                        .with_context(|| format!("`{name}.{k}` must be a number"))?;
+                    effect.params.push((k.clone(), value));
+                }
+            }
+            spec.effects.push(effect);
+        }
+        for (key, value) in &table {
+            let known = ["vehicle", "aircraft", "effects", "origin"].contains(&key.as_str())
+                || names.contains(key);
+            if !known {
+                bail!("unknown field `{key}` (a parameter table for an effect not in `effects`?)");
+            }
+            if key == "origin" {
+                let t = value.as_table().context("`[origin]` must be a table")?;
+                for (k, v) in t {
+                    let slot = match k.as_str() {
+                        "latitude_deg" => 0,
+                        "longitude_deg" => 1,
+                        "altitude_m" => 2,
+                        _ => bail!("unknown field `origin.{k}`"),
+                    };
+                    spec.origin[slot] = Some(
+                        v.as_float()
+                            .or_else(|| v.as_integer().map(|i| i as f64))
+                            .with_context(|| format!("`origin.{k}` must be a number"))?,
+                    );
+                }
+            }
+        }
+        Ok(spec)
+    }
+
+    /// Add effects named in a comma list (`--effects a,b`).
+    ///
+    /// # Errors
+    /// Unknown names.
+    pub fn add_effect_list(&mut self, list: &str) -> Result<(), String> {
+        for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            self.effects.push(EffectSpec::parse(name)?);
+        }
+        Ok(())
+    }
+
+    /// The origin: explicit fields override `default`.
+    pub fn origin(&self, default: Origin) -> Origin {
+        Origin {
+            latitude_deg: self.origin[0].unwrap_or(default.latitude_deg),
+            longitude_deg: self.origin[1].unwrap_or(default.longitude_deg),
+            altitude_m: self.origin[2].unwrap_or(default.altitude_m),
+        }
+    }
+
+    /// Build the model. `default_origin` usually comes from the flight data's metadata.
+    ///
+    /// # Errors
+    /// Unknown aircraft, bad parameter names/values, effects for the other vehicle family,
+    /// duplicates.
+    pub fn build(&self, default_origin: Origin) -> anyhow::Result<Model> {
+        let origin = self.origin(default_origin);
+        let vehicle = match self.vehicle {
+            VehicleKind::PointMass => Vehicle::PointMass,
+            VehicleKind::FixedWing => {
+                Vehicle::FixedWing(Box::new(FixedWingParams::load(&self.aircraft)?))
+            }
+        };
+        let span = vehicle.span();
+        let mut model = Model::new(vehicle, origin);
+        for e in &self.effects {
+            let mut effect = catalogue_effect(&e.name, &origin, span)
+                .with_context(|| format!("unknown effect `{}`", e.name))?;
+            for (k, v) in &e.params {
+                effect.set_param(k, *v).map_err(anyhow::Error::msg)?;
+            }
+            model.add_effect(effect).map_err(anyhow::Error::msg)?;
+        }
+        Ok(model)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn model_file_with_effect_parameters() {
+        let spec = ModelSpec::from_toml(
+            r#"
+            vehicle = "fixed-wing"
+            aircraft = "aerosonde"
+            effects = ["wind", "actuator_lag"]
+            [wind]
+            north_mps = 5.0
+            east_mps = -1
+            [origin]
+            latitude_deg = 10.0
+            "#,
+        )
+        .unwrap();
+        let m = spec.build(Origin::default()).unwrap();
+        assert_eq!(m.effect_names(), ["wind", "actuator_lag"]);
+        assert_eq!(m.effects[0].wind_ned(), glam::DVec3::new(5.0, -1.0, 0.0));
+        assert_eq!(m.origin.latitude_deg, 10.0);
+    }
+
+    #[test]
+    fn bad_model_files_say_what_is_wrong() {
+        for (text, needle) in [
+            ("effects = []", "vehicle"),
+            ("vehicle = \"boat\"", "boat"),
+            ("vehicle = \"point-mass\"\neffects = [\"magic\"]", "magic"),
+            ("vehicle = \"point-mass\"\n[wind]\nnorth_mps = 1", "wind"),
+            (
+                "vehicle = \"point-mass\"\neffects = [\"wind\"]\n[wind]\nspeed = 1",
+                "",
+            ),
+        ] {
+            let r = ModelSpec::from_toml(text).and_then(|s| s.build(Origin::default()));
+            let e = format!("{:#}", r.unwrap_err());
+            assert!(e.contains(needle), "{text}: {e}");
+        }
+        let r = ModelSpec::from_toml("vehicle = \"point-mass\"\neffects = [\"prop_torque\"]")
+            .unwrap()
+            .build(Origin::default());
+        assert!(format!("{:#}", r.unwrap_err()).contains("does not apply"));
+    }
+
+    #[test]
+    fn effect_spec_round_trips() {
+        let e = EffectSpec::parse("wind:north_mps=5,east_mps=-2.5").unwrap();
+        assert_eq!(EffectSpec::parse(&e.to_arg()).unwrap(), e);
+        assert!(EffectSpec::parse("wind:north_mps=inf").is_err());
+        assert!(EffectSpec::parse("wind:north_mps").is_err());
+    }
+}
