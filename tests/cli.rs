@@ -194,3 +194,122 @@ fn gimbal_lock_is_reported() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stdout(&o).contains("gimbal lock"), "{}", stdout(&o));
 }
+
+#[test]
+fn simulate_then_replay_end_to_end() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("test.csv");
+    let args = |out: &Path, seed: &str| {
+        vec![
+            "simulate".to_string(),
+            "--manoeuvre".into(),
+            "flight-test".into(),
+            "--duration".into(),
+            "12".into(),
+            "--rate".into(),
+            "20".into(),
+            "--hidden".into(),
+            "wind:north_mps=4,east_mps=-2".into(),
+            "--noise-pos".into(),
+            "0.3".into(),
+            "--noise-att".into(),
+            "0.2".into(),
+            "--seed".into(),
+            seed.into(),
+            "--out".into(),
+            out.to_str().unwrap().into(),
+        ]
+    };
+    let run = |a: Vec<String>| {
+        let a: Vec<&str> = a.iter().map(String::as_str).collect();
+        wireflight(&a)
+    };
+    let o = run(args(&csv, "7"));
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stdout(&o).contains("1 hidden"), "{}", stdout(&o));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        !text.contains("wind"),
+        "a hidden effect must leave no trace in the file"
+    );
+    assert_eq!(
+        text.lines().filter(|l| !l.starts_with('#')).count(),
+        1 + 241
+    );
+
+    // Deterministic for a seed, different for another.
+    let again = dir.path().join("again.csv");
+    assert!(run(args(&again, "7")).status.success());
+    assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
+    let other = dir.path().join("other.csv");
+    assert!(run(args(&other, "8")).status.success());
+    assert_ne!(std::fs::read(&other).unwrap(), text.as_bytes());
+
+    let frames = dir.path().join("frames");
+    let o = wireflight(&[
+        "render",
+        "--flight",
+        csv.to_str().unwrap(),
+        "--frames-dir",
+        frames.to_str().unwrap(),
+        "--fps",
+        "2",
+        "--size",
+        "160x120",
+        "--backend",
+        "cpu",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let mut names: Vec<String> = std::fs::read_dir(&frames)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 25, "{names:?}");
+    assert_eq!(names[0], "frame_00000.png");
+    let img = Image::decode_png(&std::fs::read(frames.join("frame_00012.png")).unwrap()).unwrap();
+    assert_eq!((img.width, img.height), (160, 120));
+}
+
+#[test]
+fn simulate_rejects_bad_requests_clearly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.csv");
+    let out = out.to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec!["simulate", "--manoeuvre", "loop", "--out", out],
+            "unknown manoeuvre",
+        ),
+        (
+            vec!["simulate", "--manoeuvre", "ballistic", "--out", out],
+            "not for a fixed-wing",
+        ),
+        (
+            vec!["simulate", "--hidden", "magic", "--out", out],
+            "unknown effect",
+        ),
+        (
+            vec![
+                "simulate",
+                "--vehicle",
+                "point-mass",
+                "--add",
+                "prop_torque",
+                "--out",
+                out,
+            ],
+            "does not apply",
+        ),
+        (
+            vec!["simulate", "--add", "wind:speed=3", "--out", out],
+            "no parameter `speed`",
+        ),
+        (vec!["simulate", "--airspeed", "3", "--out", out], "trim"),
+    ] {
+        let o = wireflight(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+    }
+    assert!(stray_files(dir.path(), &[]).is_empty());
+}

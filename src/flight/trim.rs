@@ -88,7 +88,7 @@ fn solve(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
 /// `yaw` (rad), position `pos_ned`.
 ///
 /// # Errors
-/// A point-mass model, or no trim found (residual above 1e-6 after 50 iterations, or a
+/// A point-mass model, no trim found, a trim beyond the stall angle α0 (residual above 1e-6 after 50 iterations, or a
 /// throttle outside 0..1): the aircraft cannot fly that condition.
 pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Trim, String> {
     if !matches!(model.vehicle, Vehicle::FixedWing(_)) {
@@ -138,6 +138,16 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
         ));
     }
     let (state, controls) = build(model, &z, va, yaw, pos_ned);
+    if let Vehicle::FixedWing(p) = &model.vehicle {
+        // Newton also finds "trims" hanging on the propeller beyond the stall; reject them.
+        if z[0].abs() >= p.longitudinal.alpha0 {
+            return Err(format!(
+                "no trim at {va} m/s below the stall: it would need α = {:.0}° (stall at {:.0}°)",
+                z[0].to_degrees(),
+                p.longitudinal.alpha0.to_degrees()
+            ));
+        }
+    }
     if !(0.0..=1.0).contains(&controls.throttle) {
         return Err(format!(
             "trim at {va} m/s needs throttle {:.2}, outside 0..1",
