@@ -1,0 +1,610 @@
+//! Model vs measurements by **multiple shooting**.
+//!
+//! The flight is cut into windows of `window_s` seconds. In each, the model is restarted from
+//! a state estimated from the data and flown open loop with the recorded commands (zero-order
+//! hold); its prediction is compared with the measurements sample by sample. This works for
+//! stable and divergent dynamics alike: an unstable mode can only grow for one window.
+//!
+//! **Initial state.** Restarting from a raw noisy sample turns noise into drift, so each
+//! window's start is estimated by least squares over its first `fit_s` seconds: a quadratic
+//! in time through positions (→ position and velocity), through unwrapped attitude angles
+//! (→ attitude), and through measured body rates (→ rates; or the attitude fit's derivative).
+//! States no sensor measures — control-surface positions under `actuator_lag` — follow from
+//! the command history alone: the lag filter is run over the commands from the first sample.
+//!
+//! **Error metric.** Per window and channel, the RMS of the prediction error: position (m),
+//! velocity (m/s, NED), attitude (degrees, largest-axis-wrapped). The **total** is the RMS
+//! over windows and channels of errors normalised by 1 m, 1 m/s and 1°, so a window's score
+//! is `√((e_pos² + e_vel² + e_att²)/k)` with k the number of channels the data has.
+//!
+//! **Noise floor.** The error left when the model is exactly right: each window's own
+//! prediction is taken as the truth, noise of the size measured in the data (residual of local
+//! quadratic fits) is added, and the whole procedure — initial-state fit, prediction,
+//! scoring — is run on that. What the real comparison shows above this floor is the model's.
+
+use glam::DVec3;
+
+use crate::euler::EulerZyx;
+use crate::flight::data::{unwrap_angles, FlightData};
+use crate::flight::model::{Model, State, Vehicle};
+use crate::flight::Controls;
+
+/// Settings of a comparison.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CompareConfig {
+    /// Window length, s.
+    pub window_s: f64,
+    /// Span at each window start used to estimate the initial state, s.
+    pub fit_s: f64,
+    /// Longest integration step, s.
+    pub max_dt: f64,
+    /// Use at most this many windows, evenly spread (0 = all). Fitting uses a subset for speed.
+    pub max_windows: usize,
+}
+
+impl Default for CompareConfig {
+    fn default() -> Self {
+        Self {
+            window_s: 8.0,
+            fit_s: 0.5,
+            max_dt: 0.02,
+            max_windows: 0,
+        }
+    }
+}
+
+/// RMS errors per channel (None where the data lack the channel).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChannelErrors {
+    /// Position, m.
+    pub position_m: f64,
+    /// NED velocity, m/s.
+    pub velocity_mps: Option<f64>,
+    /// Attitude, degrees.
+    pub attitude_deg: Option<f64>,
+}
+
+impl ChannelErrors {
+    /// Combined score: RMS of the channels normalised by 1 m, 1 m/s, 1°.
+    pub fn score(&self) -> f64 {
+        let mut sum = self.position_m.powi(2);
+        let mut k = 1.0;
+        for v in [self.velocity_mps, self.attitude_deg].into_iter().flatten() {
+            sum += v * v;
+            k += 1.0;
+        }
+        (sum / k).sqrt()
+    }
+
+    /// The channel with the largest normalised error.
+    pub fn dominant(&self) -> &'static str {
+        let mut best = ("position", self.position_m);
+        if let Some(v) = self.velocity_mps {
+            if v > best.1 {
+                best = ("velocity", v);
+            }
+        }
+        if let Some(a) = self.attitude_deg {
+            if a > best.1 {
+                best = ("attitude", a);
+            }
+        }
+        best.0
+    }
+}
+
+/// One window of the comparison.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowResult {
+    /// Start time, s.
+    pub t0: f64,
+    /// End time, s.
+    pub t1: f64,
+    /// First and one-past-last sample index.
+    pub samples: (usize, usize),
+    /// RMS errors in this window.
+    pub errors: ChannelErrors,
+    /// The window's score ([`ChannelErrors::score`]).
+    pub score: f64,
+}
+
+/// The model's prediction at every sample of the compared windows.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Prediction {
+    /// Sample indices.
+    pub index: Vec<usize>,
+    /// Predicted position, NED.
+    pub pos_ned: Vec<DVec3>,
+    /// Predicted NED velocity.
+    pub vel_ned: Vec<DVec3>,
+    /// Predicted attitude (aerospace angles); identity for a point mass.
+    pub attitude: Vec<EulerZyx>,
+}
+
+/// Result of a comparison.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Comparison {
+    /// Total score (see module docs).
+    pub total: f64,
+    /// RMS per channel over all windows.
+    pub channels: ChannelErrors,
+    /// Windows in time order.
+    pub windows: Vec<WindowResult>,
+    /// Per-sample prediction.
+    pub prediction: Prediction,
+}
+
+impl Comparison {
+    /// Windows sorted worst first.
+    pub fn worst_windows(&self) -> Vec<&WindowResult> {
+        let mut w: Vec<&WindowResult> = self.windows.iter().collect();
+        w.sort_by(|a, b| b.score.total_cmp(&a.score));
+        w
+    }
+}
+
+/// Estimated measurement noise (standard deviations) of the data's channels.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NoiseEstimate {
+    /// Position, m.
+    pub pos_m: f64,
+    /// Velocity, m/s.
+    pub vel_mps: f64,
+    /// Attitude, rad.
+    pub att_rad: f64,
+    /// Body rates, rad/s.
+    pub rate_radps: f64,
+}
+
+/// Weighted least-squares quadratic fit of `y(t)` around `t0`: returns (value, slope) at t0.
+fn quad_fit(t: &[f64], y: &[f64], t0: f64) -> (f64, f64) {
+    let n = t.len();
+    if n == 0 {
+        return (0.0, 0.0);
+    }
+    if n < 3 {
+        let slope = if n == 2 && t[1] != t[0] {
+            (y[1] - y[0]) / (t[1] - t[0])
+        } else {
+            0.0
+        };
+        return (y[0] + slope * (t0 - t[0]), slope);
+    }
+    // Normal equations in s = t − t0 for y = a + b s + c s².
+    let mut m = [[0.0f64; 3]; 3];
+    let mut r = [0.0f64; 3];
+    for (&ti, &yi) in t.iter().zip(y) {
+        let s = ti - t0;
+        let basis = [1.0, s, s * s];
+        for i in 0..3 {
+            for j in 0..3 {
+                m[i][j] += basis[i] * basis[j];
+            }
+            r[i] += basis[i] * yi;
+        }
+    }
+    match solve3(m, r) {
+        Some([a, b, _]) => (a, b),
+        None => (y[0], 0.0),
+    }
+}
+
+fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |a: &[[f64; 3]; 3]| {
+        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
+    };
+    let d = det(&m);
+    if d.abs() < 1e-300 || !d.is_finite() {
+        return None;
+    }
+    let mut out = [0.0; 3];
+    for (k, o) in out.iter_mut().enumerate() {
+        let mut mk = m;
+        for i in 0..3 {
+            mk[i][k] = r[i];
+        }
+        *o = det(&mk) / d;
+    }
+    Some(out)
+}
+
+/// Everything precomputed once per data set and reused across model evaluations.
+pub struct Prepared<'a> {
+    /// The data.
+    pub data: &'a FlightData,
+    /// Attitude angles unwrapped per axis (yaw, pitch, roll), rad.
+    unwrapped: Option<[Vec<f64>; 3]>,
+    /// Window sample ranges.
+    pub windows: Vec<(usize, usize)>,
+    cfg: CompareConfig,
+}
+
+impl<'a> Prepared<'a> {
+    /// Cut the data into windows and precompute what every evaluation needs.
+    pub fn new(data: &'a FlightData, cfg: CompareConfig) -> Self {
+        let unwrapped = data.attitude.as_ref().map(|att| {
+            [
+                unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
+            ]
+        });
+        let mut windows = Vec::new();
+        let n = data.len();
+        let mut start = 0;
+        while start + 2 < n {
+            let t_end = data.time[start] + cfg.window_s;
+            let end = data
+                .time
+                .partition_point(|&t| t < t_end)
+                .max(start + 2)
+                .min(n);
+            // A trailing stub shorter than half a window is merged into nothing.
+            if data.time[end - 1] - data.time[start] < 0.5 * cfg.window_s && !windows.is_empty() {
+                break;
+            }
+            windows.push((start, end));
+            start = end;
+        }
+        if cfg.max_windows > 0 && windows.len() > cfg.max_windows {
+            let step = windows.len() as f64 / cfg.max_windows as f64;
+            windows = (0..cfg.max_windows)
+                .map(|i| windows[(i as f64 * step) as usize])
+                .collect();
+        }
+        Self {
+            data,
+            unwrapped,
+            windows,
+            cfg,
+        }
+    }
+
+    /// The settings.
+    pub fn config(&self) -> CompareConfig {
+        self.cfg
+    }
+
+    /// Estimated state at the first sample of a window (see module docs).
+    pub fn initial_state(&self, model: &Model, start: usize, end: usize) -> State {
+        let d = self.data;
+        let t0 = d.time[start];
+        let fit_end = d.time[start..end]
+            .partition_point(|&t| t < t0 + self.cfg.fit_s)
+            .max(3.min(end - start))
+            + start;
+        let ts = &d.time[start..fit_end];
+        let fit = |vals: &dyn Fn(usize) -> f64| {
+            let y: Vec<f64> = (start..fit_end).map(vals).collect();
+            quad_fit(ts, &y, t0)
+        };
+        let (px, vx) = fit(&|i| d.pos_ned[i].x);
+        let (py, vy) = fit(&|i| d.pos_ned[i].y);
+        let (pz, vz) = fit(&|i| d.pos_ned[i].z);
+        let pos = DVec3::new(px, py, pz);
+        let mut vel_ned = DVec3::new(vx, vy, vz);
+        if let Some(v) = &d.vel_ned {
+            // Measured velocities, when present, are smoothed the same way and preferred:
+            // they are what the differentiator would otherwise have to reconstruct.
+            if !d.is_derived("vel_ned") {
+                vel_ned = DVec3::new(fit(&|i| v[i].x).0, fit(&|i| v[i].y).0, fit(&|i| v[i].z).0);
+            }
+        }
+        let mut x = State::default();
+        x.set_pos_ned(pos);
+        match &model.vehicle {
+            Vehicle::PointMass => x.set_vel(vel_ned),
+            Vehicle::FixedWing(_) => {
+                let (att, att_rate) = match &self.unwrapped {
+                    Some([yaw, pitch, roll]) => {
+                        let (y0, yd) = fit(&|i| yaw[i]);
+                        let (p0, pd) = fit(&|i| pitch[i]);
+                        let (r0, rd) = fit(&|i| roll[i]);
+                        (EulerZyx::new(y0, p0, r0), [yd, pd, rd])
+                    }
+                    None => (EulerZyx::default(), [0.0; 3]),
+                };
+                x.set_attitude(att);
+                x.set_vel(att.to_matrix().transpose() * vel_ned);
+                let omega = match &d.rates_body {
+                    Some(w) if !d.is_derived("rates_body") => {
+                        DVec3::new(fit(&|i| w[i].x).0, fit(&|i| w[i].y).0, fit(&|i| w[i].z).0)
+                    }
+                    _ => {
+                        // Body rates from the Euler-angle rates of the fit.
+                        let [psi_d, theta_d, phi_d] = att_rate;
+                        let (sphi, cphi) = att.roll.sin_cos();
+                        let (sth, cth) = att.pitch.sin_cos();
+                        DVec3::new(
+                            phi_d - psi_d * sth,
+                            theta_d * cphi + psi_d * cth * sphi,
+                            -theta_d * sphi + psi_d * cth * cphi,
+                        )
+                    }
+                };
+                x.set_omega(omega);
+                x.set_surfaces(surfaces_at(model, d, start));
+            }
+        }
+        x
+    }
+
+    /// Fly the model through one window from `x0`; returns predictions at each sample.
+    fn predict(&self, model: &Model, start: usize, end: usize, x0: State, out: &mut Prediction) {
+        let d = self.data;
+        let mut x = x0;
+        for i in start..end {
+            out.index.push(i);
+            out.pos_ned.push(x.pos_ned());
+            match model.vehicle {
+                Vehicle::PointMass => {
+                    out.vel_ned.push(x.vel());
+                    out.attitude.push(EulerZyx::default());
+                }
+                Vehicle::FixedWing(_) => {
+                    out.vel_ned.push(x.rot() * x.vel());
+                    out.attitude.push(x.attitude());
+                }
+            }
+            if i + 1 < end {
+                let cmd = controls_at(d, i);
+                x = model.advance(d.time[i], &x, &cmd, d.time[i + 1], self.cfg.max_dt);
+                if !x.is_finite() {
+                    // Diverged: hold the last finite prediction (scored as a large error).
+                    for _ in i + 1..end {
+                        let k = out.pos_ned.len() - 1;
+                        out.index.push(out.index[k] + 1);
+                        out.pos_ned.push(out.pos_ned[k]);
+                        out.vel_ned.push(out.vel_ned[k]);
+                        out.attitude.push(out.attitude[k]);
+                    }
+                    return;
+                }
+            }
+        }
+    }
+}
+
+/// Commands in force from sample i (zero for data without controls).
+fn controls_at(d: &FlightData, i: usize) -> Controls {
+    d.controls.as_ref().map(|c| c[i]).unwrap_or_default()
+}
+
+/// Surface positions at sample `upto` under the model's actuator lag (the commands
+/// themselves without one): the exact zero-order-hold discretisation of τẋ = cmd − x,
+/// started at the first command.
+pub fn surfaces_at(model: &Model, d: &FlightData, upto: usize) -> DVec3 {
+    let Some(controls) = &d.controls else {
+        return DVec3::ZERO;
+    };
+    let as_vec = |c: &Controls| DVec3::new(c.elevator, c.aileron, c.rudder);
+    let tau = model.effects.iter().find_map(|e| e.actuator_tau());
+    match tau {
+        None => as_vec(&controls[upto]),
+        Some(tau) => {
+            let mut s = as_vec(&controls[0]);
+            for i in 0..upto {
+                let a = 1.0 - (-(d.time[i + 1] - d.time[i]) / tau).exp();
+                s += a * (as_vec(&controls[i]) - s);
+            }
+            s
+        }
+    }
+}
+
+/// Attitude error between two aerospace angle sets, degrees: the rotation angle of R_aᵀR_b
+/// (independent of how the angles are split, so no trouble at gimbal lock or ±180°).
+fn attitude_error_deg(a: &EulerZyx, b: &EulerZyx) -> f64 {
+    let r = a.to_matrix().transpose() * b.to_matrix();
+    let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) / 2.0).clamp(-1.0, 1.0);
+    c.acos().to_degrees()
+}
+
+/// Score predictions against measurements (or against `truth` when given).
+fn score_windows(
+    prep: &Prepared,
+    pred: &Prediction,
+    meas_pos: &[DVec3],
+    meas_vel: Option<&[DVec3]>,
+    meas_att: Option<&[EulerZyx]>,
+) -> (Vec<WindowResult>, ChannelErrors) {
+    let d = prep.data;
+    let mut windows = Vec::with_capacity(prep.windows.len());
+    let (mut sp, mut sv, mut sa, mut n) = (0.0, 0.0, 0.0, 0.0);
+    let mut k = 0;
+    for &(start, end) in &prep.windows {
+        let (mut wp, mut wv, mut wa) = (0.0, 0.0, 0.0);
+        for i in start..end {
+            wp += (pred.pos_ned[k] - meas_pos[i]).length_squared();
+            if let Some(v) = meas_vel {
+                wv += (pred.vel_ned[k] - v[i]).length_squared();
+            }
+            if let Some(a) = meas_att {
+                wa += attitude_error_deg(&pred.attitude[k], &a[i]).powi(2);
+            }
+            k += 1;
+        }
+        let m = (end - start) as f64;
+        sp += wp;
+        sv += wv;
+        sa += wa;
+        n += m;
+        let errors = ChannelErrors {
+            position_m: (wp / m).sqrt(),
+            velocity_mps: meas_vel.map(|_| (wv / m).sqrt()),
+            attitude_deg: meas_att.map(|_| (wa / m).sqrt()),
+        };
+        windows.push(WindowResult {
+            t0: d.time[start],
+            t1: d.time[end - 1],
+            samples: (start, end),
+            score: errors.score(),
+            errors,
+        });
+    }
+    let channels = ChannelErrors {
+        position_m: (sp / n).sqrt(),
+        velocity_mps: meas_vel.map(|_| (sv / n).sqrt()),
+        attitude_deg: meas_att.map(|_| (sa / n).sqrt()),
+    };
+    (windows, channels)
+}
+
+/// Compare a model with prepared data.
+pub fn compare_prepared(model: &Model, prep: &Prepared) -> Comparison {
+    let d = prep.data;
+    let mut pred = Prediction::default();
+    for &(start, end) in &prep.windows {
+        let x0 = prep.initial_state(model, start, end);
+        prep.predict(model, start, end, x0, &mut pred);
+    }
+    let meas_vel = d.vel_ned.as_deref();
+    let meas_att = match model.vehicle {
+        Vehicle::FixedWing(_) => d.attitude.as_deref(),
+        Vehicle::PointMass => None,
+    };
+    let (windows, channels) = score_windows(prep, &pred, &d.pos_ned, meas_vel, meas_att);
+    let total = total_score(&windows);
+    Comparison {
+        total,
+        channels,
+        windows,
+        prediction: pred,
+    }
+}
+
+/// RMS of window scores, weighted by window length in samples.
+fn total_score(windows: &[WindowResult]) -> f64 {
+    let (mut s, mut n) = (0.0, 0.0);
+    for w in windows {
+        let m = (w.samples.1 - w.samples.0) as f64;
+        s += w.score * w.score * m;
+        n += m;
+    }
+    if n > 0.0 {
+        (s / n).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Compare a model with flight data.
+pub fn compare(model: &Model, data: &FlightData, cfg: CompareConfig) -> Comparison {
+    compare_prepared(model, &Prepared::new(data, cfg))
+}
+
+/// Measurement noise of the data, estimated from the residuals of local quadratic fits over
+/// ±`half` samples (the fit absorbs the motion; what is left is noise), corrected for the
+/// fit's degrees of freedom.
+pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
+    let half = 6usize;
+    let resid_rms = |get: &dyn Fn(usize) -> f64| -> f64 {
+        let n = d.len();
+        if n < 2 * half + 1 {
+            return 0.0;
+        }
+        let (mut s, mut m) = (0.0, 0.0);
+        let mut i = half;
+        while i + half < n {
+            let ts = &d.time[i - half..=i + half];
+            let ys: Vec<f64> = (i - half..=i + half).map(get).collect();
+            let (y0, _) = quad_fit(ts, &ys, d.time[i]);
+            s += (ys[half] - y0).powi(2);
+            m += 1.0;
+            i += half; // thinned: neighbouring residuals share their fits
+        }
+        // Residual at the centre of a (2h+1)-point quadratic fit has variance σ²(1 − h_ii).
+        let npts = (2 * half + 1) as f64;
+        let leverage = (3.0 * (3.0 * npts * npts - 7.0)) / (4.0 * npts * (npts * npts - 4.0));
+        (s / m / (1.0 - leverage)).sqrt()
+    };
+    let axis3 = |get: &dyn Fn(usize) -> DVec3| -> f64 {
+        let a = resid_rms(&|i| get(i).x);
+        let b = resid_rms(&|i| get(i).y);
+        let c = resid_rms(&|i| get(i).z);
+        ((a * a + b * b + c * c) / 3.0).sqrt()
+    };
+    let pos_m = axis3(&|i| d.pos_ned[i]);
+    let vel_mps = match &d.vel_ned {
+        Some(v) if !d.is_derived("vel_ned") => axis3(&|i| v[i]),
+        _ => 0.0,
+    };
+    let att_rad = match &d.attitude {
+        Some(att) => {
+            let un = [
+                unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
+            ];
+            axis3(&|i| DVec3::new(un[0][i], un[1][i], un[2][i]))
+        }
+        None => 0.0,
+    };
+    let rate_radps = match &d.rates_body {
+        Some(w) if !d.is_derived("rates_body") => axis3(&|i| w[i]),
+        _ => 0.0,
+    };
+    NoiseEstimate {
+        pos_m,
+        vel_mps,
+        att_rad,
+        rate_radps,
+    }
+}
+
+/// The error the comparison would show if `model` were exactly right, given measurement noise
+/// `noise`: each window's prediction becomes the truth, deterministic pseudo-random noise of
+/// that size is added, and the comparison is rerun on the result (see module docs).
+pub fn noise_floor(model: &Model, prep: &Prepared, noise: &NoiseEstimate, seed: u64) -> f64 {
+    use rand::SeedableRng;
+    use rand_distr::{Distribution, Normal};
+    let reference = compare_prepared(model, prep);
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut gauss = |s: f64| {
+        if s > 0.0 {
+            Normal::new(0.0, s).expect("finite").sample(&mut rng)
+        } else {
+            0.0
+        }
+    };
+    let d = prep.data;
+    let mut synth = d.clone();
+    let p = &reference.prediction;
+    for (k, &i) in p.index.iter().enumerate() {
+        synth.pos_ned[i] =
+            p.pos_ned[k] + DVec3::new(gauss(noise.pos_m), gauss(noise.pos_m), gauss(noise.pos_m));
+        if let Some(v) = synth.vel_ned.as_mut() {
+            v[i] = p.vel_ned[k]
+                + DVec3::new(
+                    gauss(noise.vel_mps),
+                    gauss(noise.vel_mps),
+                    gauss(noise.vel_mps),
+                );
+        }
+        if let (Some(a), Vehicle::FixedWing(_)) = (synth.attitude.as_mut(), &model.vehicle) {
+            let e = p.attitude[k];
+            a[i] = EulerZyx::new(
+                e.yaw + gauss(noise.att_rad),
+                e.pitch + gauss(noise.att_rad),
+                e.roll + gauss(noise.att_rad),
+            );
+        }
+    }
+    // Rates: the truth's rates are not kept per sample; measured ones keep their noise level
+    // around the data (a slight over-estimate of the floor, on the safe side).
+    let synth_prep = Prepared {
+        data: &synth,
+        unwrapped: synth.attitude.as_ref().map(|att| {
+            [
+                unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
+            ]
+        }),
+        windows: prep.windows.clone(),
+        cfg: prep.cfg,
+    };
+    compare_prepared(model, &synth_prep).total
+}

@@ -1,0 +1,4 @@
+//! Model vs measurements: compare a model with flight data, find where it fails, diagnose
+//! which physical effect is missing.
+
+pub mod compare;
