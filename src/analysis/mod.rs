@@ -2,3 +2,4 @@
 //! which physical effect is missing.
 
 pub mod compare;
+pub mod diagnose;

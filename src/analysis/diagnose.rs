@@ -1,0 +1,456 @@
+//! Which physical effect is missing? Try every applicable catalogue effect (and any user
+//! effect given), fit its parameters, rank by how much of the error it removes, and test
+//! whether the improvement is more than fitting noise.
+//!
+//! * **Fitting** (output error): Levenberg–Marquardt on the per-window scores of the
+//!   multiple-shooting comparison ([`super::compare`]), finite-difference Jacobian, parameters
+//!   scaled by a typical size each. Parameters given by the user, and latitudes known from the
+//!   data's metadata, are held fixed. The covariance `s²(JᵀJ)⁻¹` gives the ± uncertainty.
+//! * **Significance**: windows are the independent units (samples within a window are
+//!   correlated). The likelihood-ratio statistic `W·ln(SSE₀/SSE₁)` is compared with the χ²
+//!   quantile at 1% for the number of fitted parameters (at least 1), so adding parameters has
+//!   to buy more than noise would give; and the effect must remove at least a fifth of the
+//!   error above the noise floor.
+//! * **Verdict**: the significant candidate that removes the most error, or none when the
+//!   baseline is already within 20% of the noise floor or nothing is significant.
+//!   [`iterate`] adds the winner and repeats until nothing is left.
+
+use super::compare::{compare_prepared, estimate_noise, noise_floor, CompareConfig, Prepared};
+use crate::flight::data::FlightData;
+use crate::flight::effects::{catalogue_effect, Effect, CATALOGUE};
+use crate::flight::model::Model;
+
+/// Settings of a diagnosis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiagnoseConfig {
+    /// Comparison settings used for fitting and scoring.
+    pub compare: CompareConfig,
+    /// Levenberg–Marquardt iterations per candidate.
+    pub max_iterations: usize,
+    /// Significance level of the likelihood-ratio test (0.01 or 0.05).
+    pub alpha: f64,
+}
+
+impl Default for DiagnoseConfig {
+    fn default() -> Self {
+        Self {
+            compare: CompareConfig {
+                max_windows: 40,
+                ..CompareConfig::default()
+            },
+            max_iterations: 12,
+            alpha: 0.01,
+        }
+    }
+}
+
+/// One tried effect.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// Effect name.
+    pub effect: String,
+    /// Parameters after fitting (fitted and fixed), name → value.
+    pub params: Vec<(String, f64)>,
+    /// ± one standard deviation of each fitted parameter (NaN for fixed ones).
+    pub uncertainty: Vec<f64>,
+    /// Number of fitted parameters.
+    pub fitted: usize,
+    /// Total error without the effect.
+    pub error_before: f64,
+    /// Total error with the fitted effect.
+    pub error_after: f64,
+    /// Fraction of the error removed, (before − after)/before.
+    pub error_reduction: f64,
+    /// Fraction of the error *above the noise floor* removed.
+    pub excess_removed: f64,
+    /// Likelihood-ratio statistic W·ln(SSE₀/SSE₁).
+    pub lr_statistic: f64,
+    /// Passed the significance test and the materiality threshold.
+    pub significant: bool,
+    /// The fitted effect, ready to add to the model.
+    pub fitted_effect: Box<dyn Effect>,
+}
+
+/// Result of a diagnosis.
+#[derive(Clone, Debug)]
+pub struct Diagnosis {
+    /// Total error of the model as given.
+    pub base_error: f64,
+    /// Error expected from measurement noise alone.
+    pub noise_floor: f64,
+    /// Candidates, most error removed first.
+    pub ranking: Vec<Candidate>,
+    /// The most likely missing effect, or None.
+    pub verdict: Option<String>,
+}
+
+impl Diagnosis {
+    /// The winning candidate.
+    pub fn winner(&self) -> Option<&Candidate> {
+        let v = self.verdict.as_ref()?;
+        self.ranking.iter().find(|c| &c.effect == v)
+    }
+}
+
+/// χ² quantiles for 1..=4 degrees of freedom at 1% and 5%.
+fn chi2_critical(dof: usize, alpha: f64) -> f64 {
+    let at_1 = [6.635, 9.210, 11.345, 13.277];
+    let at_5 = [3.841, 5.991, 7.815, 9.488];
+    let i = dof.clamp(1, 4) - 1;
+    if alpha <= 0.01 {
+        at_1[i]
+    } else {
+        at_5[i]
+    }
+}
+
+/// Typical size of a parameter (finite-difference step and LM scaling).
+fn param_scale(effect: &str, param: &str, value: f64) -> f64 {
+    match (effect, param) {
+        ("wind", _) => 1.0,
+        ("drag", "k") => value.abs().max(1e-4),
+        ("prop_torque", _) => 0.1,
+        ("gyroscopic", _) => 0.01,
+        ("actuator_lag", _) => value.abs().max(0.02),
+        (_, "latitude_deg") => 10.0,
+        _ => value.abs().max(1.0),
+    }
+}
+
+/// Starting value of a fitted parameter.
+fn initial_value(effect: &str, param: &str, default: f64) -> f64 {
+    match (effect, param) {
+        ("drag", "k") => 1e-4,
+        ("actuator_lag", "tau_s") => 0.1,
+        _ => default,
+    }
+}
+
+/// Per-window weighted residuals: score_w·√n_w, so Σ r² = total²·N.
+fn residuals(model: &Model, prep: &Prepared) -> Vec<f64> {
+    let c = compare_prepared(model, prep);
+    c.windows
+        .iter()
+        .map(|w| w.score * ((w.samples.1 - w.samples.0) as f64).sqrt())
+        .collect()
+}
+
+fn sse(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}
+
+fn total_from_sse(sse: f64, prep: &Prepared) -> f64 {
+    let n: usize = prep.windows.iter().map(|(a, b)| b - a).sum();
+    (sse / n.max(1) as f64).sqrt()
+}
+
+/// Fit the parameters `free` of the effect `name` inside `model` (already added) by
+/// Levenberg–Marquardt. Returns (SSE, uncertainties of the free parameters).
+fn fit(
+    model: &mut Model,
+    name: &str,
+    free: &[String],
+    prep: &Prepared,
+    iterations: usize,
+) -> (f64, Vec<f64>) {
+    let get = |m: &Model| -> Vec<f64> {
+        let e = m.effects.iter().find(|e| e.name() == name).expect("added");
+        free.iter()
+            .map(|p| {
+                e.params()
+                    .iter()
+                    .find(|q| q.name == p)
+                    .map(|q| q.value)
+                    .unwrap_or(0.0)
+            })
+            .collect()
+    };
+    let set = |m: &mut Model, v: &[f64]| {
+        let e = m.effect_mut(name).expect("added");
+        for (p, x) in free.iter().zip(v) {
+            let _ = e.set_param(p, *x);
+        }
+    };
+    let mut theta = get(model);
+    let scales: Vec<f64> = free
+        .iter()
+        .zip(&theta)
+        .map(|(p, v)| param_scale(name, p, *v))
+        .collect();
+    let mut r = residuals(model, prep);
+    let mut cost = sse(&r);
+    let np = free.len();
+    let mut lambda = 1e-3;
+    let mut jtj_last = vec![vec![0.0; np]; np];
+    for _ in 0..iterations {
+        if np == 0 {
+            break;
+        }
+        // Jacobian in scaled parameters (forward differences of 1% of the scale).
+        let mut jac = vec![vec![0.0; np]; r.len()];
+        for j in 0..np {
+            let h = 0.01 * scales[j];
+            let mut t = theta.clone();
+            t[j] += h;
+            set(model, &t);
+            let rp = residuals(model, prep);
+            for i in 0..r.len() {
+                jac[i][j] = (rp[i] - r[i]) / 0.01;
+            }
+        }
+        set(model, &theta);
+        let mut jtj = vec![vec![0.0; np]; np];
+        let mut jtr = vec![0.0; np];
+        for i in 0..r.len() {
+            for a in 0..np {
+                jtr[a] += jac[i][a] * r[i];
+                for b in 0..np {
+                    jtj[a][b] += jac[i][a] * jac[i][b];
+                }
+            }
+        }
+        jtj_last = jtj.clone();
+        let mut improved = false;
+        for _ in 0..8 {
+            let mut a = jtj.clone();
+            for k in 0..np {
+                a[k][k] += lambda * jtj[k][k].max(1e-12);
+            }
+            let Some(step) = solve(a, jtr.iter().map(|v| -v).collect()) else {
+                lambda *= 10.0;
+                continue;
+            };
+            let cand: Vec<f64> = theta
+                .iter()
+                .zip(&step)
+                .zip(&scales)
+                .map(|((t, s), sc)| t + s * sc)
+                .collect();
+            set(model, &cand);
+            let rc = residuals(model, prep);
+            let c = sse(&rc);
+            if c.is_finite() && c < cost {
+                theta = get(model); // the effect may clamp (e.g. τ ≥ 1 ms)
+                r = rc;
+                let rel = (cost - c) / cost;
+                cost = c;
+                lambda = (lambda / 3.0).max(1e-9);
+                improved = rel > 1e-6;
+                break;
+            }
+            lambda *= 10.0;
+        }
+        set(model, &theta);
+        if !improved {
+            break;
+        }
+    }
+    // Uncertainty: s² (JᵀJ)⁻¹ in scaled units, converted back.
+    let dof = (r.len() as f64 - np as f64).max(1.0);
+    let s2 = cost / dof;
+    let unc = (0..np)
+        .map(|k| {
+            let mut e = vec![0.0; np];
+            e[k] = 1.0;
+            solve(jtj_last.clone(), e)
+                .map(|col| (s2 * col[k]).max(0.0).sqrt() * scales[k])
+                .unwrap_or(f64::NAN)
+        })
+        .collect();
+    (cost, unc)
+}
+
+/// Gaussian elimination with partial pivoting (small systems).
+fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+    let n = b.len();
+    for col in 0..n {
+        let piv = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
+        if !(a[piv][col].abs() > 1e-300) {
+            return None;
+        }
+        a.swap(col, piv);
+        b.swap(col, piv);
+        for row in col + 1..n {
+            let f = a[row][col] / a[col][col];
+            for k in col..n {
+                a[row][k] -= f * a[col][k];
+            }
+            b[row] -= f * b[col];
+        }
+    }
+    let mut x = vec![0.0; n];
+    for row in (0..n).rev() {
+        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
+        x[row] = (b[row] - s) / a[row][row];
+    }
+    Some(x)
+}
+
+/// Try one effect on top of `base`: fit it and score it. `fixed` lists parameters not to fit.
+pub fn try_effect(
+    base: &Model,
+    effect: Box<dyn Effect>,
+    fixed: &[String],
+    prep: &Prepared,
+    cfg: &DiagnoseConfig,
+    before_sse: f64,
+    floor: f64,
+) -> Result<Candidate, String> {
+    let name = effect.name().to_string();
+    let mut model = base.clone();
+    model.add_effect(effect)?;
+    let mut free = Vec::new();
+    for p in model.effect_mut(&name).expect("added").params() {
+        if fixed.iter().any(|f| f == p.name) {
+            continue;
+        }
+        free.push(p.name.to_string());
+    }
+    {
+        let e = model.effect_mut(&name).expect("added");
+        for p in &free {
+            let default = e
+                .params()
+                .iter()
+                .find(|q| q.name == p)
+                .map(|q| q.value)
+                .unwrap_or(0.0);
+            let _ = e.set_param(p, initial_value(&name, p, default));
+        }
+    }
+    let (after_sse, fitted_unc) = fit(&mut model, &name, &free, prep, cfg.max_iterations);
+    let effect = model
+        .effects
+        .iter()
+        .find(|e| e.name() == name)
+        .expect("added");
+    let params: Vec<(String, f64)> = effect
+        .params()
+        .iter()
+        .map(|p| (p.name.to_string(), p.value))
+        .collect();
+    let uncertainty = params
+        .iter()
+        .map(|(n, _)| {
+            free.iter()
+                .position(|f| f == n)
+                .map(|k| fitted_unc[k])
+                .unwrap_or(f64::NAN)
+        })
+        .collect();
+    let before = total_from_sse(before_sse, prep);
+    let after = total_from_sse(after_sse, prep);
+    let w = prep.windows.len() as f64;
+    let lr = if after_sse > 0.0 {
+        w * (before_sse / after_sse).ln()
+    } else {
+        f64::INFINITY
+    };
+    let excess = (before - floor).max(1e-12);
+    let excess_removed = ((before - after) / excess).clamp(-1.5, 1.5);
+    let significant = lr > chi2_critical(free.len().max(1), cfg.alpha)
+        && after < before
+        && excess_removed >= 0.2
+        && before > 1.2 * floor;
+    Ok(Candidate {
+        effect: name,
+        params,
+        uncertainty,
+        fitted: free.len(),
+        error_before: before,
+        error_after: after,
+        error_reduction: if before > 0.0 {
+            (before - after) / before
+        } else {
+            0.0
+        },
+        excess_removed,
+        lr_statistic: lr,
+        significant,
+        fitted_effect: effect.clone_box(),
+    })
+}
+
+/// Diagnose: try every catalogue effect that applies to the vehicle and is not in the model
+/// yet, plus `extra` user effects; rank; decide.
+pub fn diagnose(
+    base: &Model,
+    data: &FlightData,
+    extra: &[Box<dyn Effect>],
+    cfg: &DiagnoseConfig,
+) -> Diagnosis {
+    let prep = Prepared::new(data, cfg.compare);
+    let before_sse = sse(&residuals(base, &prep));
+    let base_error = total_from_sse(before_sse, &prep);
+    let floor = noise_floor(base, &prep, &estimate_noise(data), 0x5eed);
+    // Latitudes known from the metadata are facts, not unknowns.
+    let fixed: Vec<String> = if data.meta.latitude_deg.is_some() {
+        vec!["latitude_deg".to_string()]
+    } else {
+        Vec::new()
+    };
+    let kind = base.vehicle.kind();
+    let mut candidates: Vec<Box<dyn Effect>> = CATALOGUE
+        .iter()
+        .filter_map(|n| catalogue_effect(n, &base.origin, base.vehicle.span()))
+        .collect();
+    candidates.extend(extra.iter().cloned());
+    let mut ranking: Vec<Candidate> = candidates
+        .into_iter()
+        .filter(|e| e.applies_to(kind) && !base.has_effect(e.name()))
+        .filter_map(|e| try_effect(base, e, &fixed, &prep, cfg, before_sse, floor).ok())
+        .collect();
+    ranking.sort_by(|a, b| a.error_after.total_cmp(&b.error_after));
+    let verdict = ranking
+        .iter()
+        .find(|c| c.significant)
+        .map(|c| c.effect.clone());
+    Diagnosis {
+        base_error,
+        noise_floor: floor,
+        ranking,
+        verdict,
+    }
+}
+
+/// One rung of the `--iterate` ladder.
+#[derive(Clone, Debug)]
+pub struct Rung {
+    /// Effects in the model at this rung.
+    pub effects: Vec<String>,
+    /// Total error of that model.
+    pub error: f64,
+    /// The diagnosis made at this rung.
+    pub diagnosis: Diagnosis,
+}
+
+/// Diagnose, add the winner (with its fitted parameters), repeat until nothing significant is
+/// left (at most `max_rungs` effects added). Returns the ladder and the final model.
+pub fn iterate(
+    base: &Model,
+    data: &FlightData,
+    extra: &[Box<dyn Effect>],
+    cfg: &DiagnoseConfig,
+    max_rungs: usize,
+) -> (Vec<Rung>, Model) {
+    let mut model = base.clone();
+    let mut ladder = Vec::new();
+    for _ in 0..=max_rungs {
+        let diagnosis = diagnose(&model, data, extra, cfg);
+        let winner = diagnosis.winner().map(|c| c.fitted_effect.clone());
+        ladder.push(Rung {
+            effects: model.effect_names(),
+            error: diagnosis.base_error,
+            diagnosis,
+        });
+        match winner {
+            Some(e) if ladder.len() <= max_rungs => {
+                if model.add_effect(e).is_err() {
+                    break;
+                }
+            }
+            _ => break,
+        }
+    }
+    (ladder, model)
+}
