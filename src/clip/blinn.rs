@@ -11,8 +11,13 @@
 //!
 //! Only planes that one endpoint is outside of are visited (the others cannot change the
 //! interval), and there is no division by zero: a visited plane has one BC < 0 ≤ the other.
+//!
+//! The outcodes come from `f32` boundary coordinates (an overflow to ±∞ keeps its sign, so the
+//! codes stay right), but the crossing parameters and the new endpoints of a non-trivial edge
+//! are computed in `f64`: `BC_A − BC_C` and `C − A` overflow `f32` for coordinates near
+//! `f32::MAX`, which would give t = 0 and NaN endpoints. Only edges that cross a plane pay.
 
-use glam::Vec4;
+use glam::{DVec4, Vec4};
 
 use super::{boundary_coords, outcode, DepthRange, PLANE_COUNT};
 
@@ -81,15 +86,18 @@ pub fn clip_edge(a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
         };
     }
 
-    let mut t_in = 0.0f32;
-    let mut t_out = 1.0f32;
+    let (a64, c64) = (a.as_dvec4(), c.as_dvec4());
+    let a_bc = boundary_coords_f64(a64, depth);
+    let c_bc = boundary_coords_f64(c64, depth);
+    let mut t_in = 0.0f64;
+    let mut t_out = 1.0f64;
     let crossed = a_code | c_code;
     for i in 0..PLANE_COUNT {
         if crossed & (1 << i) == 0 {
             continue; // both endpoints inside this plane: it cannot shorten the interval
         }
         let t_hit = a_bc[i] / (a_bc[i] - c_bc[i]);
-        if c_bc[i] < 0.0 {
+        if c_code & (1 << i) != 0 {
             t_out = t_out.min(t_hit); // leaving: C is outside
         } else {
             t_in = t_in.max(t_hit); // entering: A is outside
@@ -99,13 +107,23 @@ pub fn clip_edge(a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
         }
     }
 
-    let d = c - a;
-    let a_out = if a_code != 0 { a + t_in * d } else { a };
-    let c_out = if c_code != 0 { a + t_out * d } else { c };
+    let d = c64 - a64;
+    let a_out = if a_code != 0 { (a64 + t_in * d).as_vec4() } else { a };
+    let c_out = if c_code != 0 { (a64 + t_out * d).as_vec4() } else { c };
     debug_assert!(t_in >= 0.0 && t_out <= 1.0 && t_in <= t_out);
     if a_out.w > 0.0 && c_out.w > 0.0 {
         ClipOutcome::Clipped(a_out, c_out)
     } else {
         ClipOutcome::ClippedAway
     }
+}
+
+/// [`boundary_coords`] in `f64`, for the crossing parameters (see the module docs).
+#[inline]
+fn boundary_coords_f64(p: DVec4, depth: DepthRange) -> [f64; PLANE_COUNT] {
+    let near = match depth {
+        DepthRange::ZeroToOne => p.z,
+        DepthRange::NegOneToOne => p.w + p.z,
+    };
+    [p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y, near, p.w - p.z]
 }
