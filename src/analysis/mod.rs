@@ -2,4 +2,6 @@
 //! which physical effect is missing.
 
 pub mod compare;
+pub mod conditions;
 pub mod diagnose;
+pub mod plots;

@@ -23,6 +23,95 @@ pub enum Command {
     Render(RenderArgs),
     /// Generate a flight (CSV) with the flight model, optionally with hidden effects and noise.
     Simulate(SimulateArgs),
+    /// Compare a model with measured flight data: errors per channel, where it fails.
+    Compare(CompareArgs),
+    /// Find which physical effect the model is missing, with evidence.
+    Diagnose(DiagnoseArgs),
+}
+
+/// Which model to run against data (shared by compare and diagnose).
+#[derive(Debug, Args)]
+pub struct ModelArgs {
+    /// Model file (TOML); default: the baseline of the data's `vehicle` (and `aircraft`).
+    #[arg(long, value_name = "FILE")]
+    pub model: Option<std::path::PathBuf>,
+    /// Effects in the model, comma-separated (parameters at their defaults).
+    #[arg(long, value_name = "A,B")]
+    pub effects: Option<String>,
+    /// Add an effect, `name[:k=v,...]`; parameters not given are fitted (repeatable).
+    #[arg(long, value_name = "NAME[:K=V,...]")]
+    pub add: Vec<String>,
+}
+
+const COMPARE_EXAMPLES: &str = "\
+Examples:
+  wireflight compare --data windy.csv
+  wireflight compare --data windy.csv --add wind --plots plots/
+  wireflight compare --data test.csv --model my-model.toml --json
+
+The model is restarted from the data every --window seconds (multiple shooting) from a
+least-squares estimate of the state, and its prediction compared with the measurements.
+--add shows before → after for every channel, fitting the effect's unknown parameters.";
+
+/// `wireflight compare` options.
+#[derive(Debug, Args)]
+#[command(after_help = COMPARE_EXAMPLES)]
+pub struct CompareArgs {
+    /// Flight data (CSV).
+    #[arg(long, value_name = "FILE.csv")]
+    pub data: std::path::PathBuf,
+    /// The model.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Window length of the multiple-shooting comparison, s.
+    #[arg(long, default_value_t = 8.0, value_parser = positive)]
+    pub window: f64,
+    /// Write plots (PNG) into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<std::path::PathBuf>,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+const DIAGNOSE_EXAMPLES: &str = "\
+Examples:
+  wireflight diagnose --data windy.csv
+  wireflight diagnose --data two-effects.csv --iterate
+  wireflight diagnose --data ../shared/data/jsbsim-mk82.csv --iterate --json
+
+Every catalogue effect that applies to the vehicle is added in turn, its parameters fitted,
+and ranked by how much error it removes; a likelihood-ratio test over independent windows
+decides whether that is more than fitting noise would give.";
+
+/// `wireflight diagnose` options.
+#[derive(Debug, Args)]
+#[command(after_help = DIAGNOSE_EXAMPLES)]
+pub struct DiagnoseArgs {
+    /// Flight data (CSV).
+    #[arg(long, value_name = "FILE.csv")]
+    pub data: std::path::PathBuf,
+    /// The model to start from.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// Window length of the comparison, s.
+    #[arg(long, default_value_t = 8.0, value_parser = positive)]
+    pub window: f64,
+    /// Add the winner and diagnose again until nothing significant is left.
+    #[arg(long)]
+    pub iterate: bool,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn positive(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v > 0.0 {
+        Ok(v)
+    } else {
+        Err(format!("{v} must be positive"))
+    }
 }
 
 const RENDER_EXAMPLES: &str = "\

@@ -3,6 +3,7 @@
 //! Errors travel up as `anyhow::Error` chains and are printed once, prefixed with the program
 //! name; the process then exits with status 2.
 
+pub mod analyze;
 pub mod cli;
 pub mod render;
 pub mod replay;
@@ -28,6 +29,8 @@ where
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
+        Command::Compare(args) => analyze::run_compare(&args),
+        Command::Diagnose(args) => analyze::run_diagnose(&args),
     }
 }
 

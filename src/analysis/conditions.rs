@@ -1,0 +1,194 @@
+//! Where and when the model fails: flight conditions per window correlated with the window's
+//! error, and the growth law of the error within a window.
+//!
+//! The growth law tells the kind of what is missing: with the window's start estimated from
+//! the data, a missing *constant acceleration* makes the position error grow ∝ t², a missing
+//! *velocity* (e.g. wind carrying the aircraft) ∝ t, a missing moment (attitude error, then
+//! acceleration) ∝ t³; errors that do not grow are noise.
+
+use super::compare::Comparison;
+use crate::flight::data::FlightData;
+
+/// A condition averaged over each window.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Condition {
+    /// Name, e.g. "airspeed".
+    pub name: &'static str,
+    /// Unit.
+    pub unit: &'static str,
+    /// Mean value per window (same order as the comparison's windows).
+    pub per_window: Vec<f64>,
+    /// Pearson correlation of the window score with this condition.
+    pub correlation: f64,
+}
+
+fn pearson(x: &[f64], y: &[f64]) -> f64 {
+    let n = x.len() as f64;
+    if x.len() < 3 {
+        return 0.0;
+    }
+    let mx = x.iter().sum::<f64>() / n;
+    let my = y.iter().sum::<f64>() / n;
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (a, b) in x.iter().zip(y) {
+        sxy += (a - mx) * (b - my);
+        sxx += (a - mx).powi(2);
+        syy += (b - my).powi(2);
+    }
+    if sxx <= 0.0 || syy <= 0.0 {
+        0.0
+    } else {
+        sxy / (sxx * syy).sqrt()
+    }
+}
+
+/// Conditions per window, each with its correlation to the window score; strongest
+/// |correlation| first. Conditions the data cannot give are left out.
+pub fn conditions(data: &FlightData, cmp: &Comparison, origin_altitude_m: f64) -> Vec<Condition> {
+    let scores: Vec<f64> = cmp.windows.iter().map(|w| w.score).collect();
+    let mean_over = |f: &dyn Fn(usize) -> f64| -> Vec<f64> {
+        cmp.windows
+            .iter()
+            .map(|w| {
+                let (a, b) = w.samples;
+                (a..b).map(f).sum::<f64>() / (b - a) as f64
+            })
+            .collect()
+    };
+    let mut out = Vec::new();
+    let mut push = |name, unit, per_window: Vec<f64>| {
+        let correlation = pearson(&per_window, &scores);
+        out.push(Condition {
+            name,
+            unit,
+            per_window,
+            correlation,
+        });
+    };
+    push(
+        "time since start",
+        "s",
+        cmp.windows.iter().map(|w| 0.5 * (w.t0 + w.t1) - data.time[0]).collect(),
+    );
+    push(
+        "altitude",
+        "m",
+        mean_over(&|i| origin_altitude_m - data.pos_ned[i].z),
+    );
+    push(
+        "distance from origin",
+        "m",
+        mean_over(&|i| data.pos_ned[i].truncate().length()),
+    );
+    if let Some(v) = &data.vel_ned {
+        push("ground speed", "m/s", mean_over(&|i| v[i].length()));
+    }
+    if let Some(a) = &data.airspeed {
+        push("airspeed", "m/s", mean_over(&|i| a[i]));
+    }
+    if let (Some(att), Some(v)) = (&data.attitude, &data.vel_ned) {
+        push(
+            "bank angle |φ|",
+            "deg",
+            mean_over(&|i| att[i].roll.abs().to_degrees()),
+        );
+        push(
+            "angle of attack (ground-relative)",
+            "deg",
+            mean_over(&|i| {
+                let b = att[i].to_matrix().transpose() * v[i];
+                b.z.atan2(b.x).to_degrees()
+            }),
+        );
+    }
+    if let Some(r) = &data.rates_body {
+        push(
+            "body rate |ω|",
+            "deg/s",
+            mean_over(&|i| r[i].length().to_degrees()),
+        );
+    }
+    if let Some(c) = &data.controls {
+        push("throttle", "0..1", mean_over(&|i| c[i].throttle));
+    }
+    out.sort_by(|a, b| b.correlation.abs().total_cmp(&a.correlation.abs()));
+    out
+}
+
+/// How the position error grows within a window: exponent k of `e ∝ τ^k` fitted on the
+/// window-averaged RMS error against time since the window start (τ from 20% of the window).
+pub fn growth_exponent(data: &FlightData, cmp: &Comparison) -> Option<f64> {
+    // Bin the error by time since window start.
+    const BINS: usize = 20;
+    let span = cmp
+        .windows
+        .iter()
+        .map(|w| w.t1 - w.t0)
+        .fold(0.0f64, f64::max);
+    if span <= 0.0 {
+        return None;
+    }
+    let mut sum = [0.0f64; BINS];
+    let mut count = [0.0f64; BINS];
+    let p = &cmp.prediction;
+    let mut k = 0;
+    for w in &cmp.windows {
+        for i in w.samples.0..w.samples.1 {
+            let tau = data.time[i] - w.t0;
+            let bin = ((tau / span * BINS as f64) as usize).min(BINS - 1);
+            sum[bin] += (p.pos_ned[k] - data.pos_ned[i]).length_squared();
+            count[bin] += 1.0;
+            k += 1;
+        }
+    }
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
+    for b in BINS / 5..BINS {
+        if count[b] > 0.0 && sum[b] > 0.0 {
+            let tau = (b as f64 + 0.5) / BINS as f64 * span;
+            xs.push(tau.ln());
+            ys.push((sum[b] / count[b]).sqrt().ln());
+        }
+    }
+    if xs.len() < 3 {
+        return None;
+    }
+    let n = xs.len() as f64;
+    let mx = xs.iter().sum::<f64>() / n;
+    let my = ys.iter().sum::<f64>() / n;
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+    Some(sxy / sxx)
+}
+
+/// Plain-language reading of a growth exponent.
+pub fn explain_growth(k: f64) -> &'static str {
+    if k < 0.4 {
+        "error does not grow within a window: measurement noise"
+    } else if k < 1.5 {
+        "error grows ∝ t: a velocity offset (e.g. the air moving: wind)"
+    } else if k < 2.5 {
+        "error grows ∝ t²: a constant unmodelled acceleration (a force)"
+    } else {
+        "error grows ∝ t³ or faster: an unmodelled moment or attitude effect"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pearson_of_lines() {
+        let x = [1.0, 2.0, 3.0, 4.0];
+        assert!((pearson(&x, &[2.0, 4.0, 6.0, 8.0]) - 1.0).abs() < 1e-12);
+        assert!((pearson(&x, &[8.0, 6.0, 4.0, 2.0]) + 1.0).abs() < 1e-12);
+        assert_eq!(pearson(&x, &[1.0, 1.0, 1.0, 1.0]), 0.0);
+    }
+
+    #[test]
+    fn growth_readings() {
+        assert!(explain_growth(2.0).contains("t²"));
+        assert!(explain_growth(1.0).contains("∝ t:"));
+        assert!(explain_growth(0.1).contains("noise"));
+    }
+}
