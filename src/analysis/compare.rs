@@ -12,6 +12,15 @@
 //! States no sensor measures — control-surface positions under `actuator_lag` — follow from
 //! the command history alone: the lag filter is run over the commands from the first sample.
 //!
+//! For a **point mass** (six states, cheap to fly) the start is then refined by least squares
+//! over the *whole* window: Gauss–Newton on position and velocity, finite-difference
+//! Jacobian, minimising the same position + velocity error the score uses. A ballistic
+//! trajectory is nearly affine in its initial state, so two steps converge; the residual left
+//! is white measurement noise plus the model's own error, which lets windows be long (the
+//! small Earth effects need tens of seconds to show) and lets the diagnosis treat samples as
+//! independent (see [`super::diagnose`]). The fixed-wing start stays the short-span fit:
+//! twelve states of a stiff, sometimes unstable system are not worth refining per evaluation.
+//!
 //! **Error metric.** Per window and channel, the RMS of the prediction error: position (m),
 //! velocity (m/s, NED), attitude (degrees, largest-axis-wrapped). The **total** is the RMS
 //! over windows and channels of errors normalised by 1 m, 1 m/s and 1°, so a window's score
@@ -40,6 +49,10 @@ pub struct CompareConfig {
     pub max_dt: f64,
     /// Use at most this many windows, evenly spread (0 = all). Fitting uses a subset for speed.
     pub max_windows: usize,
+    /// Point mass: refine each window's initial position and velocity by least squares over
+    /// the whole window (Gauss–Newton), so that what is left is measurement noise plus the
+    /// model's own error (see module docs).
+    pub refine_point_mass: bool,
 }
 
 impl Default for CompareConfig {
@@ -49,6 +62,7 @@ impl Default for CompareConfig {
             fit_s: 0.5,
             max_dt: 0.02,
             max_windows: 0,
+            refine_point_mass: true,
         }
     }
 }
@@ -189,6 +203,33 @@ fn quad_fit(t: &[f64], y: &[f64], t0: f64) -> (f64, f64) {
     }
 }
 
+/// Solve the symmetric positive-definite system `m·x = r` (Cholesky); None when singular.
+fn solve_spd6(m: [[f64; 6]; 6], r: [f64; 6]) -> Option<[f64; 6]> {
+    let mut l = [[0.0f64; 6]; 6];
+    for i in 0..6 {
+        for j in 0..=i {
+            let s: f64 = m[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
+            if i == j {
+                if !(s > 1e-12 * m[i][i].abs().max(1e-300)) {
+                    return None;
+                }
+                l[i][i] = s.sqrt();
+            } else {
+                l[i][j] = s / l[j][j];
+            }
+        }
+    }
+    let mut y = [0.0f64; 6];
+    for i in 0..6 {
+        y[i] = (r[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
+    }
+    let mut x = [0.0f64; 6];
+    for i in (0..6).rev() {
+        x[i] = (y[i] - (i + 1..6).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
+    }
+    Some(x)
+}
+
 fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
     let det = |a: &[[f64; 3]; 3]| {
         a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
@@ -241,9 +282,14 @@ impl<'a> Prepared<'a> {
                 .partition_point(|&t| t < t_end)
                 .max(start + 2)
                 .min(n);
-            // A trailing stub shorter than half a window is merged into nothing.
-            if data.time[end - 1] - data.time[start] < 0.5 * cfg.window_s && !windows.is_empty() {
-                break;
+            // A trailing stub shorter than half a window joins the window before it (no data
+            // is left out, and no window is too short to show anything).
+            if data.time[end - 1] - data.time[start] < 0.5 * cfg.window_s {
+                if let Some(last) = windows.last_mut() {
+                    let last: &mut (usize, usize) = last;
+                    last.1 = end;
+                    break;
+                }
             }
             windows.push((start, end));
             start = end;
@@ -326,6 +372,97 @@ impl<'a> Prepared<'a> {
                 };
                 x.set_omega(omega);
                 x.set_surfaces(surfaces_at(model, d, start));
+            }
+        }
+        x
+    }
+
+    /// Position + velocity residuals of a point-mass prediction from `x0` over a window.
+    fn point_mass_residuals(
+        &self,
+        model: &Model,
+        (start, end): (usize, usize),
+        x0: State,
+        scratch: &mut Prediction,
+        out: &mut Vec<f64>,
+    ) {
+        let d = self.data;
+        *scratch = Prediction::default();
+        self.predict(model, start, end, x0, scratch);
+        out.clear();
+        for (k, i) in (start..end).enumerate() {
+            let e = scratch.pos_ned[k] - d.pos_ned[i];
+            out.extend([e.x, e.y, e.z]);
+            if let Some(v) = &d.vel_ned {
+                let e = scratch.vel_ned[k] - v[i];
+                out.extend([e.x, e.y, e.z]);
+            }
+        }
+    }
+
+    /// Gauss–Newton refinement of a point mass's initial position and velocity over the whole
+    /// window (see module docs). Keeps `x0` when a step does not lower the error.
+    fn refine_point_mass(
+        &self,
+        model: &Model,
+        start: usize,
+        end: usize,
+        x0: State,
+        scratch: &mut Prediction,
+    ) -> State {
+        let get = |x: &State| {
+            let (p, v) = (x.pos_ned(), x.vel());
+            [p.x, p.y, p.z, v.x, v.y, v.z]
+        };
+        let set = |x: &mut State, q: &[f64; 6]| {
+            x.set_pos_ned(DVec3::new(q[0], q[1], q[2]));
+            x.set_vel(DVec3::new(q[3], q[4], q[5]));
+        };
+        let mut x = x0;
+        let (mut r, mut rj) = (Vec::new(), Vec::new());
+        self.point_mass_residuals(model, (start, end), x, scratch, &mut r);
+        let mut sse: f64 = r.iter().map(|e| e * e).sum();
+        for _ in 0..3 {
+            let q = get(&x);
+            // Jacobian columns by forward differences (1 cm, 1 cm/s: the trajectory is nearly
+            // affine in these, so the step size hardly matters).
+            let mut jac: Vec<Vec<f64>> = Vec::with_capacity(6);
+            for k in 0..6 {
+                let mut qk = q;
+                qk[k] += 0.01;
+                let mut xk = x;
+                set(&mut xk, &qk);
+                self.point_mass_residuals(model, (start, end), xk, scratch, &mut rj);
+                jac.push(rj.iter().zip(&r).map(|(a, b)| (a - b) / 0.01).collect());
+            }
+            let mut jtj = [[0.0f64; 6]; 6];
+            let mut jtr = [0.0f64; 6];
+            for a in 0..6 {
+                for b in 0..6 {
+                    jtj[a][b] = jac[a].iter().zip(&jac[b]).map(|(u, v)| u * v).sum();
+                }
+                jtr[a] = jac[a].iter().zip(&r).map(|(u, v)| u * v).sum();
+            }
+            let Some(step) = solve_spd6(jtj, jtr) else {
+                break;
+            };
+            let mut qn = q;
+            for k in 0..6 {
+                qn[k] -= step[k];
+            }
+            let mut xn = x;
+            set(&mut xn, &qn);
+            self.point_mass_residuals(model, (start, end), xn, scratch, &mut rj);
+            let sse_new: f64 = rj.iter().map(|e| e * e).sum();
+            if !(sse_new < sse) {
+                break;
+            }
+            let converged = sse - sse_new < 1e-9 * sse;
+            x = xn;
+            sse = sse_new;
+            std::mem::swap(&mut r, &mut rj);
+            if converged {
+                break;
             }
         }
         x
@@ -456,8 +593,12 @@ fn score_windows(
 pub fn compare_prepared(model: &Model, prep: &Prepared) -> Comparison {
     let d = prep.data;
     let mut pred = Prediction::default();
+    let mut scratch = Prediction::default();
     for &(start, end) in &prep.windows {
-        let x0 = prep.initial_state(model, start, end);
+        let mut x0 = prep.initial_state(model, start, end);
+        if prep.cfg.refine_point_mass && matches!(model.vehicle, Vehicle::PointMass) {
+            x0 = prep.refine_point_mass(model, start, end, x0, &mut scratch);
+        }
         prep.predict(model, start, end, x0, &mut pred);
     }
     let meas_vel = d.vel_ned.as_deref();

@@ -42,6 +42,8 @@ pub struct SimSpec {
     pub airspeed_mps: f64,
     /// Starting height above the origin, m.
     pub height_m: f64,
+    /// Launch speed of the point-mass `ballistic` manoeuvre (60° elevation, due north), m/s.
+    pub launch_speed_mps: f64,
     /// Measurement noise.
     pub noise: Noise,
     /// Noise seed.
@@ -85,7 +87,7 @@ pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, String> {
         Vehicle::PointMass => {
             let mut x = State::default();
             x.set_pos_ned(DVec3::new(0.0, 0.0, -spec.height_m));
-            let (speed, elevation) = (150.0f64, 60f64.to_radians());
+            let (speed, elevation) = (spec.launch_speed_mps, 60f64.to_radians());
             x.set_vel(DVec3::new(
                 speed * elevation.cos(),
                 0.0,
