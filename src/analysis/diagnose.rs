@@ -249,7 +249,7 @@ fn fit(
                 let rel = (cost - c) / cost;
                 cost = c;
                 lambda = (lambda / 3.0).max(1e-9);
-                improved = rel > 1e-6;
+                improved = rel > 1e-4; // below 0.01% of the SSE a step changes no ranking
                 break;
             }
             lambda *= 10.0;
