@@ -104,21 +104,44 @@ pub fn load_model(name: &str) -> anyhow::Result<EdgeMesh> {
     Ok(mesh::load(Path::new(name))?)
 }
 
-/// A rasterizer chosen by `--backend`.
+/// A rasterizer chosen by `--backend`. Create it once and draw every frame with it: the GPU
+/// one opens its device and builds its pipeline on creation.
 pub enum Rasterizer {
     /// Bresenham on the CPU.
     Cpu,
+    /// wgpu (any adapter, Mesa lavapipe included).
+    Gpu {
+        /// The renderer (device, pipeline, frame buffers).
+        renderer: Box<render::gpu::GpuRenderer>,
+        /// Chosen by `auto`: a failing frame falls back to the CPU instead of failing the run.
+        fallback: bool,
+    },
 }
 
 impl Rasterizer {
-    /// Pick a backend. `Auto` falls back to the CPU with a note on stderr.
+    /// Pick a backend and say which on stderr: `GPU: <adapter> (<backend>)`, or for `Auto`
+    /// without a usable adapter one line with the reason and that the CPU draws instead.
     ///
     /// # Errors
     /// `Gpu` without a usable adapter.
     pub fn choose(choice: BackendArg) -> anyhow::Result<Self> {
-        match choice {
-            BackendArg::Cpu | BackendArg::Auto => Ok(Rasterizer::Cpu),
-            BackendArg::Gpu => bail!("the GPU backend is not built yet"),
+        let gpu = match choice {
+            BackendArg::Cpu => return Ok(Rasterizer::Cpu),
+            BackendArg::Gpu | BackendArg::Auto => render::gpu::GpuRenderer::new(),
+        };
+        match gpu {
+            Ok(renderer) => {
+                eprintln!("GPU: {}", renderer.adapter());
+                Ok(Rasterizer::Gpu {
+                    renderer: Box::new(renderer),
+                    fallback: choice == BackendArg::Auto,
+                })
+            }
+            Err(err) if choice == BackendArg::Auto => {
+                eprintln!("wireflight: GPU backend unavailable ({err}); drawing on the CPU");
+                Ok(Rasterizer::Cpu)
+            }
+            Err(err) => Err(anyhow::Error::new(err).context("--backend gpu")),
         }
     }
 
@@ -126,16 +149,27 @@ impl Rasterizer {
     pub fn describe(&self) -> String {
         match self {
             Rasterizer::Cpu => "cpu (Bresenham)".to_string(),
+            Rasterizer::Gpu { renderer, .. } => format!("gpu: {}", renderer.adapter()),
         }
     }
 
-    /// Draw a scene.
+    /// Draw a scene. Under `auto`, a GPU failure switches to the CPU for this and every later
+    /// frame, with a note on stderr.
     ///
     /// # Errors
-    /// GPU failures.
+    /// GPU failures (`--backend gpu`).
     pub fn draw(&mut self, scene: &LineScene) -> anyhow::Result<Image> {
         match self {
             Rasterizer::Cpu => Ok(render::cpu::render(scene)),
+            Rasterizer::Gpu { renderer, fallback } => match renderer.render(scene) {
+                Ok(image) => Ok(image),
+                Err(err) if *fallback => {
+                    eprintln!("wireflight: GPU frame failed ({err}); drawing on the CPU");
+                    *self = Rasterizer::Cpu;
+                    Ok(render::cpu::render(scene))
+                }
+                Err(err) => Err(err.into()),
+            },
         }
     }
 }
