@@ -218,8 +218,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if let (Some(flight), Some(dir)) = (&args.flight, &args.frames_dir) {
         let data = crate::flight::data::read(flight)?;
         let mut rasterizer = Rasterizer::choose(args.backend)?;
-        let (frames, stats) =
-            super::replay::write_frames(&data, &mesh, viewport, args.fps, dir, &mut rasterizer)?;
+        let (frames, stats) = super::replay::write_frames(
+            &data,
+            None,
+            &mesh,
+            viewport,
+            args.fps,
+            dir,
+            &mut rasterizer,
+        )?;
         println!(
             "wrote {frames} frames of {} ({:.1} s at {} fps, {}x{}, {}) to {}",
             flight.display(),

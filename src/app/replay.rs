@@ -7,7 +7,7 @@
 use std::path::Path;
 
 use anyhow::{bail, Context};
-use glam::{DQuat, DVec3, Vec3, Vec4};
+use glam::{DQuat, DVec3, Vec2, Vec3, Vec4};
 
 use crate::app::render::Rasterizer;
 use crate::camera::{CameraPreset, Subject};
@@ -16,10 +16,81 @@ use crate::euler::{viewer_from_ned, EulerZyx};
 use crate::flight::data::FlightData;
 use crate::mesh::{EdgeMesh, EdgeMeshBuilder};
 use crate::pipeline::{model_matrix, project_clip_edges, EdgeProjector, Viewport};
-use crate::render::{self, palette, LineBatch, LineScene, Rgba};
+use crate::render::{self, palette, LineBatch, LineScene, Rgba, Segment2};
 
 /// Colour of the flown trail.
 pub const TRAIL: Rgba = [255, 200, 60, 255];
+/// The model's aircraft in a comparison overlay.
+pub const MODEL_AIRCRAFT: Rgba = [255, 90, 200, 255];
+/// The model's trail.
+pub const MODEL_TRAIL: Rgba = [170, 60, 140, 255];
+/// The error-over-time strip at the bottom of an overlay frame.
+pub const ERROR_STRIP: Rgba = [220, 220, 220, 255];
+
+/// The model's flight beside the measured one, for comparison overlays: the multiple-shooting
+/// prediction (the model restarted from the data at each window start), in the viewer frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ModelTrack {
+    /// Sample times, s (the data's).
+    pub time: Vec<f64>,
+    /// Predicted positions, viewer frame.
+    pub path: Vec<Vec3>,
+    /// Predicted attitudes, viewer angles.
+    pub attitude: Vec<EulerZyx>,
+    /// Sample indices where a window starts (the prediction jumps back to the data there).
+    pub window_starts: Vec<usize>,
+    /// Position error |predicted − measured| per sample, m.
+    pub error_m: Vec<f64>,
+    /// Error at the top of the error strip, m (default: the largest error). Give two tracks
+    /// the same scale to see the error fall between them.
+    pub strip_scale_m: f64,
+}
+
+impl ModelTrack {
+    /// From a comparison of `data` made over all its windows (every sample predicted).
+    ///
+    /// # Errors
+    /// A comparison that does not cover the flight sample by sample.
+    pub fn from_comparison(
+        data: &FlightData,
+        comparison: &crate::analysis::compare::Comparison,
+    ) -> anyhow::Result<Self> {
+        let prediction = &comparison.prediction;
+        let n = prediction.index.len();
+        if n == 0 || n > data.len() || prediction.index.iter().enumerate().any(|(k, &i)| k != i) {
+            bail!("the comparison does not predict every sample of the flight (use all windows)");
+        }
+        let window_starts = comparison.windows.iter().map(|w| w.samples.0).collect();
+        let path: Vec<Vec3> = prediction
+            .pos_ned
+            .iter()
+            .map(|p| viewer_from_ned(*p).as_vec3())
+            .collect();
+        let error_m: Vec<f64> = (0..n)
+            .map(|k| (prediction.pos_ned[k] - data.pos_ned[k]).length())
+            .collect();
+        Ok(Self {
+            strip_scale_m: error_m.iter().copied().fold(0.0, f64::max),
+            time: data.time[..n].to_vec(),
+            path,
+            attitude: prediction
+                .attitude
+                .iter()
+                .map(|a| EulerZyx::from_aerospace(*a))
+                .collect(),
+            window_starts,
+            error_m,
+        })
+    }
+
+    /// Index of the last sample at or before `t`.
+    fn sample_at(&self, t: f64) -> usize {
+        self.time
+            .partition_point(|&s| s <= t)
+            .clamp(1, self.time.len())
+            - 1
+    }
+}
 
 /// Position (viewer frame) and attitude (viewer angles) of the aircraft at time `t`,
 /// interpolated between samples (attitude by quaternion slerp). Without attitude in the data,
@@ -92,6 +163,8 @@ pub struct FlightScene<'a> {
     pub grid: EdgeMesh,
     /// Flight path in the viewer frame, one point per sample.
     pub path: Vec<Vec3>,
+    /// The model's flight, drawn beside the measured one when present.
+    pub model: Option<ModelTrack>,
     projector: EdgeProjector,
     clip_scratch: Vec<Vec4>,
     edge_scratch: Vec<[u32; 2]>,
@@ -123,13 +196,22 @@ impl<'a> FlightScene<'a> {
             mesh,
             grid: ground_grid(min, max, ground, 60),
             path,
+            model: None,
             projector: EdgeProjector::new(),
             clip_scratch: Vec::new(),
             edge_scratch: Vec::new(),
         })
     }
 
-    /// The frame at time `t`: grid, trail up to `t`, aircraft; chase camera.
+    /// Draw the model's flight beside the measured one (see [`ModelTrack`]).
+    pub fn with_model(mut self, track: ModelTrack) -> Self {
+        self.model = Some(track);
+        self
+    }
+
+    /// The frame at time `t`: grid, trail up to `t`, aircraft; chase camera. With a model
+    /// track: also the model's trail (broken at window restarts) and aircraft, and a strip
+    /// along the bottom plotting its position error over time with a cursor at `t`.
     pub fn frame(&mut self, t: f64, viewport: Viewport) -> (LineScene, ClipStats) {
         let (pos, attitude) = pose_at(self.data, t);
         let (centre, radius) = self.mesh.bounding_sphere();
@@ -184,27 +266,121 @@ impl<'a> FlightScene<'a> {
             &mut plane,
         ));
 
+        let mut batches = vec![
+            LineBatch {
+                color: palette::GRID,
+                segments: grid,
+            },
+            LineBatch {
+                color: TRAIL,
+                segments: trail,
+            },
+        ];
+        if let Some(track) = &self.model {
+            let k = track.sample_at(t);
+            // The model's trail: consecutive predicted samples, not across a restart.
+            self.clip_scratch.clear();
+            self.clip_scratch.extend(
+                track.path[..=k]
+                    .iter()
+                    .map(|p| clip_from_world * p.extend(1.0)),
+            );
+            self.edge_scratch.clear();
+            let mut starts = track.window_starts.iter().peekable();
+            for i in 1..=k as u32 {
+                while starts.next_if(|&&s| (s as u32) < i).is_some() {}
+                if starts.peek().is_some_and(|&&s| s as u32 == i) {
+                    continue; // i starts a window: no edge from i − 1
+                }
+                self.edge_scratch.push([i - 1, i]);
+            }
+            let mut model_trail = Vec::new();
+            stats.merge(&project_clip_edges(
+                &self.clip_scratch,
+                &self.edge_scratch,
+                depth,
+                viewport,
+                &mut model_trail,
+            ));
+            let mut model_plane = Vec::new();
+            let clip_from_model = clip_from_world * model_matrix(track.path[k], track.attitude[k]);
+            stats.merge(&self.projector.project(
+                self.mesh,
+                clip_from_model,
+                depth,
+                viewport,
+                &mut model_plane,
+            ));
+            batches.push(LineBatch {
+                color: MODEL_TRAIL,
+                segments: model_trail,
+            });
+            batches.push(LineBatch {
+                color: MODEL_AIRCRAFT,
+                segments: model_plane,
+            });
+            batches.push(LineBatch {
+                color: ERROR_STRIP,
+                segments: error_strip(track, t, viewport),
+            });
+        }
+        batches.push(LineBatch {
+            color: palette::MODEL,
+            segments: plane,
+        });
         let scene = LineScene {
             width: viewport.width,
             height: viewport.height,
             background: palette::BACKGROUND,
-            batches: vec![
-                LineBatch {
-                    color: palette::GRID,
-                    segments: grid,
-                },
-                LineBatch {
-                    color: TRAIL,
-                    segments: trail,
-                },
-                LineBatch {
-                    color: palette::MODEL,
-                    segments: plane,
-                },
-            ],
+            batches,
         };
         (scene, stats)
     }
+}
+
+/// The position error over the whole flight as a polyline in the bottom sixth of the frame
+/// (0 m at the bottom edge, `strip_scale_m` at the top of the strip), a baseline, and a
+/// vertical cursor at `t`. Pixel coordinates; one segment per pixel column at most.
+fn error_strip(track: &ModelTrack, t: f64, viewport: Viewport) -> Vec<Segment2> {
+    let (w, h) = (viewport.width as f32, viewport.height as f32);
+    let (top, bottom) = (h * (5.0 / 6.0), h - 2.0);
+    let (left, right) = (4.0, w - 4.0);
+    let (t0, t1) = (track.time[0], *track.time.last().expect("non-empty"));
+    let span = (t1 - t0).max(1e-9);
+    let peak = track.strip_scale_m.max(1e-9);
+    let x_of = |s: f64| left + ((s - t0) / span) as f32 * (right - left);
+    let y_of = |e: f64| bottom - (e / peak).min(1.0) as f32 * (bottom - top);
+    let mut out = Vec::with_capacity(viewport.width as usize + 2);
+    out.push(Segment2 {
+        a: Vec2::new(left, bottom),
+        b: Vec2::new(right, bottom),
+    });
+    // Per pixel column, the largest error in it: spikes survive any decimation.
+    let columns = (right - left).max(1.0) as usize;
+    let mut column_max = vec![f64::NAN; columns + 1];
+    for (s, e) in track.time.iter().zip(&track.error_m) {
+        let c = ((x_of(*s) - left) as usize).min(columns);
+        if column_max[c].is_nan() || *e > column_max[c] {
+            column_max[c] = *e;
+        }
+    }
+    let mut last: Option<Vec2> = None;
+    for (c, e) in column_max.iter().enumerate() {
+        if e.is_nan() {
+            continue;
+        }
+        let p = Vec2::new(left + c as f32, y_of(*e));
+        if let Some(q) = last {
+            out.push(Segment2 { a: q, b: p });
+        }
+        last = Some(p);
+    }
+    let x = x_of(t.clamp(t0, t1));
+    out.push(Segment2 {
+        a: Vec2::new(x, top),
+        b: Vec2::new(x, bottom),
+    });
+    out
 }
 
 /// Write one PNG per frame (`frame_00000.png`, …) into `dir` (created if needed).
@@ -214,6 +390,7 @@ impl<'a> FlightScene<'a> {
 /// Bad fps, unwritable directory, drawing errors.
 pub fn write_frames(
     data: &FlightData,
+    model: Option<ModelTrack>,
     mesh: &EdgeMesh,
     viewport: Viewport,
     fps: f64,
@@ -225,6 +402,9 @@ pub fn write_frames(
     }
     std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
     let mut scene = FlightScene::new(data, mesh)?;
+    if let Some(track) = model {
+        scene = scene.with_model(track);
+    }
     let (t0, t1) = (data.time[0], data.time[data.len() - 1]);
     let frames = ((t1 - t0) * fps).floor() as usize + 1;
     let mut total = ClipStats::default();
