@@ -6,7 +6,7 @@ use anyhow::Context;
 use serde_json::{json, Value};
 
 use crate::analysis::compare::{
-    compare_prepared, estimate_noise, noise_floor, ChannelErrors, Comparison, CompareConfig,
+    compare_prepared, estimate_noise, noise_floor, ChannelErrors, CompareConfig, Comparison,
     Prepared,
 };
 use crate::analysis::conditions::{conditions, explain_growth, growth_exponent, Condition};
@@ -42,12 +42,18 @@ pub fn load_data_and_model(data_path: &Path, m: &ModelArgs) -> anyhow::Result<(F
         spec.add_effect_list(list).map_err(anyhow::Error::msg)?;
     }
     let origin = Origin {
-        latitude_deg: data.meta.latitude_deg.unwrap_or(Origin::default().latitude_deg),
+        latitude_deg: data
+            .meta
+            .latitude_deg
+            .unwrap_or(Origin::default().latitude_deg),
         longitude_deg: data.meta.longitude_deg.unwrap_or(0.0),
         altitude_m: data.meta.altitude_m.unwrap_or(0.0),
     };
     if spec.vehicle == VehicleKind::FixedWing && data.controls.is_none() {
-        anyhow::bail!("{}: a fixed-wing model needs the control columns", data_path.display());
+        anyhow::bail!(
+            "{}: a fixed-wing model needs the control columns",
+            data_path.display()
+        );
     }
     let model = spec.build(origin).context("building the model")?;
     Ok((data, model))
@@ -120,8 +126,11 @@ fn windows_json(c: &Comparison) -> Value {
 }
 
 fn candidate_json(c: &Candidate) -> Value {
-    let params: serde_json::Map<String, Value> =
-        c.params.iter().map(|(k, v)| (k.clone(), json!(v))).collect();
+    let params: serde_json::Map<String, Value> = c
+        .params
+        .iter()
+        .map(|(k, v)| (k.clone(), json!(v)))
+        .collect();
     let unc: serde_json::Map<String, Value> = c
         .params
         .iter()
@@ -143,7 +152,8 @@ fn candidate_json(c: &Candidate) -> Value {
 }
 
 fn fmt_opt(v: Option<f64>, unit: &str) -> String {
-    v.map(|x| format!("{x:.3} {unit}")).unwrap_or_else(|| "—".into())
+    v.map(|x| format!("{x:.3} {unit}"))
+        .unwrap_or_else(|| "—".into())
 }
 
 fn fmt_params(c: &Candidate) -> String {
@@ -159,6 +169,20 @@ fn fmt_params(c: &Candidate) -> String {
         })
         .collect::<Vec<_>>()
         .join(" ")
+}
+
+/// "baseline" or "+ a + b": the effects of a model, for titles and tables.
+fn model_effects_label(model: &Model) -> String {
+    if model.effects.is_empty() {
+        "baseline".to_string()
+    } else {
+        format!("+ {}", model.effect_names().join(" + "))
+    }
+}
+
+/// "fixed-wing baseline", "point-mass + drag": a model in a few words.
+fn model_label(model: &Model) -> String {
+    format!("{} {}", model.vehicle.kind(), model_effects_label(model))
 }
 
 /// Run `wireflight compare`.
@@ -178,7 +202,12 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
     let before = compare_prepared(&base, &prep);
     let noise = estimate_noise(&data);
     let mut after_model = base.clone();
-    let fitted = add_effects(&mut after_model, &prep, &args.model.add, &DiagnoseConfig::default())?;
+    let fitted = add_effects(
+        &mut after_model,
+        &prep,
+        &args.model.add,
+        &DiagnoseConfig::default(),
+    )?;
     let after = (!fitted.is_empty()).then(|| compare_prepared(&after_model, &prep));
     let final_model = if after.is_some() { &after_model } else { &base };
     let floor = noise_floor(final_model, &prep, &noise, 0x5eed);
@@ -193,12 +222,18 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
             unit: c.unit.to_string(),
             per_window: c.per_window.clone(),
         });
-        let files = crate::analysis::plots::write_plots(
+        let info = crate::analysis::plots::PlotInfo {
+            data_name: Some(args.data.display().to_string()),
+            model_name: Some(model_label(&base)),
+            noise_floor: Some(floor),
+        };
+        let files = crate::analysis::plots::write_plots_with(
             dir,
             &data,
             &before,
             after.as_ref().map(|a| (a, label.as_str())),
             series.as_ref(),
+            &info,
         )?;
         if !args.json {
             for f in &files {
@@ -231,18 +266,13 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
     }
 
     println!(
-        "{}: {} samples, {:.1} s, {} windows of {:.0} s; model: {} {}",
+        "{}: {} samples, {:.1} s, {} windows of {:.0} s; model: {}",
         args.data.display(),
         data.len(),
         data.duration(),
         before.windows.len(),
         cfg.window_s,
-        base.vehicle.kind(),
-        if base.effects.is_empty() {
-            "baseline".to_string()
-        } else {
-            format!("+ {}", base.effect_names().join(" + "))
-        }
+        model_label(&base)
     );
     let b = &before.channels;
     match &after {
@@ -251,15 +281,33 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
             println!("  position     {:>14}", fmt_opt(Some(b.position_m), "m"));
             println!("  velocity     {:>14}", fmt_opt(b.velocity_mps, "m/s"));
             println!("  attitude     {:>14}", fmt_opt(b.attitude_deg, "deg"));
-            println!("  total        {:>14.3}   (noise floor {floor:.3})", before.total);
+            println!(
+                "  total        {:>14.3}   (noise floor {floor:.3})",
+                before.total
+            );
         }
         Some(a) => {
             let c = &a.channels;
             println!("\n  channel            before  →  after {label}");
-            println!("  position     {:>14}  →  {}", fmt_opt(Some(b.position_m), "m"), fmt_opt(Some(c.position_m), "m"));
-            println!("  velocity     {:>14}  →  {}", fmt_opt(b.velocity_mps, "m/s"), fmt_opt(c.velocity_mps, "m/s"));
-            println!("  attitude     {:>14}  →  {}", fmt_opt(b.attitude_deg, "deg"), fmt_opt(c.attitude_deg, "deg"));
-            println!("  total        {:>14.3}  →  {:.3}   (noise floor {floor:.3})", before.total, a.total);
+            println!(
+                "  position     {:>14}  →  {}",
+                fmt_opt(Some(b.position_m), "m"),
+                fmt_opt(Some(c.position_m), "m")
+            );
+            println!(
+                "  velocity     {:>14}  →  {}",
+                fmt_opt(b.velocity_mps, "m/s"),
+                fmt_opt(c.velocity_mps, "m/s")
+            );
+            println!(
+                "  attitude     {:>14}  →  {}",
+                fmt_opt(b.attitude_deg, "deg"),
+                fmt_opt(c.attitude_deg, "deg")
+            );
+            println!(
+                "  total        {:>14.3}  →  {:.3}   (noise floor {floor:.3})",
+                before.total, a.total
+            );
             for f in &fitted {
                 println!("  fitted {}: {}", f.effect, fmt_params(f));
             }
@@ -277,7 +325,11 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
     }
     println!("\nerror correlates with:");
     for c in conds.iter().take(3) {
-        println!("  {:36} r = {:+.2}", format!("{} ({})", c.name, c.unit), c.correlation);
+        println!(
+            "  {:36} r = {:+.2}",
+            format!("{} ({})", c.name, c.unit),
+            c.correlation
+        );
     }
     if let Some(k) = growth {
         println!("\nwithin a window, {} (exponent {k:.1})", explain_growth(k));
@@ -396,16 +448,11 @@ pub fn run_diagnose(args: &DiagnoseArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&diagnosis_json(&d))?);
     } else {
         println!(
-            "{}: {} samples, {:.1} s; model {} {}",
+            "{}: {} samples, {:.1} s; model {}",
             args.data.display(),
             data.len(),
             data.duration(),
-            base.vehicle.kind(),
-            if base.effects.is_empty() {
-                "baseline".to_string()
-            } else {
-                format!("+ {}", base.effect_names().join(" + "))
-            }
+            model_label(&base)
         );
         print_diagnosis(&d);
     }
