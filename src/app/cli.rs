@@ -27,6 +27,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// Find which physical effect the model is missing, with evidence.
     Diagnose(DiagnoseArgs),
+    /// Fly through a wireframe world in a window (winit + wgpu, egui HUD).
+    View(ViewArgs),
 }
 
 /// Which model to run against data (shared by compare and diagnose).
@@ -47,6 +49,7 @@ const COMPARE_EXAMPLES: &str = "\
 Examples:
   wireflight compare --data windy.csv
   wireflight compare --data windy.csv --add wind --plots plots/
+  wireflight compare --data windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
   wireflight compare --data test.csv --model my-model.toml --json
 
 The model is restarted from the data every --window seconds (multiple shooting) from a
@@ -69,6 +72,16 @@ pub struct CompareArgs {
     /// Write plots (PNG) into this directory.
     #[arg(long, value_name = "DIR")]
     pub plots: Option<std::path::PathBuf>,
+    /// Write replay frames (PNG) of the measured aircraft and the model's beside it (the model
+    /// with the `--add` effects when given), with the error over time, into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub frames_dir: Option<std::path::PathBuf>,
+    /// Frames per second of flight time for --frames-dir.
+    #[arg(long, default_value_t = 10.0, value_parser = positive)]
+    pub fps: f64,
+    /// Frame size for --frames-dir, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600", value_parser = parse_size)]
+    pub size: (u32, u32),
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,
@@ -262,6 +275,107 @@ pub struct SimulateArgs {
     /// Output CSV file (written atomically).
     #[arg(long, value_name = "FILE.csv")]
     pub out: std::path::PathBuf,
+}
+
+const VIEW_HELP: &str = "\
+Examples:
+  wireflight view
+  wireflight view --model assets/plane.gltf --camera orbit
+  wireflight view --flight test.csv                       # replay a recorded flight
+  wireflight view --script assets/scripts/loop.txt --frames 600 --screenshot loop.png
+  xvfb-run -a wireflight view --script assets/scripts/climb-turn.txt --frames 120 --screenshot s.png
+
+Keys (flying):
+  Up / Down        nose down / nose up (stick forward / back), 45°/s
+  Left / Right     roll left / right, 90°/s
+  Q / E            yaw (rudder) left / right, 20°/s
+  + (=) / -        throttle up / down (keypad + and - too), 50%/s
+Keys (replay, --flight):
+  Space            play / pause
+  Left / Right     seek back / forward 5 s
+Keys (always):
+  C                cycle cameras: chase → cockpit → orbit → free
+  Space            pause / resume
+  R                reset (flight, trail and cameras back to the start)
+  H or F1          help overlay on / off
+  F12 or P         screenshot: the line scene drawn by the CPU rasterizer into
+                   wireflight-NNNN.png in the current directory (atomic write)
+  Esc              quit (closing the window too)
+Mouse and free camera:
+  orbit camera     drag with the left button to turn around the aircraft, wheel to zoom
+  free camera      W/A/S/D move, PageUp/PageDown up/down, Shift 4× faster,
+                   drag to look, wheel changes the speed
+
+Scripts (--script FILE): one line per time, `t_s key=value ...`, e.g.
+  0.0  throttle=0.8
+  1.0  pitch_rate=10 roll_rate=0
+  4.0  roll_rate=-30 camera=orbit      # comments start with '#'
+Times are seconds of flight, never decreasing. Keys: throttle (0..1), pitch_rate
+(deg/s, + nose up), roll_rate (deg/s, + right), yaw_rate (deg/s, + nose right), camera
+(chase|cockpit|orbit|free), pause (1: stop flight time there; Space resumes). A setting
+holds until a later line changes it. With a script
+the keys do not fly the aircraft. Every frame advances the flight by --dt (fixed step, so
+a run is deterministic); --frames N stops after N frames, and --screenshot writes the
+last frame's line scene (CPU rasterizer, PNG, atomic) before exiting.";
+
+/// Cameras of the fly-through window.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ViewCameraArg {
+    /// Behind and above, following the aircraft.
+    Chase,
+    /// The pilot's eye.
+    Cockpit,
+    /// Around the aircraft, turned with the mouse.
+    Orbit,
+    /// Detached, flown with W/A/S/D.
+    Free,
+}
+
+/// `wireflight view` options.
+#[derive(Debug, Args)]
+#[command(after_help = VIEW_HELP)]
+pub struct ViewArgs {
+    /// `plane` for the built-in aircraft, or a model file (.obj, .gltf, .glb).
+    #[arg(long, default_value = "plane", value_name = "plane|FILE")]
+    pub model: String,
+    /// The camera to start with (C cycles them).
+    #[arg(long, value_enum, default_value_t = ViewCameraArg::Chase)]
+    pub camera: ViewCameraArg,
+    /// Window size in logical pixels, WIDTHxHEIGHT (physical pixels on HiDPI screens are
+    /// this times the scale factor).
+    #[arg(long, default_value = "1280x720", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Vertical field of view, degrees.
+    #[arg(long, default_value_t = 55.0, value_parser = fov_deg)]
+    pub fov: f64,
+    /// Fly from a script of timed control inputs instead of the keys (format below).
+    #[arg(long, value_name = "FILE", conflicts_with = "flight")]
+    pub script: Option<PathBuf>,
+    /// Replay a recorded flight (CSV) with its trail.
+    #[arg(long, value_name = "FILE.csv")]
+    pub flight: Option<PathBuf>,
+    /// Draw this many frames, each advancing the flight by --dt, then exit.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
+    pub frames: Option<u64>,
+    /// With --frames: write the last frame as a PNG (CPU rasterizer, atomic write).
+    #[arg(long, value_name = "FILE.png", requires = "frames")]
+    pub screenshot: Option<PathBuf>,
+    /// Fixed time step per frame, s, for --script and --frames runs (interactive runs use the
+    /// wall clock).
+    #[arg(long, default_value_t = 1.0 / 60.0, value_parser = time_step)]
+    pub dt: f64,
+    /// Present without waiting for vertical sync (for measuring frame rates).
+    #[arg(long)]
+    pub no_vsync: bool,
+}
+
+fn time_step(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v > 0.0 && v <= 1.0 {
+        Ok(v)
+    } else {
+        Err(format!("time step {v} s is outside (0, 1]"))
+    }
 }
 
 fn parse_vehicle(s: &str) -> Result<VehicleKind, String> {

@@ -8,6 +8,7 @@ pub mod cli;
 pub mod render;
 pub mod replay;
 pub mod simulate;
+pub mod view;
 
 use std::ffi::OsString;
 use std::process::ExitCode;
@@ -31,6 +32,7 @@ where
         Command::Simulate(args) => simulate::run(&args),
         Command::Compare(args) => analyze::run_compare(&args),
         Command::Diagnose(args) => analyze::run_diagnose(&args),
+        Command::View(args) => view::run(&args),
     }
 }
 

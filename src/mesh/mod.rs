@@ -8,6 +8,7 @@
 pub mod gltf;
 pub mod obj;
 pub mod plane;
+pub mod world;
 
 use std::collections::HashMap;
 use std::collections::HashSet;

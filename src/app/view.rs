@@ -1,0 +1,757 @@
+//! `wireflight view`: the fly-through window.
+//!
+//! This module is the I/O shell — winit window and events, the wgpu surface ([`surface`]), the
+//! egui HUD, files. Everything it shows comes from a [`session::Session`], which is pure:
+//! model → transform → clip (on the CPU, Blinn) → draw, one way.
+//!
+//! * [`flight`]: the kinematic aircraft (body rates integrated as a quaternion).
+//! * [`cameras`]: chase, cockpit, orbit, free-fly.
+//! * [`scene`]: one frame as a [`LineScene`](crate::render::LineScene), through
+//!   [`crate::pipeline`].
+//! * [`script`]: timed control inputs for deterministic runs.
+//! * [`session`]: all of it together, driven by time steps and held keys.
+
+pub mod cameras;
+pub mod flight;
+pub mod scene;
+pub mod script;
+pub mod session;
+pub mod surface;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use anyhow::{anyhow, bail, Context};
+use winit::application::ApplicationHandler;
+use winit::dpi::LogicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHandle};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{Window, WindowId};
+
+use crate::app::cli::{BackendArg, ViewArgs, ViewCameraArg};
+use crate::app::render::{load_model, OutputFormat, Rasterizer};
+use crate::clip::ClipStats;
+use crate::euler::Gimbal;
+use crate::pipeline::Viewport;
+use crate::render::{self, LineScene};
+use cameras::CameraMode;
+use flight::Start;
+use session::{Held, Session, Source, SEEK_S};
+use surface::{HudFrame, Presented, WindowRenderer};
+
+impl From<ViewCameraArg> for CameraMode {
+    fn from(c: ViewCameraArg) -> Self {
+        match c {
+            ViewCameraArg::Chase => CameraMode::Chase,
+            ViewCameraArg::Cockpit => CameraMode::Cockpit,
+            ViewCameraArg::Orbit => CameraMode::Orbit,
+            ViewCameraArg::Free => CameraMode::Free,
+        }
+    }
+}
+
+/// The key help, shown by the help overlay (`--help` has the same list).
+pub const KEY_HELP: &[(&str, &str)] = &[
+    ("Up / Down", "nose down / nose up"),
+    ("Left / Right", "roll left / right (replay: seek -/+ 5 s)"),
+    ("Q / E", "yaw left / right"),
+    ("+ / -", "throttle up / down"),
+    ("C", "cycle camera: chase, cockpit, orbit, free"),
+    ("Space", "pause / resume (replay: play / pause)"),
+    ("R", "reset"),
+    ("H or F1", "this help"),
+    ("F12 or P", "screenshot (PNG, CPU rasterizer)"),
+    ("Esc", "quit"),
+    ("mouse drag", "orbit: turn around; free: look"),
+    ("wheel", "orbit: zoom; free: speed"),
+    ("W A S D", "free camera: move"),
+    ("PgUp / PgDn", "free camera: up / down (Shift: 4× faster)"),
+];
+
+/// Run `wireflight view`.
+///
+/// # Errors
+/// Bad model, script or flight files (named, with the line), no display, no GPU adapter that
+/// can present to a window, a screenshot that cannot be written.
+pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
+    if let Some(shot) = &args.screenshot {
+        if OutputFormat::of(shot)? != OutputFormat::Png {
+            bail!(
+                "{}: screenshots are PNG files (use a .png name)",
+                shot.display()
+            );
+        }
+    }
+    let mesh = load_model(&args.model)?;
+    let fov_y = (args.fov as f32).to_radians();
+    let camera = CameraMode::from(args.camera);
+    let session = match &args.flight {
+        Some(path) => {
+            let data = crate::flight::data::read(path)?;
+            Session::replay(mesh, data, camera, fov_y)
+                .with_context(|| format!("{}: cannot replay", path.display()))?
+        }
+        None => {
+            let script = args.script.as_deref().map(script::load).transpose()?;
+            Session::fly(mesh, Start::default(), script, camera, fov_y)
+        }
+    };
+    let event_loop = EventLoop::new().map_err(|e| {
+        anyhow!(
+            "cannot open a window: {e} (no display? set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)"
+        )
+    })?;
+    let mut app = App::new(args, session, event_loop.owned_display_handle());
+    let result = event_loop.run_app(&mut app);
+    if let Some(err) = app.error.take() {
+        return Err(err);
+    }
+    result.context("the window's event loop failed")?;
+    app.report();
+    Ok(())
+}
+
+/// Run options that the window needs.
+struct Options {
+    size: (u32, u32),
+    vsync: bool,
+    frames: Option<u64>,
+    screenshot: Option<PathBuf>,
+    /// Fixed time step, when the run is scripted or counted.
+    fixed_dt: Option<f64>,
+}
+
+/// The window and what draws into it (created on `resumed`).
+struct Gfx {
+    window: Arc<Window>,
+    renderer: WindowRenderer,
+    egui: egui_winit::State,
+    // Kept alive with its surface.
+    _instance: wgpu::Instance,
+}
+
+/// Frame timing and clipper counts for the HUD and the closing report.
+#[derive(Default)]
+struct Meter {
+    frames: u64,
+    last: Option<Instant>,
+    /// Smoothed frame interval, s.
+    interval: f64,
+    /// Smoothed scene build time (transform + clip + project), s.
+    build: f64,
+    clip: ClipStats,
+    total: ClipStats,
+    segments: usize,
+    segments_total: u64,
+    build_total: f64,
+    /// Sum and count of frame intervals while animating (gaps over 0.25 s, i.e. pauses,
+    /// are left out).
+    active_time: f64,
+    active_intervals: u64,
+}
+
+impl Meter {
+    fn record(&mut self, now: Instant, build: Duration, clip: ClipStats, segments: usize) {
+        if let Some(last) = self.last {
+            let dt = (now - last).as_secs_f64();
+            if dt < 0.25 {
+                self.active_time += dt;
+                self.active_intervals += 1;
+            }
+            self.interval = if self.interval > 0.0 {
+                0.9 * self.interval + 0.1 * dt
+            } else {
+                dt
+            };
+        }
+        self.last = Some(now);
+        let b = build.as_secs_f64();
+        self.build = if self.frames == 0 {
+            b
+        } else {
+            0.9 * self.build + 0.1 * b
+        };
+        self.frames += 1;
+        self.clip = clip;
+        self.total.merge(&clip);
+        self.segments = segments;
+        self.segments_total += segments as u64;
+        self.build_total += b;
+    }
+
+    fn fps(&self) -> f64 {
+        if self.interval > 0.0 {
+            1.0 / self.interval
+        } else {
+            0.0
+        }
+    }
+}
+
+struct App {
+    options: Options,
+    session: Session,
+    display: OwnedDisplayHandle,
+    gfx: Option<Gfx>,
+    egui_ctx: egui::Context,
+    keys: Vec<KeyCode>,
+    drag: Option<winit::dpi::PhysicalPosition<f64>>,
+    dragging: bool,
+    show_help: bool,
+    last_tick: Option<Instant>,
+    meter: Meter,
+    note: Option<(String, Instant)>,
+    shot_counter: u32,
+    error: Option<anyhow::Error>,
+    adapter: String,
+    wait_until: Option<Instant>,
+}
+
+const NOTE_SECONDS: u64 = 4;
+
+impl App {
+    fn new(args: &ViewArgs, session: Session, display: OwnedDisplayHandle) -> Self {
+        let fixed = args.frames.is_some() || args.script.is_some();
+        Self {
+            options: Options {
+                size: args.size,
+                vsync: !args.no_vsync,
+                frames: args.frames,
+                screenshot: args.screenshot.clone(),
+                fixed_dt: fixed.then_some(args.dt),
+            },
+            session,
+            display,
+            gfx: None,
+            egui_ctx: egui::Context::default(),
+            keys: Vec::new(),
+            drag: None,
+            dragging: false,
+            show_help: args.frames.is_none(),
+            last_tick: None,
+            meter: Meter::default(),
+            note: None,
+            shot_counter: 0,
+            error: None,
+            adapter: String::new(),
+            wait_until: None,
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, err: anyhow::Error) {
+        if self.error.is_none() {
+            self.error = Some(err);
+        }
+        event_loop.exit();
+    }
+
+    fn create_gfx(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<Gfx> {
+        let (w, h) = self.options.size;
+        let attributes = Window::default_attributes()
+            .with_title("wireflight view")
+            .with_inner_size(LogicalSize::new(w as f64, h as f64))
+            .with_resizable(true);
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .context("cannot create the window")?,
+        );
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_with_display_handle_from_env(
+                Box::new(self.display.clone()),
+            ));
+        let renderer = WindowRenderer::new(&instance, window.clone(), self.options.vsync)?;
+        self.adapter = renderer.describe();
+        let egui = egui_winit::State::new(
+            self.egui_ctx.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            Some(renderer.max_texture_side()),
+        );
+        window.request_redraw();
+        Ok(Gfx {
+            window,
+            renderer,
+            egui,
+            _instance: instance,
+        })
+    }
+
+    fn held(&self) -> Held {
+        let down = |codes: &[KeyCode]| codes.iter().any(|c| self.keys.contains(c));
+        let flying = matches!(self.session.source, Source::Fly { .. });
+        Held {
+            pitch_up: flying && down(&[KeyCode::ArrowDown]),
+            pitch_down: flying && down(&[KeyCode::ArrowUp]),
+            roll_left: flying && down(&[KeyCode::ArrowLeft]),
+            roll_right: flying && down(&[KeyCode::ArrowRight]),
+            yaw_left: down(&[KeyCode::KeyQ]),
+            yaw_right: down(&[KeyCode::KeyE]),
+            throttle_up: down(&[KeyCode::Equal, KeyCode::NumpadAdd]),
+            throttle_down: down(&[KeyCode::Minus, KeyCode::NumpadSubtract]),
+            forward: down(&[KeyCode::KeyW]),
+            backward: down(&[KeyCode::KeyS]),
+            left: down(&[KeyCode::KeyA]),
+            right: down(&[KeyCode::KeyD]),
+            up: down(&[KeyCode::PageUp]),
+            down: down(&[KeyCode::PageDown]),
+            fast: down(&[KeyCode::ShiftLeft, KeyCode::ShiftRight]),
+        }
+    }
+
+    /// Whether frames should keep coming without input.
+    fn animating(&self) -> bool {
+        self.options.frames.is_some() || !self.session.paused || self.held().moving_camera()
+    }
+
+    fn key(&mut self, event_loop: &ActiveEventLoop, code: KeyCode, pressed: bool, repeat: bool) {
+        if pressed {
+            if !self.keys.contains(&code) {
+                self.keys.push(code);
+            }
+        } else {
+            self.keys.retain(|&c| c != code);
+            return;
+        }
+        let replay = matches!(self.session.source, Source::Replay(_));
+        match code {
+            KeyCode::Escape => event_loop.exit(),
+            KeyCode::ArrowLeft if replay => self.session.seek(-SEEK_S),
+            KeyCode::ArrowRight if replay => self.session.seek(SEEK_S),
+            _ if repeat => {}
+            KeyCode::KeyC => self.session.cycle_camera(),
+            KeyCode::Space => self.session.toggle_pause(),
+            KeyCode::KeyR => self.session.reset(),
+            KeyCode::KeyH | KeyCode::F1 => self.show_help = !self.show_help,
+            KeyCode::F12 | KeyCode::KeyP => self.interactive_screenshot(),
+            _ => {}
+        }
+    }
+
+    fn interactive_screenshot(&mut self) {
+        let path = loop {
+            self.shot_counter += 1;
+            let p = PathBuf::from(format!("wireflight-{:04}.png", self.shot_counter));
+            if !p.exists() || self.shot_counter >= 9999 {
+                break p;
+            }
+        };
+        let note = match write_screenshot(self.session.scene(), &path) {
+            Ok(()) => {
+                println!("wrote {}", path.display());
+                format!("saved {}", path.display())
+            }
+            Err(e) => {
+                eprintln!("wireflight: screenshot failed: {e:#}");
+                format!("screenshot failed: {e:#}")
+            }
+        };
+        self.note = Some((note, Instant::now()));
+    }
+
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
+        let now = Instant::now();
+        let dt = match self.options.fixed_dt {
+            Some(dt) => dt,
+            None => self
+                .last_tick
+                .map(|t| (now - t).as_secs_f64().min(0.1))
+                .unwrap_or(0.0),
+        };
+        self.last_tick = Some(now);
+        let held = self.held();
+        self.session.advance(dt, &held);
+
+        let Some(gfx) = self.gfx.as_mut() else {
+            return Ok(());
+        };
+        let (width, height) = gfx.renderer.size();
+        let build_start = Instant::now();
+        let clip = self.session.build(Viewport { width, height });
+        let build = build_start.elapsed();
+        let segments = self.session.scene().segment_count();
+        self.meter.record(now, build, clip, segments);
+
+        // HUD.
+        let raw_input = gfx.egui.take_egui_input(&gfx.window);
+        let hud = HudData {
+            session: &self.session,
+            meter: &self.meter,
+            size: (width, height),
+            scale: gfx.window.scale_factor(),
+            adapter: &self.adapter,
+            note: self
+                .note
+                .as_ref()
+                .filter(|(_, t)| t.elapsed() < Duration::from_secs(NOTE_SECONDS))
+                .map(|(n, _)| n.as_str()),
+            frames: self.options.frames,
+        };
+        let mut show_help = self.show_help;
+        let output = self.egui_ctx.run_pass(raw_input, |ctx| {
+            draw_hud(ctx, &hud);
+            if show_help {
+                draw_help(ctx, &mut show_help);
+            }
+        });
+        self.show_help = show_help;
+        gfx.egui
+            .handle_platform_output(&gfx.window, output.platform_output);
+        let jobs = self
+            .egui_ctx
+            .tessellate(output.shapes, output.pixels_per_point);
+        let mut textures = output.textures_delta;
+        gfx.window.pre_present_notify();
+        let drawn = gfx.renderer.draw(
+            self.session.scene(),
+            &mut HudFrame {
+                paint_jobs: &jobs,
+                textures: &mut textures,
+                pixels_per_point: output.pixels_per_point,
+            },
+        );
+        textures.clear(); // drained by `draw`; on an error, dropped unapplied
+        let presented = drawn?;
+        if presented == Presented::Skipped && self.options.frames.is_none() {
+            gfx.window.request_redraw();
+        }
+        let egui_wants = output
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .map(|v| v.repaint_delay);
+        self.wait_until = match egui_wants {
+            Some(d) if d.is_zero() => {
+                gfx.window.request_redraw();
+                None
+            }
+            Some(d) if d < Duration::from_secs(10) => Some(Instant::now() + d),
+            _ => None,
+        };
+        if let Some((_, t)) = &self.note {
+            let expiry = *t + Duration::from_secs(NOTE_SECONDS);
+            if expiry > Instant::now() {
+                self.wait_until = Some(self.wait_until.map_or(expiry, |w| w.min(expiry)));
+            }
+        }
+
+        if let Some(n) = self.options.frames {
+            if self.meter.frames >= n {
+                if let Some(path) = self.options.screenshot.clone() {
+                    write_screenshot(self.session.scene(), &path)?;
+                    println!(
+                        "wrote {} ({}x{}, {})",
+                        path.display(),
+                        width,
+                        height,
+                        Rasterizer::Cpu.describe()
+                    );
+                }
+                event_loop.exit();
+            }
+        }
+        Ok(())
+    }
+
+    /// The closing summary on stdout.
+    fn report(&self) {
+        let m = &self.meter;
+        if m.frames == 0 {
+            return;
+        }
+        let wall = if m.active_intervals > 0 {
+            m.active_time / m.active_intervals as f64
+        } else {
+            0.0
+        };
+        let n = m.frames as f64;
+        let mean = |v: u64| v as f64 / n;
+        let (w, h) = self
+            .gfx
+            .as_ref()
+            .map(|g| g.renderer.size())
+            .unwrap_or((0, 0));
+        println!(
+            "view: {} frames at {}x{} px on {}: {:.1} FPS ({:.2} ms/frame), scene build {:.2} ms/frame",
+            m.frames,
+            w,
+            h,
+            self.adapter,
+            if wall > 0.0 { 1.0 / wall } else { 0.0 },
+            wall * 1e3,
+            1e3 * m.build_total / n
+        );
+        println!(
+            "clip per frame (mean): edges in {:.0}, trivially accepted {:.0}, trivially rejected {:.0}, clipped {:.0}, removed {:.0}; segments drawn {:.0}",
+            mean(m.total.edges_in),
+            mean(m.total.trivially_accepted),
+            mean(m.total.trivially_rejected),
+            mean(m.total.clipped),
+            mean(m.total.clipped_away),
+            mean(m.segments_total)
+        );
+        println!("clip, last frame: {}", m.clip);
+    }
+}
+
+/// Draw `scene` with the CPU rasterizer and write it as a PNG, atomically.
+///
+/// # Errors
+/// Encoding or write errors, naming the file.
+pub fn write_screenshot(scene: &LineScene, path: &Path) -> anyhow::Result<()> {
+    let mut rasterizer = Rasterizer::choose(BackendArg::Cpu)?;
+    let image = rasterizer.draw(scene)?;
+    let png = image.encode_png().context("encoding PNG")?;
+    render::write_atomic(path, &png)
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        match self.create_gfx(event_loop) {
+            Ok(gfx) => self.gfx = Some(gfx),
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(gfx) = self.gfx.as_mut() else {
+            return;
+        };
+        let response = gfx.egui.on_window_event(&gfx.window, &event);
+        // egui answers "repaint" to RedrawRequested itself: only input events count here, or
+        // a paused window would redraw forever.
+        if response.repaint && !matches!(event, WindowEvent::RedrawRequested) {
+            gfx.window.request_redraw();
+        }
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                gfx.renderer.resize(size.width, size.height);
+                gfx.window.request_redraw();
+            }
+            WindowEvent::ScaleFactorChanged { .. } | WindowEvent::Occluded(false) => {
+                gfx.window.request_redraw()
+            }
+            WindowEvent::Focused(false) => {
+                self.keys.clear();
+                self.dragging = false;
+            }
+            WindowEvent::KeyboardInput { event, .. } if !response.consumed => {
+                if let PhysicalKey::Code(code) = event.physical_key {
+                    let pressed = event.state == ElementState::Pressed;
+                    self.key(event_loop, code, pressed, event.repeat);
+                    if let Some(g) = &self.gfx {
+                        g.window.request_redraw();
+                    }
+                }
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                self.dragging = state == ElementState::Pressed && !response.consumed;
+            }
+            WindowEvent::CursorMoved { position, .. } => {
+                if self.dragging {
+                    if let Some(prev) = self.drag {
+                        let scale = gfx.window.scale_factor().max(0.1);
+                        self.session
+                            .rig
+                            .drag((position.x - prev.x) / scale, (position.y - prev.y) / scale);
+                        gfx.window.request_redraw();
+                    }
+                }
+                self.drag = Some(position);
+            }
+            WindowEvent::MouseWheel { delta, .. } if !response.consumed => {
+                let steps = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y as f64,
+                    MouseScrollDelta::PixelDelta(p) => p.y / 40.0,
+                };
+                let radius = self.session.target().radius;
+                self.session.rig.wheel(steps, radius);
+                gfx.window.request_redraw();
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(e) = self.redraw(event_loop) {
+                    self.fail(event_loop, e);
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let Some(gfx) = &self.gfx else {
+            return;
+        };
+        if self.animating() {
+            gfx.window.request_redraw();
+            event_loop.set_control_flow(ControlFlow::Wait);
+        } else {
+            // Paused and idle: sleep until an event (or egui / a note needs a repaint).
+            self.last_tick = None;
+            match self.wait_until {
+                Some(t) if t > Instant::now() => {
+                    event_loop.set_control_flow(ControlFlow::WaitUntil(t))
+                }
+                Some(_) => {
+                    self.wait_until = None;
+                    gfx.window.request_redraw();
+                    event_loop.set_control_flow(ControlFlow::Wait);
+                }
+                None => event_loop.set_control_flow(ControlFlow::Wait),
+            }
+        }
+    }
+}
+
+/// What the HUD reads.
+struct HudData<'a> {
+    session: &'a Session,
+    meter: &'a Meter,
+    size: (u32, u32),
+    scale: f64,
+    adapter: &'a str,
+    note: Option<&'a str>,
+    frames: Option<u64>,
+}
+
+fn thousands(v: u64) -> String {
+    let s = v.to_string();
+    let mut out = String::with_capacity(s.len() + s.len() / 3);
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
+    use egui::{Color32, RichText};
+    let r = hud.session.readout();
+    // `+ 0.0` shows −0.0 as 0.00.
+    let [yaw, pitch, roll] = r.angles.to_degrees().map(|a| a + 0.0);
+    let aero = r.angles.to_aerospace().to_degrees().map(|a| a + 0.0);
+    let frame = egui::Frame::NONE
+        .fill(Color32::from_black_alpha(170))
+        .inner_margin(8.0)
+        .corner_radius(4.0);
+    egui::Area::new(egui::Id::unique("wireflight-hud"))
+        .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
+        .interactable(false)
+        .show(ctx, |ui| {
+            frame.show(ui, |ui| {
+                ui.style_mut().override_text_style = Some(egui::TextStyle::Monospace);
+                ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+                ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
+                let mode = hud.session.rig.mode;
+                let state = match (r.replay, hud.session.paused) {
+                    (Some(_), true) => "replay paused",
+                    (Some(_), false) => "replay playing",
+                    (None, true) => "PAUSED",
+                    (None, false) if hud.session.scripted() => "scripted",
+                    (None, false) => "flying",
+                };
+                ui.label(format!("camera {mode}  ·  {state}  ·  H: help"));
+                ui.label(format!(
+                    "yaw {yaw:8.2}°  pitch {pitch:7.2}°  roll {roll:8.2}°  (z-y-x, Z up, +pitch = nose down)"
+                ));
+                ui.label(format!(
+                    "     {:8.2}°        {:7.2}°       {:8.2}°  (aerospace NED/FRD, +pitch = nose up)",
+                    aero[0], aero[1], aero[2]
+                ));
+                match r.gimbal {
+                    Gimbal::LockedNoseUp | Gimbal::LockedNoseDown => {
+                        ui.label(
+                            RichText::new(
+                                "GIMBAL LOCK (pitch ±90°): yaw and roll share one axis; shown as yaw, roll 0",
+                            )
+                            .color(Color32::from_rgb(255, 80, 80))
+                            .strong(),
+                        );
+                    }
+                    Gimbal::Free if r.cos_pitch < 1f64.to_radians().sin() => {
+                        ui.label(
+                            RichText::new(
+                                "near gimbal lock (|θ| > 89°): yaw and roll are ill-conditioned",
+                            )
+                            .color(Color32::from_rgb(255, 200, 60)),
+                        );
+                    }
+                    Gimbal::Free => {}
+                }
+                let mut line = format!(
+                    "speed {:6.1} m/s ({:5.1} kt)  altitude {:7.1} m",
+                    r.speed,
+                    r.speed * 1.943_844,
+                    r.altitude
+                );
+                if let Some(t) = r.throttle {
+                    line += &format!("  throttle {:3.0}%", 100.0 * t);
+                }
+                ui.label(line);
+                if let Some((t, t0, t1)) = r.replay {
+                    ui.label(format!("replay t {:7.2} s of {:.2}..{:.2} s", t, t0, t1));
+                } else {
+                    ui.label(format!("flight time {:7.2} s", r.time));
+                }
+                let m = hud.meter;
+                ui.label(format!(
+                    "{:5.1} FPS  frame {:6.2} ms  scene {:5.2} ms  {}x{} px @{:.2}x",
+                    m.fps(),
+                    m.interval * 1e3,
+                    m.build * 1e3,
+                    hud.size.0,
+                    hud.size.1,
+                    hud.scale
+                ));
+                let c = &m.clip;
+                ui.label(format!(
+                    "clip: edges in {}  accepted {}  rejected {}  clipped {}  removed {}",
+                    thousands(c.edges_in),
+                    thousands(c.trivially_accepted),
+                    thousands(c.trivially_rejected),
+                    thousands(c.clipped),
+                    thousands(c.clipped_away)
+                ));
+                ui.label(format!(
+                    "segments drawn {}  ·  {}",
+                    thousands(m.segments as u64),
+                    hud.adapter
+                ));
+                if let Some(n) = hud.frames {
+                    ui.label(format!("frame {} of {n}", m.frames));
+                }
+                if let Some(note) = hud.note {
+                    ui.label(RichText::new(note).color(Color32::from_rgb(255, 220, 120)));
+                }
+            });
+        });
+}
+
+fn draw_help(ctx: &egui::Context, open: &mut bool) {
+    egui::Window::new("Keys")
+        .open(open)
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
+        .show(ctx, |ui| {
+            egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                for (key, what) in KEY_HELP {
+                    ui.monospace(*key);
+                    ui.label(*what);
+                    ui.end_row();
+                }
+            });
+        });
+}

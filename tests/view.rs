@@ -1,0 +1,257 @@
+//! The fly-through window (`wireflight view`).
+//!
+//! The window tests run the real binary with a script under the X display in `$DISPLAY`
+//! (CI: `xvfb-run` with Mesa's lavapipe) and look at the screenshot it writes. Without a
+//! display they print why and pass, unless `WIREFLIGHT_REQUIRE_DISPLAY=1` makes the display
+//! mandatory. The other tests need no display: they drive the viewer's session (the same code
+//! the window draws from) directly, or check errors that come before any window opens.
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+use wireflight::app::view::cameras::CameraMode;
+use wireflight::app::view::flight::Start;
+use wireflight::app::view::scene::batch;
+use wireflight::app::view::script;
+use wireflight::app::view::session::{Held, Session};
+use wireflight::euler::Gimbal;
+use wireflight::mesh::plane::builtin_plane;
+use wireflight::pipeline::Viewport;
+use wireflight::render::{palette, Image, Rgba};
+
+const WINDOW_TIMEOUT: Duration = Duration::from_secs(300);
+
+/// Whether a display is there to open windows on; `None` (after saying why) to skip.
+fn display() -> Option<String> {
+    let required = std::env::var("WIREFLIGHT_REQUIRE_DISPLAY").is_ok_and(|v| v == "1");
+    match std::env::var("DISPLAY") {
+        Ok(d) if !d.is_empty() => Some(d),
+        _ if required => panic!("WIREFLIGHT_REQUIRE_DISPLAY=1 but DISPLAY is not set"),
+        _ => {
+            eprintln!(
+                "skipping the window test: no DISPLAY (run under `xvfb-run -a`, and set \
+                 WIREFLIGHT_REQUIRE_DISPLAY=1 to make this a failure)"
+            );
+            None
+        }
+    }
+}
+
+/// Run `wireflight` with a time limit.
+fn run_with_timeout(args: &[&str], limit: Duration) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_wireflight"))
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("start wireflight");
+    let start = Instant::now();
+    loop {
+        if child.try_wait().expect("wait for wireflight").is_some() {
+            return child.wait_with_output().expect("collect output");
+        }
+        if start.elapsed() > limit {
+            child.kill().ok();
+            let out = child.wait_with_output().expect("collect output");
+            panic!(
+                "wireflight {args:?} ran over {limit:?}\nstdout:\n{}\nstderr:\n{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn wireflight(args: &[&str]) -> Output {
+    run_with_timeout(args, Duration::from_secs(60))
+}
+
+fn count(image: &Image, x0: u32, y0: u32, x1: u32, y1: u32, color: Rgba) -> usize {
+    let mut n = 0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            n += usize::from(image.pixel(x, y) == color);
+        }
+    }
+    n
+}
+
+const SCRIPT: &str = "\
+# a gentle climbing right turn
+0.0  throttle=0.8
+0.2  pitch_rate=5 roll_rate=20
+0.7  roll_rate=0
+";
+
+/// Run the scripted flight in a window and return the screenshot and stdout.
+fn scripted_screenshot(dir: &Path, name: &str) -> (Image, String) {
+    let script = dir.join("turn.txt");
+    std::fs::write(&script, SCRIPT).unwrap();
+    let shot = dir.join(name);
+    let out = run_with_timeout(
+        &[
+            "view",
+            "--script",
+            script.to_str().unwrap(),
+            "--frames",
+            "60",
+            "--size",
+            "960x540",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ],
+        WINDOW_TIMEOUT,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.success(),
+        "wireflight view failed: {:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        out.status
+    );
+    let image = Image::decode_png(&std::fs::read(&shot).expect("the screenshot exists")).unwrap();
+    (image, stdout)
+}
+
+#[test]
+fn scripted_window_run_shows_the_plane_and_the_grid_deterministically() {
+    let Some(display) = display() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (image, stdout) = scripted_screenshot(dir.path(), "a.png");
+    println!("DISPLAY={display}\n{stdout}");
+    let (w, h) = (image.width, image.height);
+    // Physical pixels: the logical size times the display's scale factor.
+    assert!(w >= 960 && h >= 540 && w * 540 == h * 960, "{w}x{h}");
+    assert!(
+        stdout.contains("frames at") && stdout.contains("clip per frame"),
+        "{stdout}"
+    );
+
+    // The aircraft (model colour) in the middle third of the picture.
+    let plane = count(&image, w / 3, h / 3, 2 * w / 3, 2 * h / 3, palette::MODEL);
+    assert!(plane > 200, "{plane} model-colour pixels near the centre");
+    // The ground grid, and not a blank or black frame.
+    let grid = count(&image, 0, 0, w, h, palette::GRID);
+    assert!(grid > 2000, "{grid} grid-colour pixels");
+    let background = count(&image, 0, 0, w, h, palette::BACKGROUND);
+    let total = (w * h) as usize;
+    assert!(
+        background < total * 97 / 100,
+        "{background} of {total} are background"
+    );
+    assert!(
+        background > total / 3,
+        "mostly sky and ground: {background} of {total}"
+    );
+    let black = count(&image, 0, 0, w, h, [0, 0, 0, 255]);
+    assert_eq!(black, 0, "black pixels: nothing should be black");
+
+    // A fixed time step per frame: the same script gives the same picture.
+    let (again, _) = scripted_screenshot(dir.path(), "b.png");
+    assert!(again == image, "two runs of one script differ");
+    let stray: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !["turn.txt", "a.png", "b.png"].contains(&n.as_str()))
+        .collect();
+    assert!(stray.is_empty(), "leftover files: {stray:?}");
+}
+
+#[test]
+fn a_bad_script_line_names_the_file_and_line_before_any_window_opens() {
+    let dir = tempfile::tempdir().unwrap();
+    let script = dir.path().join("bad.txt");
+    std::fs::write(&script, "0 throttle=0.5\n# fine so far\n1.0 elevator=3\n").unwrap();
+    let out = wireflight(&[
+        "view",
+        "--script",
+        script.to_str().unwrap(),
+        "--frames",
+        "5",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!("{}:3: unknown key `elevator`", script.display())),
+        "{err}"
+    );
+
+    let missing = dir.path().join("missing.txt");
+    let out = wireflight(&["view", "--script", missing.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.txt: cannot read script"));
+}
+
+#[test]
+fn screenshot_needs_frames_and_a_png_name() {
+    let out = wireflight(&["view", "--screenshot", "x.png"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--frames"));
+    let out = wireflight(&["view", "--frames", "3", "--screenshot", "x.svg"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("PNG"));
+}
+
+#[test]
+fn shipped_demo_scripts_parse() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scripts");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_some_and(|e| e == "txt") {
+            let s = script::load(&path).unwrap_or_else(|e| panic!("{e:#}"));
+            assert!(!s.events.is_empty(), "{}", path.display());
+            n += 1;
+        }
+    }
+    assert!(n >= 2, "{n} scripts in {}", dir.display());
+}
+
+/// The loop script, headless: 12 s at 60 frames a second through both vertical points.
+#[test]
+fn looping_through_the_vertical_clips_every_frame_and_reports_gimbal_lock() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scripts/loop.txt");
+    let script = script::load(&path).unwrap();
+    let mut s = Session::fly(
+        builtin_plane(),
+        Start::default(),
+        Some(script),
+        CameraMode::Chase,
+        55f32.to_radians(),
+    );
+    let viewport = Viewport {
+        width: 640,
+        height: 360,
+    };
+    let plane_edges = builtin_plane().edges().len();
+    let (mut locked, mut min_clipped) = (0, u64::MAX);
+    for frame in 0..720 {
+        s.advance(1.0 / 60.0, &Held::default());
+        let stats = s.build(viewport);
+        min_clipped = min_clipped.min(stats.clipped);
+        assert!(stats.trivially_rejected > 0, "frame {frame}: {stats}");
+        assert_eq!(stats.non_finite, 0, "frame {frame}: {stats}");
+        let r = s.readout();
+        assert!(
+            r.angles.is_finite() && r.speed.is_finite(),
+            "frame {frame}: {r:?}"
+        );
+        locked += usize::from(r.gimbal != Gimbal::Free);
+        // The chase camera keeps the whole aircraft in the picture all the way round.
+        let plane = &s.scene().batches[batch::PLANE].segments;
+        assert_eq!(plane.len(), plane_edges, "frame {frame}");
+    }
+    assert!(min_clipped > 0, "some edge is clipped in every frame");
+    assert!(
+        locked >= 2,
+        "the HUD's gimbal lock: {locked} frames at ±90°"
+    );
+    // Back level after the full loop.
+    let r = s.readout();
+    assert!(r.angles.pitch.abs() < 1e-6, "{r:?}");
+}
