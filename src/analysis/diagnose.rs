@@ -35,7 +35,7 @@ impl Default for DiagnoseConfig {
     fn default() -> Self {
         Self {
             compare: CompareConfig {
-                max_windows: 40,
+                max_windows: 32,
                 ..CompareConfig::default()
             },
             max_iterations: 12,

@@ -242,6 +242,44 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
         }
     }
 
+    if let Some(dir) = &args.frames_dir {
+        // The overlay needs every sample predicted: compare over all windows (prep may be
+        // the same already).
+        let shown_model = if after.is_some() { &after_model } else { &base };
+        let shown = compare_prepared(shown_model, &prep);
+        let mut track = crate::app::replay::ModelTrack::from_comparison(&data, &shown)?;
+        // One scale for before and after, so the strip shows the error fall.
+        track.strip_scale_m = before
+            .prediction
+            .pos_ned
+            .iter()
+            .zip(&before.prediction.index)
+            .map(|(p, &i)| (*p - data.pos_ned[i]).length())
+            .fold(track.strip_scale_m, f64::max);
+        let mesh = crate::mesh::plane::builtin_plane();
+        let viewport = crate::pipeline::Viewport {
+            width: args.size.0,
+            height: args.size.1,
+        };
+        let mut rasterizer = crate::app::render::Rasterizer::Cpu;
+        let (frames, _) = crate::app::replay::write_frames(
+            &data,
+            Some(track),
+            &mesh,
+            viewport,
+            args.fps,
+            dir,
+            &mut rasterizer,
+        )?;
+        if !args.json {
+            println!(
+                "wrote {frames} overlay frames to {} (measured: green, model {}: magenta)",
+                dir.display(),
+                model_label(shown_model)
+            );
+        }
+    }
+
     if args.json {
         let mut v = json!({
             "data": args.data.display().to_string(),
