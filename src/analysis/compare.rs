@@ -315,6 +315,16 @@ impl<'a> Prepared<'a> {
 
     /// Estimated state at the first sample of a window (see module docs).
     pub fn initial_state(&self, model: &Model, start: usize, end: usize) -> State {
+        let surfaces = match model.vehicle {
+            Vehicle::FixedWing(_) => surfaces_at(model, self.data, start),
+            Vehicle::PointMass => DVec3::ZERO,
+        };
+        self.initial_state_with(model, start, end, surfaces)
+    }
+
+    /// [`Self::initial_state`] with the surface positions at `start` already known (see
+    /// [`SurfaceTracker`]).
+    fn initial_state_with(&self, model: &Model, start: usize, end: usize, surfaces: DVec3) -> State {
         let d = self.data;
         let t0 = d.time[start];
         let fit_end = d.time[start..end]
@@ -371,7 +381,7 @@ impl<'a> Prepared<'a> {
                     }
                 };
                 x.set_omega(omega);
-                x.set_surfaces(surfaces_at(model, d, start));
+                x.set_surfaces(surfaces);
             }
         }
         x
@@ -531,6 +541,58 @@ pub fn surfaces_at(model: &Model, d: &FlightData, upto: usize) -> DVec3 {
     }
 }
 
+/// [`surfaces_at`] for increasing sample indices in O(total samples): the lag filter carries
+/// its state from one window start to the next instead of starting over from the first
+/// command (which made a comparison O(samples × windows)).
+struct SurfaceTracker<'a> {
+    data: &'a FlightData,
+    tau: Option<f64>,
+    index: usize,
+    state: DVec3,
+    /// (dt, 1 − e^(−dt/τ)) of the last step: uniform sampling needs one `exp`.
+    gain_cache: (f64, f64),
+}
+
+impl<'a> SurfaceTracker<'a> {
+    fn new(model: &Model, data: &'a FlightData) -> Self {
+        let state = data
+            .controls
+            .as_ref()
+            .and_then(|c| c.first())
+            .map(|c| DVec3::new(c.elevator, c.aileron, c.rudder))
+            .unwrap_or(DVec3::ZERO);
+        Self {
+            data,
+            tau: model.effects.iter().find_map(|e| e.actuator_tau()),
+            index: 0,
+            state,
+            gain_cache: (f64::NAN, 0.0),
+        }
+    }
+
+    /// Surface positions at sample `upto` (≥ every earlier call's).
+    fn at(&mut self, upto: usize) -> DVec3 {
+        let Some(controls) = &self.data.controls else {
+            return DVec3::ZERO;
+        };
+        let as_vec = |c: &Controls| DVec3::new(c.elevator, c.aileron, c.rudder);
+        let Some(tau) = self.tau else {
+            return as_vec(&controls[upto]);
+        };
+        debug_assert!(upto >= self.index);
+        let time = &self.data.time;
+        for i in self.index..upto {
+            let dt = time[i + 1] - time[i];
+            if dt != self.gain_cache.0 {
+                self.gain_cache = (dt, 1.0 - (-dt / tau).exp());
+            }
+            self.state += self.gain_cache.1 * (as_vec(&controls[i]) - self.state);
+        }
+        self.index = self.index.max(upto);
+        self.state
+    }
+}
+
 /// Attitude error between two aerospace angle sets, degrees: the rotation angle of R_aᵀR_b
 /// (independent of how the angles are split, so no trouble at gimbal lock or ±180°).
 fn attitude_error_deg(a: &EulerZyx, b: &EulerZyx) -> f64 {
@@ -594,8 +656,9 @@ pub fn compare_prepared(model: &Model, prep: &Prepared) -> Comparison {
     let d = prep.data;
     let mut pred = Prediction::default();
     let mut scratch = Prediction::default();
+    let mut surfaces = SurfaceTracker::new(model, d);
     for &(start, end) in &prep.windows {
-        let mut x0 = prep.initial_state(model, start, end);
+        let mut x0 = prep.initial_state_with(model, start, end, surfaces.at(start));
         if prep.cfg.refine_point_mass && matches!(model.vehicle, Vehicle::PointMass) {
             x0 = prep.refine_point_mass(model, start, end, x0, &mut scratch);
         }
