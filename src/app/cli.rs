@@ -203,6 +203,8 @@ Examples:
   wireflight simulate --manoeuvre climbing-turn --hidden wind:north_mps=4,east_mps=-3 \\
       --noise-pos 0.5 --noise-att 0.3 --seed 7 --out windy.csv
   wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
+  wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \
+      --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --window 30
   wireflight simulate --model my-model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
 
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
@@ -260,6 +262,9 @@ pub struct SimulateArgs {
     /// Trim airspeed, m/s (fixed-wing).
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub airspeed: f64,
+    /// Launch speed of the point-mass `ballistic` shot (60° elevation, due north), m/s.
+    #[arg(long, default_value_t = 150.0, value_parser = positive)]
+    pub launch_speed: f64,
     /// Starting height above the origin, m.
     #[arg(long, default_value_t = 200.0, value_parser = finite_f64)]
     pub height: f64,

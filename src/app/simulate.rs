@@ -54,7 +54,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         duration_s: args.duration,
         rate_hz: args.rate,
         airspeed_mps: args.airspeed,
-        launch_speed_mps: 150.0,
+        launch_speed_mps: args.launch_speed,
         height_m: args.height,
         noise: Noise {
             pos_m: args.noise_pos,
