@@ -203,7 +203,7 @@ Examples:
   wireflight simulate --manoeuvre climbing-turn --hidden wind:north_mps=4,east_mps=-3 \\
       --noise-pos 0.5 --noise-att 0.3 --seed 7 --out windy.csv
   wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
-  wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \
+  wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \\
       --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --window 30
   wireflight simulate --model my-model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
 
