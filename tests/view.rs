@@ -10,7 +10,13 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+use std::sync::Arc;
+
+use wireflight::app::analyze::load_data_and_model;
+use wireflight::app::cli::ModelArgs;
+use wireflight::app::replay::{MODEL_AIRCRAFT, MODEL_TRAIL};
 use wireflight::app::view::cameras::CameraMode;
+use wireflight::app::view::compare::{Compare, Fit};
 use wireflight::app::view::flight::Start;
 use wireflight::app::view::scene::batch;
 use wireflight::app::view::script;
@@ -254,4 +260,192 @@ fn looping_through_the_vertical_clips_every_frame_and_reports_gimbal_lock() {
     // Back level after the full loop.
     let r = s.readout();
     assert!(r.angles.pitch.abs() < 1e-6, "{r:?}");
+}
+
+/// A windy climbing turn (the wind hidden: not in the file), written as CSV.
+fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
+    use wireflight::flight::autopilot::Manoeuvre;
+    use wireflight::flight::effects::Origin;
+    use wireflight::flight::simulate::{simulate, Noise, SimSpec};
+    use wireflight::flight::spec::{EffectSpec, ModelSpec};
+    use wireflight::flight::VehicleKind;
+    let mut truth = ModelSpec::baseline(VehicleKind::FixedWing);
+    truth
+        .effects
+        .push(EffectSpec::parse("wind:north_mps=6,east_mps=-4").unwrap());
+    let spec = SimSpec {
+        manoeuvre: Manoeuvre::ClimbingTurn,
+        duration_s,
+        rate_hz: 50.0,
+        airspeed_mps: 25.0,
+        launch_speed_mps: 150.0,
+        height_m: 200.0,
+        noise: Noise {
+            pos_m: 0.2,
+            att_deg: 0.1,
+            vel_mps: 0.05,
+            rate_dps: 0.2,
+        },
+        seed: 5,
+        source: "tests/view.rs".into(),
+        aircraft: Some("aerosonde".into()),
+        listed_effects: Vec::new(),
+    };
+    let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
+    let path = dir.join("windy.csv");
+    wireflight::flight::data::write(&path, &data).unwrap();
+    path
+}
+
+/// `--compare` without a window: the session loads the flight and the base model, the fit
+/// names the hidden wind, and ticking `wind` (fitted parameters) makes the error fall.
+#[test]
+fn compare_mode_ticking_the_fitted_wind_makes_the_error_fall() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = windy_flight(dir.path(), 40.0);
+    let (data, base) = load_data_and_model(
+        &path,
+        &ModelArgs {
+            model: None,
+            effects: None,
+            add: Vec::new(),
+        },
+    )
+    .unwrap();
+    let data = Arc::new(data);
+    let compare = Compare::new(Arc::clone(&data), base, &[]).unwrap();
+    assert!(
+        matches!(compare.fit, Fit::Running(_)),
+        "the fit runs in the background"
+    );
+    assert_eq!(compare.verdict_line().split(' ').next(), Some("fitting…"));
+    let names: Vec<&str> = compare.rows.iter().map(|r| r.name).collect();
+    assert!(
+        names.contains(&"wind") && names.contains(&"actuator_lag"),
+        "{names:?}"
+    );
+    assert!(
+        !names.contains(&"drag"),
+        "point-mass drag does not apply: {names:?}"
+    );
+    let mut s = Session::replay(
+        builtin_plane(),
+        (*data).clone(),
+        CameraMode::Chase,
+        55f32.to_radians(),
+    )
+    .unwrap()
+    .with_compare(compare);
+    let viewport = Viewport {
+        width: 640,
+        height: 360,
+    };
+    // 1.5 s in: the model has not drifted out of the chase camera's view yet.
+    for _ in 0..90 {
+        s.advance(1.0 / 60.0, &Held::default());
+    }
+    s.build(viewport);
+    let scene = s.scene();
+    assert!(!scene.batches[batch::MODEL_PLANE].segments.is_empty());
+    assert!(!scene.batches[batch::MODEL_TRAIL].segments.is_empty());
+    assert_eq!(scene.batches[batch::MODEL_PLANE].color, MODEL_AIRCRAFT);
+    assert_eq!(scene.batches[batch::MODEL_TRAIL].color, MODEL_TRAIL);
+
+    // Ticking `wind` before the fit is in: the default (zero) wind changes nothing.
+    let c = s.compare_mut().unwrap();
+    let before = c.before.total;
+    assert!(c.set_by_name("wind", true));
+    c.wait();
+    assert_eq!(c.now.effects, ["wind"]);
+    assert!((c.now.total - before).abs() < 1e-9 * before.max(1.0));
+
+    // The fit names the wind and re-runs the ticked model with the fitted wind.
+    c.wait_fit();
+    assert_eq!(c.verdict_line(), "diagnosis: `wind` is missing");
+    let wind = c.rows.iter().find(|r| r.name == "wind").unwrap();
+    let p = wind.params();
+    let north = p.iter().find(|p| p.name == "north_mps").unwrap().value;
+    let east = p.iter().find(|p| p.name == "east_mps").unwrap().value;
+    assert!(
+        (north - 6.0).abs() < 0.5 && (east + 4.0).abs() < 0.5,
+        "{p:?}"
+    );
+    let now = c.now.total;
+    eprintln!(
+        "total error {before:.3} → {now:.3} with the fitted wind (model run {:.1} ms)",
+        1e3 * c.now.compute_s
+    );
+    assert!(now * 5.0 < before, "{before} → {now}");
+    assert!(c.now.channels.position_m * 5.0 < c.before.channels.position_m);
+
+    // Unticking goes back to the base model's error.
+    c.set_by_name("wind", false);
+    c.wait();
+    assert!(c.now.effects.is_empty());
+    assert!((c.now.total - before).abs() < 1e-9 * before.max(1.0));
+}
+
+#[test]
+fn compare_rejects_an_add_that_does_not_apply() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = windy_flight(dir.path(), 12.0);
+    let out = wireflight(&[
+        "view",
+        "--flight",
+        path.to_str().unwrap(),
+        "--compare",
+        "--add",
+        "drag",
+        "--frames",
+        "1",
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("`drag` does not apply"), "{err}");
+    let out = wireflight(&["view", "--compare", "--frames", "1"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--flight"));
+}
+
+/// `--compare` in a window: the screenshot shows the measured aircraft and the model's.
+#[test]
+fn compare_window_run_shows_both_aircraft() {
+    let Some(display) = display() else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let path = windy_flight(dir.path(), 40.0);
+    let shot = dir.path().join("compare.png");
+    let out = run_with_timeout(
+        &[
+            "view",
+            "--flight",
+            path.to_str().unwrap(),
+            "--compare",
+            "--frames",
+            "120",
+            "--size",
+            "960x540",
+            "--screenshot",
+            shot.to_str().unwrap(),
+        ],
+        WINDOW_TIMEOUT,
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert!(
+        out.status.success(),
+        "wireflight view --compare failed: {:?}\nstdout:\n{stdout}\nstderr:\n{stderr}",
+        out.status
+    );
+    println!("DISPLAY={display}\n{stdout}");
+    assert!(stdout.contains("compare: base model total"), "{stdout}");
+    let image = Image::decode_png(&std::fs::read(&shot).expect("the screenshot exists")).unwrap();
+    let (w, h) = (image.width, image.height);
+    let measured = count(&image, 0, 0, w, h, palette::MODEL);
+    let model = count(&image, 0, 0, w, h, MODEL_AIRCRAFT);
+    let model_trail = count(&image, 0, 0, w, h, MODEL_TRAIL);
+    assert!(measured > 200, "{measured} measured-aircraft pixels");
+    assert!(model > 100, "{model} model-aircraft pixels");
+    assert!(model_trail > 20, "{model_trail} model-trail pixels");
 }

@@ -287,6 +287,8 @@ Examples:
   wireflight view
   wireflight view --model assets/plane.gltf --camera orbit
   wireflight view --flight test.csv                       # replay a recorded flight
+  wireflight view --flight windy.csv --compare            # and the model beside it
+  wireflight view --flight windy.csv --compare --add wind  # wind ticked from the start
   wireflight view --script assets/scripts/loop.txt --frames 600 --screenshot loop.png
   xvfb-run -a wireflight view --script assets/scripts/climb-turn.txt --frames 120 --screenshot s.png
 
@@ -298,6 +300,14 @@ Keys (flying):
 Keys (replay, --flight):
   Space            play / pause
   Left / Right     seek back / forward 5 s
+Compare (--flight F --compare):
+  The model is restarted from the data every 8 s and flown beside the recording: the
+  measured aircraft in green, the model's in magenta with its trail (broken at restarts).
+  A panel plots the position error over time (grey: the base model; magenta: now) with a
+  cursor at the replay time, shows the total and per-channel errors before / now, and has
+  a checkbox per catalogue effect: ticking one re-runs the model in the background. The
+  effects' parameters are fitted once at start-up (`diagnose`, a second or two; until
+  then the catalogue defaults, e.g. zero wind, stand in) and shown beside the checkboxes.
 Keys (always):
   C                cycle cameras: chase → cockpit → orbit → free
   Space            pause / resume
@@ -372,6 +382,22 @@ pub struct ViewArgs {
     /// Present without waiting for vertical sync (for measuring frame rates).
     #[arg(long)]
     pub no_vsync: bool,
+    /// With --flight: fly the flight model beside the recording (magenta), plot the error
+    /// over time, and tick catalogue effects on and off to see the error fall.
+    #[arg(long, requires = "flight")]
+    pub compare: bool,
+    /// With --compare: the flight model (TOML); default: the baseline of the data's vehicle.
+    /// (--model is the aircraft's wireframe here.)
+    #[arg(long, value_name = "FILE", requires = "compare")]
+    pub flight_model: Option<PathBuf>,
+    /// With --compare: effects in the base model, comma-separated (parameters at their
+    /// defaults; always on).
+    #[arg(long, value_name = "A,B", requires = "compare")]
+    pub effects: Option<String>,
+    /// With --compare: start with this effect ticked, `name[:k=v,...]` (repeatable); the
+    /// parameters not given come from the fit.
+    #[arg(long, value_name = "NAME[:K=V,...]", requires = "compare")]
+    pub add: Vec<String>,
 }
 
 fn time_step(s: &str) -> Result<f64, String> {

@@ -9,9 +9,12 @@
 //! * [`scene`]: one frame as a [`LineScene`](crate::render::LineScene), through
 //!   [`crate::pipeline`].
 //! * [`script`]: timed control inputs for deterministic runs.
+//! * [`compare`]: `--compare`, the flight model beside the recording, effects ticked on and
+//!   off, recomputed in the background.
 //! * [`session`]: all of it together, driven by time steps and held keys.
 
 pub mod cameras;
+pub mod compare;
 pub mod flight;
 pub mod scene;
 pub mod script;
@@ -30,13 +33,15 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHan
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::app::cli::{BackendArg, ViewArgs, ViewCameraArg};
+use crate::app::analyze::load_data_and_model;
+use crate::app::cli::{BackendArg, ModelArgs, ViewArgs, ViewCameraArg};
 use crate::app::render::{load_model, OutputFormat, Rasterizer};
 use crate::clip::ClipStats;
 use crate::euler::Gimbal;
 use crate::pipeline::Viewport;
 use crate::render::{self, LineScene};
 use cameras::CameraMode;
+use compare::{Compare, Fit};
 use flight::Start;
 use session::{Held, Session, Source, SEEK_S};
 use surface::{HudFrame, Presented, WindowRenderer};
@@ -88,6 +93,20 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let fov_y = (args.fov as f32).to_radians();
     let camera = CameraMode::from(args.camera);
     let session = match &args.flight {
+        Some(path) if args.compare => {
+            let model_args = ModelArgs {
+                model: args.flight_model.clone(),
+                effects: args.effects.clone(),
+                add: Vec::new(),
+            };
+            let (data, base) = load_data_and_model(path, &model_args)?;
+            let data = Arc::new(data);
+            let compare = Compare::new(Arc::clone(&data), base, &args.add)
+                .with_context(|| format!("{}: cannot compare", path.display()))?;
+            Session::replay(mesh, (*data).clone(), camera, fov_y)
+                .with_context(|| format!("{}: cannot replay", path.display()))?
+                .with_compare(compare)
+        }
         Some(path) => {
             let data = crate::flight::data::read(path)?;
             Session::replay(mesh, data, camera, fov_y)
@@ -303,6 +322,11 @@ impl App {
         }
     }
 
+    /// Whether background work (a recomputation, the fit) will want a redraw when it ends.
+    fn waiting_for_work(&self) -> bool {
+        self.session.compare().is_some_and(Compare::busy)
+    }
+
     /// Whether frames should keep coming without input.
     fn animating(&self) -> bool {
         self.options.frames.is_some() || !self.session.paused || self.held().moving_camera()
@@ -365,6 +389,7 @@ impl App {
         self.last_tick = Some(now);
         let held = self.held();
         self.session.advance(dt, &held);
+        self.session.poll();
 
         let Some(gfx) = self.gfx.as_mut() else {
             return Ok(());
@@ -392,13 +417,22 @@ impl App {
             frames: self.options.frames,
         };
         let mut show_help = self.show_help;
+        let mut toggles = Vec::new();
         let output = self.egui_ctx.run_pass(raw_input, |ctx| {
             draw_hud(ctx, &hud);
+            if let Some(c) = hud.session.compare() {
+                toggles = draw_compare(ctx, c, hud.session.readout());
+            }
             if show_help {
                 draw_help(ctx, &mut show_help);
             }
         });
         self.show_help = show_help;
+        if let Some(c) = self.session.compare_mut() {
+            for (i, on) in toggles {
+                c.set(i, on);
+            }
+        }
         gfx.egui
             .handle_platform_output(&gfx.window, output.platform_output);
         let jobs = self
@@ -494,6 +528,9 @@ impl App {
             mean(m.segments_total)
         );
         println!("clip, last frame: {}", m.clip);
+        if let Some(c) = self.session.compare() {
+            println!("{}", compare_summary(c));
+        }
     }
 }
 
@@ -596,6 +633,11 @@ impl ApplicationHandler for App {
             gfx.window.request_redraw();
             event_loop.set_control_flow(ControlFlow::Wait);
         } else {
+            if self.waiting_for_work() {
+                // Look for finished background work every few milliseconds.
+                let soon = Instant::now() + Duration::from_millis(20);
+                self.wait_until = Some(self.wait_until.map_or(soon, |w| w.min(soon)));
+            }
             // Paused and idle: sleep until an event (or egui / a note needs a repaint).
             self.last_tick = None;
             match self.wait_until {
@@ -628,7 +670,7 @@ fn thousands(v: u64) -> String {
     let s = v.to_string();
     let mut out = String::with_capacity(s.len() + s.len() / 3);
     for (i, c) in s.chars().enumerate() {
-        if i > 0 && (s.len() - i) % 3 == 0 {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
@@ -754,4 +796,250 @@ fn draw_help(ctx: &egui::Context, open: &mut bool) {
                 }
             });
         });
+}
+
+fn fmt_channel(v: Option<f64>, unit: &str) -> String {
+    v.map_or_else(|| "—".into(), |x| format!("{x:.3} {unit}"))
+}
+
+/// "base model → with effects" errors in one line, for stdout.
+fn compare_summary(c: &Compare) -> String {
+    let label = |effects: &[String]| {
+        if effects.is_empty() {
+            "base model".to_string()
+        } else {
+            format!("+ {}", effects.join(" + "))
+        }
+    };
+    let (b, n) = (&c.before, &c.now);
+    format!(
+        "compare: {} total {:.3} (position {}, velocity {}, attitude {}) → {} total {:.3} \
+         (position {}, velocity {}, attitude {}); model run {:.1} ms; {}",
+        label(&b.effects),
+        b.total,
+        fmt_channel(Some(b.channels.position_m), "m"),
+        fmt_channel(b.channels.velocity_mps, "m/s"),
+        fmt_channel(b.channels.attitude_deg, "°"),
+        label(&n.effects),
+        n.total,
+        fmt_channel(Some(n.channels.position_m), "m"),
+        fmt_channel(n.channels.velocity_mps, "m/s"),
+        fmt_channel(n.channels.attitude_deg, "°"),
+        1e3 * n.compute_s,
+        c.verdict_line()
+    )
+}
+
+/// A small square of `color` in the text line (the legend).
+fn swatch(ui: &mut egui::Ui, color: egui::Color32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 1.0, color);
+}
+
+fn rgba(c: crate::render::Rgba) -> egui::Color32 {
+    egui::Color32::from_rgba_unmultiplied(c[0], c[1], c[2], c[3])
+}
+
+/// The `--compare` panel: errors before / now, the error over time with a cursor at the replay
+/// time, a checkbox per effect. Returns the rows whose checkbox was clicked, with their new
+/// state.
+fn draw_compare(ctx: &egui::Context, c: &Compare, r: session::Readout) -> Vec<(usize, bool)> {
+    use egui::{Color32, RichText};
+    let mut toggles = Vec::new();
+    let frame = egui::Frame::NONE
+        .fill(Color32::from_black_alpha(190))
+        .inner_margin(8.0)
+        .corner_radius(4.0);
+    egui::Window::new("compare")
+        .id(egui::Id::unique("wireflight-compare"))
+        .frame(frame)
+        .anchor(egui::Align2::LEFT_BOTTOM, [8.0, -8.0])
+        .resizable(false)
+        .collapsible(true)
+        .title_bar(true)
+        .show(ctx, |ui| {
+            ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+            ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
+            let fitting = matches!(c.fit, Fit::Running(_));
+            ui.horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = 0.0;
+                ui.monospace("measured ");
+                swatch(ui, rgba(crate::render::palette::MODEL));
+                ui.monospace("   model ");
+                swatch(ui, rgba(crate::app::replay::MODEL_AIRCRAFT));
+                ui.monospace("   ");
+                let verdict = RichText::new(c.verdict_line()).monospace();
+                ui.label(if fitting {
+                    verdict.color(Color32::from_rgb(255, 220, 120))
+                } else {
+                    verdict.strong()
+                });
+            });
+            let (b, n) = (&c.before, &c.now);
+            egui::Grid::new("wireflight-compare-errors")
+                .num_columns(3)
+                .spacing([16.0, 2.0])
+                .show(ui, |ui| {
+                    ui.monospace("error (RMS)");
+                    ui.monospace("before");
+                    ui.monospace("now");
+                    ui.end_row();
+                    let row = |ui: &mut egui::Ui, name: &str, x: String, y: String| {
+                        ui.monospace(name);
+                        ui.monospace(x);
+                        ui.monospace(y);
+                        ui.end_row();
+                    };
+                    row(
+                        ui,
+                        "total",
+                        format!("{:.3}", b.total),
+                        format!("{:.3}", n.total),
+                    );
+                    row(
+                        ui,
+                        "position",
+                        fmt_channel(Some(b.channels.position_m), "m"),
+                        fmt_channel(Some(n.channels.position_m), "m"),
+                    );
+                    row(
+                        ui,
+                        "velocity",
+                        fmt_channel(b.channels.velocity_mps, "m/s"),
+                        fmt_channel(n.channels.velocity_mps, "m/s"),
+                    );
+                    row(
+                        ui,
+                        "attitude",
+                        fmt_channel(b.channels.attitude_deg, "°"),
+                        fmt_channel(n.channels.attitude_deg, "°"),
+                    );
+                });
+            let status = if c.recomputing() {
+                "model: recomputing…".to_string()
+            } else {
+                format!(
+                    "model run {:.1} ms (toggle → shown {:.1} ms)",
+                    1e3 * n.compute_s,
+                    1e3 * n.latency_s
+                )
+            };
+            ui.monospace(status);
+            if let Some(e) = &c.error {
+                ui.label(RichText::new(e).color(Color32::from_rgb(255, 80, 80)));
+            }
+            error_plot(ui, c, r.replay.map(|(t, _, _)| t));
+            ui.separator();
+            egui::Grid::new("wireflight-compare-effects")
+                .num_columns(3)
+                .spacing([10.0, 1.0])
+                .show(ui, |ui| {
+                    ui.monospace("effect");
+                    ui.monospace(if c.rows.iter().any(|r| r.fitted.is_some()) {
+                        "parameters (fitted)"
+                    } else {
+                        "parameters (defaults)"
+                    });
+                    ui.monospace("fit error");
+                    ui.end_row();
+                    for (i, row) in c.rows.iter().enumerate() {
+                        let mut on = row.on;
+                        let response =
+                            ui.add_enabled(!row.in_base, egui::Checkbox::new(&mut on, row.name));
+                        if response.changed() {
+                            toggles.push((i, on));
+                            // Space and the arrows belong to the replay, not to the checkbox.
+                            response.surrender_focus();
+                        }
+                        let params = row.params();
+                        let units: Vec<String> = params
+                            .iter()
+                            .map(|p| format!("{} = {} {}", p.name, p.value, p.unit))
+                            .collect();
+                        let params: Vec<String> = params
+                            .iter()
+                            .map(|p| format!("{}={:.3}", p.name, p.value))
+                            .collect();
+                        let mut text = params.join("\n");
+                        if row.in_base {
+                            text = format!("in the base model\n{text}");
+                        }
+                        let label = ui.monospace(text);
+                        if !units.is_empty() {
+                            label.on_hover_text(units.join("\n"));
+                        }
+                        ui.monospace(
+                            row.fitted_error
+                                .filter(|_| !row.in_base)
+                                .map_or_else(String::new, |e| format!("{e:.3}")),
+                        );
+                        ui.end_row();
+                    }
+                });
+        });
+    toggles
+}
+
+/// The position error over the flight: the base model in grey, the model as ticked in the
+/// model's colour, one scale (the larger peak), a cursor at the replay time.
+fn error_plot(ui: &mut egui::Ui, c: &Compare, t: Option<f64>) {
+    use egui::{pos2, Color32, Stroke};
+    let size = egui::vec2(400.0, 84.0);
+    let (response, painter) = ui.allocate_painter(size, egui::Sense::hover());
+    let rect = response.rect;
+    painter.rect_filled(rect, 2.0, Color32::from_black_alpha(120));
+    let peak = c
+        .before
+        .error_bins
+        .iter()
+        .chain(&c.now.error_bins)
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0f32, f32::max)
+        .max(1e-6);
+    let plot = rect.shrink2(egui::vec2(4.0, 14.0));
+    let line = |bins: &[f32], color: Color32| {
+        let n = bins.len().max(2) as f32 - 1.0;
+        let points: Vec<egui::Pos2> = bins
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .map(|(i, v)| {
+                pos2(
+                    plot.left() + i as f32 / n * plot.width(),
+                    plot.bottom() - (v / peak).clamp(0.0, 1.0) * plot.height(),
+                )
+            })
+            .collect();
+        painter.add(egui::Shape::line(points, Stroke::new(1.5, color)));
+    };
+    line(&c.before.error_bins, Color32::from_gray(150));
+    line(&c.now.error_bins, rgba(crate::app::replay::MODEL_AIRCRAFT));
+    let track = &c.now.track;
+    if let (Some(t), Some(&t0), Some(&t1)) = (t, track.time.first(), track.time.last()) {
+        let f = ((t - t0) / (t1 - t0).max(1e-9)).clamp(0.0, 1.0) as f32;
+        let x = plot.left() + f * plot.width();
+        painter.line_segment(
+            [pos2(x, rect.top() + 2.0), pos2(x, rect.bottom() - 2.0)],
+            Stroke::new(1.0, Color32::from_rgb(255, 220, 120)),
+        );
+    }
+    let font = egui::FontId::monospace(11.0);
+    painter.text(
+        rect.left_top() + egui::vec2(4.0, 1.0),
+        egui::Align2::LEFT_TOP,
+        format!(
+            "position error, m (peak {peak:.1}; restarts every {:.0} s)",
+            c.window_s()
+        ),
+        font.clone(),
+        Color32::from_gray(200),
+    );
+    painter.text(
+        rect.right_bottom() - egui::vec2(4.0, 1.0),
+        egui::Align2::RIGHT_BOTTOM,
+        "grey: base model   time →",
+        font,
+        Color32::from_gray(160),
+    );
 }

@@ -29,6 +29,10 @@ pub mod colors {
     pub const HORIZON: Rgba = [110, 200, 255, 255];
     /// The flown trail.
     pub const TRAIL: Rgba = crate::app::replay::TRAIL;
+    /// The model's trail (`--compare`).
+    pub const MODEL_TRAIL: Rgba = crate::app::replay::MODEL_TRAIL;
+    /// The model's aircraft (`--compare`).
+    pub const MODEL_AIRCRAFT: Rgba = crate::app::replay::MODEL_AIRCRAFT;
 }
 
 /// Index of each batch in [`SceneBuilder::scene`], drawn in this order.
@@ -45,10 +49,14 @@ pub mod batch {
     pub const STRUCTURES: usize = 4;
     /// Trail.
     pub const TRAIL: usize = 5;
+    /// The model's trail (`--compare`; empty otherwise).
+    pub const MODEL_TRAIL: usize = 6;
+    /// The model's aircraft (`--compare`; empty otherwise).
+    pub const MODEL_PLANE: usize = 7;
     /// The aircraft (on top).
-    pub const PLANE: usize = 6;
+    pub const PLANE: usize = 8;
     /// Number of batches.
-    pub const COUNT: usize = 7;
+    pub const COUNT: usize = 9;
 }
 
 /// Fraction of the far distance at which the horizon ring is drawn.
@@ -69,6 +77,22 @@ pub struct FrameSpec<'a> {
     pub ground_z: f32,
     /// Trail points, oldest first; the aircraft's position is appended as the last point.
     pub trail: &'a [Vec3],
+    /// A second aircraft, the model's (`--compare`), drawn under the first.
+    pub model: Option<ModelFrame<'a>>,
+}
+
+/// The model's aircraft in a frame (`--compare`).
+#[derive(Clone, Copy, Debug)]
+pub struct ModelFrame<'a> {
+    /// Body origin, world.
+    pub position: Vec3,
+    /// Attitude (z-y-x, viewer frame).
+    pub attitude: EulerZyx,
+    /// Trail points, oldest first; `position` is appended as the last point.
+    pub trail: &'a [Vec3],
+    /// Indices into `trail` where the model was restarted from the data (no edge from the
+    /// point before), ascending.
+    pub breaks: &'a [usize],
 }
 
 /// Builds frames; owns the world, the aircraft mesh and every reusable buffer.
@@ -91,6 +115,8 @@ impl SceneBuilder {
             colors::RUNWAY,
             colors::STRUCTURE,
             colors::TRAIL,
+            colors::MODEL_TRAIL,
+            colors::MODEL_AIRCRAFT,
             palette::MODEL,
         ];
         Self {
@@ -155,6 +181,42 @@ impl SceneBuilder {
             * Mat4::from_translation(spec.camera.eye)
             * Mat4::from_scale(Vec3::splat(HORIZON_FRACTION * far));
         let plane = clip_from_world * model_matrix(spec.plane_position, spec.plane_attitude);
+
+        if let Some(m) = &spec.model {
+            let model_plane = clip_from_world * model_matrix(m.position, m.attitude);
+            stats.merge(&self.projector.project(
+                &self.plane,
+                model_plane,
+                depth,
+                viewport,
+                &mut self.scene.batches[batch::MODEL_PLANE].segments,
+            ));
+            if !m.trail.is_empty() {
+                self.trail_clip.clear();
+                self.trail_clip.extend(
+                    m.trail
+                        .iter()
+                        .chain(std::iter::once(&m.position))
+                        .map(|p| clip_from_world * p.extend(1.0)),
+                );
+                self.trail_edges.clear();
+                let mut breaks = m.breaks.iter().peekable();
+                for i in 1..self.trail_clip.len() {
+                    while breaks.next_if(|&&b| b < i).is_some() {}
+                    if breaks.peek().is_some_and(|&&b| b == i) {
+                        continue; // i restarts the model: no edge from i − 1
+                    }
+                    self.trail_edges.push([i as u32 - 1, i as u32]);
+                }
+                stats.merge(&project_clip_edges(
+                    &self.trail_clip,
+                    &self.trail_edges,
+                    depth,
+                    viewport,
+                    &mut self.scene.batches[batch::MODEL_TRAIL].segments,
+                ));
+            }
+        }
 
         let world = &self.world;
         let jobs: [(&EdgeMesh, Mat4, usize); 6] = [
@@ -232,6 +294,7 @@ mod tests {
             plane_attitude: EulerZyx::default(),
             ground_z: 0.0,
             trail: &trail,
+            model: None,
         });
         assert_eq!(stats.edges_in as usize, b.edges_per_frame() + 1);
         assert!(stats.clipped > 50, "{stats}");
@@ -263,5 +326,40 @@ mod tests {
             .iter()
             .fold((f32::MAX, f32::MIN), |(l, u), &y| (l.min(y), u.max(y)));
         assert!(hi - lo < 2.0 && hi < 180.0, "{lo}..{hi}");
+
+        // With the model's aircraft ahead: its trail is broken where the model restarts.
+        let model_trail = [
+            Vec3::new(-1490.0, 5.0, 150.0),
+            Vec3::new(-1480.0, 5.0, 150.0),
+            Vec3::new(-1470.0, 8.0, 150.0),
+            Vec3::new(-1460.0, 8.0, 150.0),
+        ];
+        let stats = b.build(&FrameSpec {
+            camera: &camera,
+            viewport,
+            plane_position: position,
+            plane_attitude: EulerZyx::default(),
+            ground_z: 0.0,
+            trail: &trail,
+            model: Some(ModelFrame {
+                position: Vec3::new(-1450.0, 8.0, 150.0),
+                attitude: EulerZyx::default(),
+                trail: &model_trail,
+                breaks: &[0, 2],
+            }),
+        });
+        // 5 points, 4 joins, one of them across the restart at 2.
+        let plane_edges = b.plane().edges().len();
+        assert_eq!(
+            stats.edges_in as usize,
+            b.edges_per_frame() + 1 + plane_edges + 3
+        );
+        let scene = b.scene();
+        assert_eq!(scene.batches[batch::MODEL_TRAIL].segments.len(), 3);
+        assert!(!scene.batches[batch::MODEL_PLANE].segments.is_empty());
+        assert_eq!(
+            scene.batches[batch::MODEL_PLANE].color,
+            colors::MODEL_AIRCRAFT
+        );
     }
 }

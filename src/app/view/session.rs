@@ -8,10 +8,11 @@
 use glam::{DQuat, DVec3, Vec3};
 
 use super::cameras::{CameraMode, CameraRig, Target};
+use super::compare::Compare;
 use super::flight::{Controls, Kinematic, Start};
-use super::scene::{FrameSpec, SceneBuilder};
+use super::scene::{FrameSpec, ModelFrame, SceneBuilder};
 use super::script::{Player, Script};
-use crate::app::replay::pose_at;
+use crate::app::replay::{pose_at, ModelTrack};
 use crate::clip::ClipStats;
 use crate::euler::{viewer_from_ned, EulerZyx, Gimbal};
 use crate::flight::data::FlightData;
@@ -179,6 +180,7 @@ pub struct Session {
     trail: Vec<Vec3>,
     trail_clock: f64,
     initial_camera: CameraMode,
+    compare: Option<Box<Compare>>,
 }
 
 impl Session {
@@ -232,9 +234,32 @@ impl Session {
             trail: Vec::new(),
             trail_clock: 0.0,
             initial_camera: camera,
+            compare: None,
         };
         s.reset();
         s
+    }
+
+    /// Show the model's flight beside the replayed one (`--compare`; a replay session only,
+    /// of the same flight).
+    pub fn with_compare(mut self, compare: Compare) -> Self {
+        self.compare = Some(Box::new(compare));
+        self
+    }
+
+    /// The comparison, in `--compare` mode.
+    pub fn compare(&self) -> Option<&Compare> {
+        self.compare.as_deref()
+    }
+
+    /// The comparison, to tick effects.
+    pub fn compare_mut(&mut self) -> Option<&mut Compare> {
+        self.compare.as_deref_mut()
+    }
+
+    /// Take in finished background work of the comparison; true if anything changed.
+    pub fn poll(&mut self) -> bool {
+        self.compare.as_mut().is_some_and(|c| c.poll())
     }
 
     /// Back to the start: the flight (or the replay's beginning), the trail, the cameras.
@@ -405,12 +430,16 @@ impl Session {
     pub fn build(&mut self, viewport: Viewport) -> ClipStats {
         let (position, attitude) = self.pose();
         let camera = self.rig.camera(&self.target());
-        let (trail, ground_z): (&[Vec3], f32) = match &self.source {
-            Source::Fly { .. } => (&self.trail, 0.0),
+        let (trail, ground_z, t): (&[Vec3], f32, f64) = match &self.source {
+            Source::Fly { .. } => (&self.trail, 0.0, 0.0),
             Source::Replay(r) => {
                 let upto = r.data.time.partition_point(|&s| s <= r.t);
-                (&r.path[..upto], r.ground_z)
+                (&r.path[..upto], r.ground_z, r.t)
             }
+        };
+        let model = match (&self.compare, &self.source) {
+            (Some(c), Source::Replay(_)) => Some(model_frame(&c.now.track, t)),
+            _ => None,
         };
         self.builder.build(&FrameSpec {
             camera: &camera,
@@ -419,6 +448,7 @@ impl Session {
             plane_attitude: attitude,
             ground_z,
             trail,
+            model,
         })
     }
 
@@ -471,10 +501,95 @@ impl Session {
     }
 }
 
+/// The model's aircraft at time `t`: position and attitude interpolated between its samples
+/// (not across a restart), its trail up to there.
+pub fn model_frame(track: &ModelTrack, t: f64) -> ModelFrame<'_> {
+    let n = track
+        .path
+        .len()
+        .min(track.attitude.len())
+        .min(track.time.len());
+    if n == 0 {
+        return ModelFrame {
+            position: Vec3::ZERO,
+            attitude: EulerZyx::default(),
+            trail: &[],
+            breaks: &[],
+        };
+    }
+    let k = track.time[..n].partition_point(|&s| s <= t).clamp(1, n) - 1;
+    let next = k + 1;
+    let restart = track.window_starts.binary_search(&next).is_ok();
+    let (position, attitude) = if next < n && !restart && t > track.time[k] {
+        let span = track.time[next] - track.time[k];
+        let f = if span > 0.0 {
+            ((t - track.time[k]) / span).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = |e: EulerZyx| DQuat::from_mat3(&e.to_matrix());
+        let q = q(track.attitude[k]).slerp(q(track.attitude[next]), f);
+        (
+            track.path[k].lerp(track.path[next], f as f32),
+            EulerZyx::from_matrix(glam::DMat3::from_quat(q)).0,
+        )
+    } else {
+        (track.path[k], track.attitude[k])
+    };
+    ModelFrame {
+        position,
+        attitude,
+        trail: &track.path[..=k],
+        breaks: &track.window_starts,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::plane::builtin_plane;
+
+    /// Four samples a second apart, the model restarted at the third.
+    fn track() -> ModelTrack {
+        ModelTrack {
+            time: vec![0.0, 1.0, 2.0, 3.0],
+            path: vec![
+                Vec3::ZERO,
+                Vec3::X * 10.0,
+                Vec3::new(20.0, 5.0, 0.0),
+                Vec3::new(30.0, 5.0, 0.0),
+            ],
+            attitude: vec![
+                EulerZyx::default(),
+                EulerZyx::new(0.2, 0.0, 0.0),
+                EulerZyx::default(),
+                EulerZyx::default(),
+            ],
+            window_starts: vec![0, 2],
+            error_m: vec![0.0; 4],
+            strip_scale_m: 1.0,
+        }
+    }
+
+    #[test]
+    fn the_model_aircraft_moves_between_samples_but_not_across_a_restart() {
+        let t = track();
+        let m = model_frame(&t, 0.5);
+        assert_eq!(m.position, Vec3::X * 5.0);
+        assert!((m.attitude.yaw - 0.1).abs() < 1e-9, "{:?}", m.attitude);
+        assert_eq!(m.trail.len(), 1);
+        // Between the last sample of a window and the restart: held, not slid across.
+        let m = model_frame(&t, 1.5);
+        assert_eq!(m.position, Vec3::X * 10.0);
+        assert_eq!(m.trail.len(), 2);
+        assert_eq!(m.breaks, [0, 2]);
+        let m = model_frame(&t, 2.5);
+        assert_eq!(m.position, Vec3::new(25.0, 5.0, 0.0));
+        // Before the start and after the end: the end samples.
+        assert_eq!(model_frame(&t, -1.0).position, Vec3::ZERO);
+        assert_eq!(model_frame(&t, 9.0).position, Vec3::new(30.0, 5.0, 0.0));
+        assert_eq!(model_frame(&t, 9.0).trail.len(), 4);
+    }
 
     #[test]
     fn keys_fly_and_pause_stops_time() {
