@@ -82,12 +82,14 @@ pub enum GpuError {
     Map(String),
 }
 
-/// One vertex: position in pixels and colour as bytes (read as unorm8x4 by the shader).
+/// One line endpoint: position in pixels and colour as bytes (read as unorm8x4 by the shader).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
-struct Vertex {
-    pixel: [f32; 2],
-    color: Rgba,
+pub struct LineVertex {
+    /// Pixel coordinates (top-left origin, y down).
+    pub pixel: [f32; 2],
+    /// RGBA, 8 bits each.
+    pub color: Rgba,
 }
 
 /// The shader's `Viewport` uniform.
@@ -96,6 +98,180 @@ struct Vertex {
 struct ViewportUniform {
     size: [f32; 2],
     pad: [f32; 2],
+}
+
+/// The line pipeline (`shaders/line.wgsl`, `LineList`, no blending) with its viewport uniform
+/// and a growing vertex buffer: everything needed to draw a [`LineScene`] into a render pass of
+/// one colour format. Shared by [`GpuRenderer`] (offscreen) and the window's surface
+/// (`app::view`), so the two draw lines the same way.
+pub struct LineDrawer {
+    pipeline: wgpu::RenderPipeline,
+    viewport_uniform: wgpu::Buffer,
+    /// The size the uniform holds (rewritten only when it changes).
+    viewport: (u32, u32),
+    bind_group: wgpu::BindGroup,
+    /// Vertex buffer; its size is its capacity (a power of two of vertices, at least 1024).
+    vertex_buffer: wgpu::Buffer,
+    /// CPU-side vertices of the current frame (kept to reuse the allocation).
+    vertices: Vec<LineVertex>,
+}
+
+impl LineDrawer {
+    /// Build the pipeline for render targets of `format`.
+    pub fn new(device: &wgpu::Device, format: wgpu::TextureFormat) -> Self {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("line.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
+        });
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("viewport"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(
+                        std::mem::size_of::<ViewportUniform>() as u64
+                    ),
+                },
+                count: None,
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("lines"),
+            bind_group_layouts: &[Some(&bind_group_layout)],
+            immediate_size: 0,
+        });
+        let attributes = wgpu::vertex_attr_array![0 => Float32x2, 1 => Unorm8x4];
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("lines"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: std::mem::size_of::<LineVertex>() as u64,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &attributes,
+                })],
+            },
+            primitive: wgpu::PrimitiveState {
+                topology: wgpu::PrimitiveTopology::LineList,
+                ..Default::default()
+            },
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &shader,
+                entry_point: Some("fs_main"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let viewport_uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("viewport"),
+            size: std::mem::size_of::<ViewportUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("viewport"),
+            layout: &bind_group_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 0,
+                resource: viewport_uniform.as_entire_binding(),
+            }],
+        });
+        Self {
+            pipeline,
+            viewport_uniform,
+            viewport: (0, 0),
+            bind_group,
+            vertex_buffer: Self::vertex_buffer(device, 1024),
+            vertices: Vec::new(),
+        }
+    }
+
+    /// A vertex buffer for `vertices` vertices.
+    fn vertex_buffer(device: &wgpu::Device, vertices: u64) -> wgpu::Buffer {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("line vertices"),
+            size: vertices * std::mem::size_of::<LineVertex>() as u64,
+            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        })
+    }
+
+    /// Upload the scene's segments (two vertices each, in batch order, so later batches land on
+    /// top) and the target size, `width`×`height` pixels. Grows the vertex buffer when needed.
+    ///
+    /// # Errors
+    /// More vertex bytes than the device's `max_buffer_size` (the message says how many).
+    pub fn prepare(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &LineScene,
+        (width, height): (u32, u32),
+    ) -> Result<(), String> {
+        self.vertices.clear();
+        self.vertices.reserve(2 * scene.segment_count());
+        for batch in &scene.batches {
+            for s in &batch.segments {
+                for p in [s.a, s.b] {
+                    self.vertices.push(LineVertex {
+                        pixel: p.to_array(),
+                        color: batch.color,
+                    });
+                }
+            }
+        }
+        let bytes = std::mem::size_of_val(self.vertices.as_slice()) as u64;
+        if bytes > self.vertex_buffer.size() {
+            let max = device.limits().max_buffer_size;
+            if bytes > max {
+                return Err(format!(
+                    "{} segments need {bytes} bytes of vertices, max_buffer_size {max}",
+                    scene.segment_count()
+                ));
+            }
+            let stride = std::mem::size_of::<LineVertex>() as u64;
+            let capacity = (self.vertices.len() as u64).next_power_of_two() * stride;
+            self.vertex_buffer = Self::vertex_buffer(device, capacity.min(max) / stride);
+        }
+        if bytes > 0 {
+            queue.write_buffer(&self.vertex_buffer, 0, bytemuck::cast_slice(&self.vertices));
+        }
+        if self.viewport != (width, height) {
+            self.viewport = (width, height);
+            let uniform = ViewportUniform {
+                size: [width as f32, height as f32],
+                pad: [0.0; 2],
+            };
+            queue.write_buffer(&self.viewport_uniform, 0, bytemuck::bytes_of(&uniform));
+        }
+        Ok(())
+    }
+
+    /// Record the draw of what [`prepare`](Self::prepare) uploaded into `pass`.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        if self.vertices.is_empty() {
+            return;
+        }
+        let bytes = std::mem::size_of_val(self.vertices.as_slice()) as u64;
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind_group, &[]);
+        pass.set_vertex_buffer(0, self.vertex_buffer.slice(..bytes));
+        pass.draw(0..self.vertices.len() as u32, 0..1);
+    }
 }
 
 /// Size-dependent resources: the target texture and the readback buffer.
@@ -143,13 +319,7 @@ pub struct GpuRenderer {
     adapter: AdapterSummary,
     device: wgpu::Device,
     queue: wgpu::Queue,
-    pipeline: wgpu::RenderPipeline,
-    viewport_uniform: wgpu::Buffer,
-    bind_group: wgpu::BindGroup,
-    /// Vertex buffer; its size is its capacity (a power of two of vertices).
-    vertex_buffer: wgpu::Buffer,
-    /// CPU-side vertices of the current frame (kept to reuse the allocation).
-    vertices: Vec<Vertex>,
+    lines: LineDrawer,
     target: Option<Target>,
     errors: Arc<Mutex<ErrorSlots>>,
 }
@@ -211,88 +381,13 @@ impl GpuRenderer {
             });
         }
 
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("line.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-        });
-        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("viewport"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: wgpu::BufferSize::new(
-                        std::mem::size_of::<ViewportUniform>() as u64
-                    ),
-                },
-                count: None,
-            }],
-        });
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("lines"),
-            bind_group_layouts: &[Some(&bind_group_layout)],
-            immediate_size: 0,
-        });
-        let attributes = wgpu::vertex_attr_array![0 => Float32x2, 1 => Unorm8x4];
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("lines"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<Vertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &attributes,
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: FORMAT,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let viewport_uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("viewport"),
-            size: std::mem::size_of::<ViewportUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("viewport"),
-            layout: &bind_group_layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: viewport_uniform.as_entire_binding(),
-            }],
-        });
-        let vertex_buffer = Self::vertex_buffer(&device, 1024);
+        let lines = LineDrawer::new(&device, FORMAT);
 
         let renderer = Self {
             adapter: summary,
             device,
             queue,
-            pipeline,
-            viewport_uniform,
-            bind_group,
-            vertex_buffer,
-            vertices: Vec::new(),
+            lines,
             target: None,
             errors,
         };
@@ -353,46 +448,18 @@ impl GpuRenderer {
 
     /// [`render`](Self::render) once the target exists.
     fn draw(&mut self, scene: &LineScene) -> Result<Image, GpuError> {
-        self.vertices.clear();
-        self.vertices.reserve(2 * scene.segment_count());
-        for batch in &scene.batches {
-            for s in &batch.segments {
-                self.vertices.push(Vertex {
-                    pixel: s.a.to_array(),
-                    color: batch.color,
-                });
-                self.vertices.push(Vertex {
-                    pixel: s.b.to_array(),
-                    color: batch.color,
-                });
-            }
-        }
-        let vertex_bytes: &[u8] = bytemuck::cast_slice(&self.vertices);
-        if vertex_bytes.len() as u64 > self.vertex_buffer.size() {
-            let max = self.device.limits().max_buffer_size;
-            let capacity = (self.vertices.len() as u64).next_power_of_two()
-                * std::mem::size_of::<Vertex>() as u64;
-            if vertex_bytes.len() as u64 > max {
-                return Err(GpuError::TooLarge {
-                    width: scene.width,
-                    height: scene.height,
-                    limit: format!(
-                        "{} segments need {} bytes of vertices, max_buffer_size {max}",
-                        scene.segment_count(),
-                        vertex_bytes.len()
-                    ),
-                });
-            }
-            self.vertex_buffer = Self::vertex_buffer(
+        self.lines
+            .prepare(
                 &self.device,
-                capacity.min(max) / std::mem::size_of::<Vertex>() as u64,
-            );
-        }
-        if !vertex_bytes.is_empty() {
-            self.queue
-                .write_buffer(&self.vertex_buffer, 0, vertex_bytes);
-        }
-
+                &self.queue,
+                scene,
+                (scene.width, scene.height),
+            )
+            .map_err(|limit| GpuError::TooLarge {
+                width: scene.width,
+                height: scene.height,
+                limit,
+            })?;
         let target = self.target.as_ref().expect("ensure_target made one");
         let mut encoder = self
             .device
@@ -417,12 +484,7 @@ impl GpuRenderer {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            if !self.vertices.is_empty() {
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                pass.set_vertex_buffer(0, self.vertex_buffer.slice(..vertex_bytes.len() as u64));
-                pass.draw(0..self.vertices.len() as u32, 0..1);
-            }
+            self.lines.draw(&mut pass);
         }
         encoder.copy_texture_to_buffer(
             target.texture.as_image_copy(),
@@ -479,18 +541,8 @@ impl GpuRenderer {
         })
     }
 
-    /// A vertex buffer for `vertices` vertices.
-    fn vertex_buffer(device: &wgpu::Device, vertices: u64) -> wgpu::Buffer {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("vertices"),
-            size: vertices * std::mem::size_of::<Vertex>() as u64,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        })
-    }
-
     /// Make the target texture and readback buffer `width`×`height`, keeping them if they
-    /// already are, and point the viewport uniform at the new size.
+    /// already are.
     fn ensure_target(&mut self, width: u32, height: u32) -> Result<(), GpuError> {
         if self
             .target
@@ -541,12 +593,6 @@ impl GpuRenderer {
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        let uniform = ViewportUniform {
-            size: [width as f32, height as f32],
-            pad: [0.0; 2],
-        };
-        self.queue
-            .write_buffer(&self.viewport_uniform, 0, bytemuck::bytes_of(&uniform));
         self.target = Some(Target {
             width,
             height,
@@ -578,7 +624,7 @@ mod tests {
     #[test]
     fn vertex_layout_matches_the_shader() {
         // Float32x2 at offset 0, Unorm8x4 at offset 8, stride 12.
-        assert_eq!(std::mem::size_of::<Vertex>(), 12);
+        assert_eq!(std::mem::size_of::<LineVertex>(), 12);
         assert_eq!(std::mem::size_of::<ViewportUniform>(), 16);
     }
 }

@@ -1,35 +1,19 @@
 //! The window's GPU side: a wgpu surface (vsync), a LineList pipeline drawing the frame's
 //! [`LineScene`] in pixel coordinates, and egui's renderer for the HUD on top.
 //!
-//! The line pipeline uses the offscreen backend's shader (`shaders/line.wgsl`, see
-//! [`crate::render::gpu`]) and its vertex layout (pixel `Float32x2`, colour `Unorm8x4`, 12
-//! bytes), so the window and the offscreen images snap line ends to the same pixels; here it
-//! draws into a non-sRGB view of the window's surface instead of an offscreen texture.
-//!
-//! The vertex buffer grows (to the next power of two) when a frame needs more room and is
-//! otherwise reused, as are the CPU-side vertex list and the uniform buffer: a steady-state
-//! frame allocates no GPU buffer.
+//! The lines are drawn by the offscreen backend's [`LineDrawer`] (same shader, vertex layout
+//! and growth rule: the vertex buffer grows to the next power of two and is otherwise reused,
+//! so a steady-state frame allocates no GPU buffer), so the window and the offscreen images
+//! snap line ends to the same pixels; here it draws into a non-sRGB view of the window's
+//! surface instead of an offscreen texture.
 
 use std::sync::Arc;
 
 use anyhow::{anyhow, Context};
-use bytemuck::{Pod, Zeroable};
 use winit::window::Window;
 
+use crate::render::gpu::LineDrawer;
 use crate::render::LineScene;
-
-/// One line endpoint: pixel position and 8-bit colour (`Unorm8x4`).
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Pod, Zeroable)]
-pub struct LineVertex {
-    /// Pixel coordinates (top-left origin, y down).
-    pub pixel: [f32; 2],
-    /// RGBA, 8 bits each.
-    pub color: [u8; 4],
-}
-
-const SHADER: &str = include_str!("../../../shaders/line.wgsl");
-const MIN_VERTEX_CAPACITY: u64 = 4096;
 
 /// What became of a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,13 +43,7 @@ pub struct WindowRenderer {
     queue: wgpu::Queue,
     config: wgpu::SurfaceConfiguration,
     view_format: wgpu::TextureFormat,
-    pipeline: wgpu::RenderPipeline,
-    uniform: wgpu::Buffer,
-    uniform_value: [f32; 4],
-    bind_group: wgpu::BindGroup,
-    vertex_buffer: wgpu::Buffer,
-    vertex_capacity: u64,
-    vertices: Vec<LineVertex>,
+    lines: LineDrawer,
     egui: egui_wgpu::Renderer,
     lost_in_a_row: u32,
 }
@@ -145,78 +123,7 @@ impl WindowRenderer {
         };
         surface.configure(&device, &config);
 
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("line.wgsl (view)"),
-            source: wgpu::ShaderSource::Wgsl(SHADER.into()),
-        });
-        let uniform_value = [config.width as f32, config.height as f32, 0.0, 0.0];
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("view viewport"),
-            size: std::mem::size_of::<[f32; 4]>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        queue.write_buffer(&uniform, 0, bytemuck::cast_slice(&uniform_value));
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("view viewport"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::VERTEX,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: None,
-                },
-                count: None,
-            }],
-        });
-        let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("view viewport"),
-            layout: &layout,
-            entries: &[wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            }],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("view lines"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("view lines"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs_main"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: std::mem::size_of::<LineVertex>() as u64,
-                    step_mode: wgpu::VertexStepMode::Vertex,
-                    attributes: &wgpu::vertex_attr_array![0 => Float32x2, 1 => Unorm8x4],
-                })],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::LineList,
-                ..Default::default()
-            },
-            depth_stencil: None,
-            multisample: wgpu::MultisampleState::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs_main"),
-                compilation_options: wgpu::PipelineCompilationOptions::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: view_format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-        let vertex_capacity = MIN_VERTEX_CAPACITY;
-        let vertex_buffer = Self::vertex_buffer(&device, vertex_capacity);
+        let lines = LineDrawer::new(&device, view_format);
         let egui = egui_wgpu::Renderer::new(
             &device,
             view_format,
@@ -232,24 +139,9 @@ impl WindowRenderer {
             queue,
             config,
             view_format,
-            pipeline,
-            uniform,
-            uniform_value,
-            bind_group,
-            vertex_buffer,
-            vertex_capacity,
-            vertices: Vec::new(),
+            lines,
             egui,
             lost_in_a_row: 0,
-        })
-    }
-
-    fn vertex_buffer(device: &wgpu::Device, capacity: u64) -> wgpu::Buffer {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("view line vertices"),
-            size: capacity * std::mem::size_of::<LineVertex>() as u64,
-            usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
         })
     }
 
@@ -269,11 +161,6 @@ impl WindowRenderer {
     /// Current surface size, physical pixels.
     pub fn size(&self) -> (u32, u32) {
         (self.config.width, self.config.height)
-    }
-
-    /// Vertices the line buffer holds now (it only grows).
-    pub fn vertex_capacity(&self) -> u64 {
-        self.vertex_capacity
     }
 
     /// Follow a window resize (physical pixels); a zero size (minimised) is ignored, and a
@@ -349,37 +236,9 @@ impl WindowRenderer {
         hud: &HudFrame<'_>,
     ) -> anyhow::Result<Presented> {
         let (width, height) = (frame.texture.width(), frame.texture.height());
-        // Vertices: two per segment, in batch order.
-        self.vertices.clear();
-        for batch in &scene.batches {
-            self.vertices.extend(batch.segments.iter().flat_map(|s| {
-                [
-                    LineVertex {
-                        pixel: s.a.to_array(),
-                        color: batch.color,
-                    },
-                    LineVertex {
-                        pixel: s.b.to_array(),
-                        color: batch.color,
-                    },
-                ]
-            }));
-        }
-        let count = self.vertices.len() as u64;
-        if count > self.vertex_capacity {
-            self.vertex_capacity = count.next_power_of_two().max(MIN_VERTEX_CAPACITY);
-            self.vertex_buffer = Self::vertex_buffer(&self.device, self.vertex_capacity);
-        }
-        if count > 0 {
-            self.queue
-                .write_buffer(&self.vertex_buffer, 0, bytemuck::cast_slice(&self.vertices));
-        }
-        let uniform_value = [width as f32, height as f32, 0.0, 0.0];
-        if uniform_value != self.uniform_value {
-            self.uniform_value = uniform_value;
-            self.queue
-                .write_buffer(&self.uniform, 0, bytemuck::cast_slice(&uniform_value));
-        }
+        self.lines
+            .prepare(&self.device, &self.queue, scene, (width, height))
+            .map_err(|e| anyhow!("drawing the frame: {e}"))?;
 
         let screen = egui_wgpu::ScreenDescriptor {
             size_in_pixels: [width, height],
@@ -427,13 +286,7 @@ impl WindowRenderer {
                     multiview_mask: None,
                 })
                 .forget_lifetime();
-            if count > 0 {
-                pass.set_pipeline(&self.pipeline);
-                pass.set_bind_group(0, &self.bind_group, &[]);
-                let bytes = count * std::mem::size_of::<LineVertex>() as u64;
-                pass.set_vertex_buffer(0, self.vertex_buffer.slice(..bytes));
-                pass.draw(0..count as u32, 0..1);
-            }
+            self.lines.draw(&mut pass);
             self.egui.render(&mut pass, hud.paint_jobs, &screen);
         }
         self.queue
