@@ -86,7 +86,7 @@ impl Case {
                 longitude_deg: 0.0,
                 altitude_m: 0.0,
             },
-            window_s: 30.0,
+            window_s: CompareConfig::default_window_s(VehicleKind::PointMass),
             ..Case::flight_test(hidden, seed)
         }
     }
@@ -311,7 +311,6 @@ fn finds_drag_on_a_shot() {
     for seed in [1, 2] {
         let case = Case {
             launch_speed_mps: 150.0,
-            window_s: 8.0,
             origin: Origin::default(),
             ..Case::long_shot(&["drag:k=0.0001"], seed)
         };

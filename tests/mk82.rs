@@ -108,6 +108,7 @@ fn mk82_reads_renders_and_simulates() {
 /// The diagnosis on data no one here made: drag first, then nothing the catalogue can explain.
 #[test]
 fn mk82_diagnosis_finds_drag_first() {
+    use wireflight::analysis::compare::CompareConfig;
     use wireflight::analysis::diagnose::{iterate, DiagnoseConfig};
     let Some(d) = mk82() else { return };
     let origin = Origin {
@@ -116,7 +117,9 @@ fn mk82_diagnosis_finds_drag_first() {
         altitude_m: d.meta.altitude_m.unwrap(),
     };
     let baseline = Model::new(Vehicle::PointMass, origin);
-    let (ladder, _) = iterate(&baseline, &d, &[], &DiagnoseConfig::default(), 4);
+    let mut cfg = DiagnoseConfig::default();
+    cfg.compare.window_s = CompareConfig::default_window_s(VehicleKind::PointMass);
+    let (ladder, _) = iterate(&baseline, &d, &[], &cfg, 4);
     for rung in &ladder {
         eprintln!(
             "Mk-82 model {:?}: error {:.3} (floor {:.3}), verdict {:?}",
@@ -126,7 +129,8 @@ fn mk82_diagnosis_finds_drag_first() {
     assert_eq!(ladder[0].diagnosis.verdict.as_deref(), Some("drag"));
     let k = ladder[0].diagnosis.winner().unwrap().params[0].1;
     assert!((5e-5..2e-4).contains(&k), "fitted k = {k}");
-    // Measured: 7.11 → 1.75 (4×, 8 s windows); the rest is the bomb's lift (see above).
+    // Measured: 38.1 → 3.47 (11×) over the whole 43 s flight (the point mass's default
+    // window); the rest is the bomb's lift (see above). With 8 s windows: 7.1 → 1.75.
     let fall = ladder[0].error / ladder.last().unwrap().error;
-    assert!(fall > 2.0, "error falls only {fall:.2}×");
+    assert!(fall >= 10.0, "error falls only {fall:.2}×");
 }

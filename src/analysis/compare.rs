@@ -55,6 +55,20 @@ pub struct CompareConfig {
     pub refine_point_mass: bool,
 }
 
+impl CompareConfig {
+    /// The window length that suits a vehicle, s. A fixed wing: 8 s, a few periods of its
+    /// short-period and roll modes but short enough that an unstable spiral or phugoid cannot
+    /// run away. A point mass: 60 s (in practice, the whole flight), since it has no unstable
+    /// mode and its start is fitted over the whole window, and slow effects (drag on a long
+    /// fall, the Earth's rotation and curvature) need tens of seconds to show.
+    pub fn default_window_s(vehicle: crate::flight::VehicleKind) -> f64 {
+        match vehicle {
+            crate::flight::VehicleKind::FixedWing => 8.0,
+            crate::flight::VehicleKind::PointMass => 60.0,
+        }
+    }
+}
+
 impl Default for CompareConfig {
     fn default() -> Self {
         Self {

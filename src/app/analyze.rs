@@ -156,15 +156,24 @@ fn fmt_opt(v: Option<f64>, unit: &str) -> String {
         .unwrap_or_else(|| "—".into())
 }
 
+/// Four significant digits, in scientific notation when small (drag's k is ~1e-4) or large.
+fn fmt_number(x: f64) -> String {
+    if x != 0.0 && (x.abs() < 1e-2 || x.abs() >= 1e5) {
+        format!("{x:.3e}")
+    } else {
+        format!("{x:.4}")
+    }
+}
+
 fn fmt_params(c: &Candidate) -> String {
     c.params
         .iter()
         .zip(&c.uncertainty)
         .map(|((k, v), u)| {
             if u.is_finite() {
-                format!("{k}={v:.4}±{u:.2}")
+                format!("{k}={}±{}", fmt_number(*v), fmt_number(*u))
             } else {
-                format!("{k}={v:.4}")
+                format!("{k}={}", fmt_number(*v))
             }
         })
         .collect::<Vec<_>>()
@@ -192,7 +201,9 @@ fn model_label(model: &Model) -> String {
 pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
     let (data, base) = load_data_and_model(&args.data, &args.model)?;
     let cfg = CompareConfig {
-        window_s: args.window,
+        window_s: args
+            .window
+            .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
         ..CompareConfig::default()
     };
     let prep = Prepared::new(&data, cfg);
@@ -426,7 +437,9 @@ pub fn run_diagnose(args: &DiagnoseArgs) -> anyhow::Result<()> {
     let (data, mut base) = load_data_and_model(&args.data, &args.model)?;
     let cfg = DiagnoseConfig {
         compare: CompareConfig {
-            window_s: args.window,
+            window_s: args
+                .window
+                .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
             ..DiagnoseConfig::default().compare
         },
         ..DiagnoseConfig::default()

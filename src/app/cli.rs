@@ -66,9 +66,10 @@ pub struct CompareArgs {
     /// The model.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Window length of the multiple-shooting comparison, s.
-    #[arg(long, default_value_t = 8.0, value_parser = positive)]
-    pub window: f64,
+    /// Window length of the multiple-shooting comparison, s [default: 8 for a fixed wing, 60
+    /// for a point mass].
+    #[arg(long, value_parser = positive)]
+    pub window: Option<f64>,
     /// Write plots (PNG) into this directory.
     #[arg(long, value_name = "DIR")]
     pub plots: Option<std::path::PathBuf>,
@@ -107,9 +108,9 @@ pub struct DiagnoseArgs {
     /// The model to start from.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Window length of the comparison, s.
-    #[arg(long, default_value_t = 8.0, value_parser = positive)]
-    pub window: f64,
+    /// Window length of the comparison, s [default: 8 for a fixed wing, 60 for a point mass].
+    #[arg(long, value_parser = positive)]
+    pub window: Option<f64>,
     /// Add the winner and diagnose again until nothing significant is left.
     #[arg(long)]
     pub iterate: bool,
@@ -204,7 +205,7 @@ Examples:
       --noise-pos 0.5 --noise-att 0.3 --seed 7 --out windy.csv
   wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
   wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \\
-      --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --window 30
+      --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --data long-shot.csv
   wireflight simulate --model my-model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
 
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
@@ -301,8 +302,9 @@ Keys (replay, --flight):
   Space            play / pause
   Left / Right     seek back / forward 5 s
 Compare (--flight F --compare):
-  The model is restarted from the data every 8 s and flown beside the recording: the
-  measured aircraft in green, the model's in magenta with its trail (broken at restarts).
+  The model is restarted from the data every 8 s (point mass: 60 s) and flown beside the
+  recording: the measured aircraft in green, the model's in magenta with its trail (broken
+  at restarts).
   A panel plots the position error over time (grey: the base model; magenta: now) with a
   cursor at the replay time, shows the total and per-channel errors before / now, and has
   a checkbox per catalogue effect: ticking one re-runs the model in the background. The

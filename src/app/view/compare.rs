@@ -143,7 +143,11 @@ impl Compare {
     /// An `--add` that is not a catalogue effect, does not apply, is in the base model already
     /// or has a bad parameter; a flight too short to compare.
     pub fn new(data: Arc<FlightData>, base: Model, adds: &[String]) -> anyhow::Result<Self> {
-        Self::with_config(data, base, adds, CompareConfig::default(), true)
+        let cfg = CompareConfig {
+            window_s: CompareConfig::default_window_s(base.vehicle.kind()),
+            ..CompareConfig::default()
+        };
+        Self::with_config(data, base, adds, cfg, true)
     }
 
     /// [`new`](Self::new) with a comparison window, and the fit started or not.
