@@ -195,7 +195,11 @@ fn fit(
     let mut cost = sse(&r);
     let np = free.len();
     let mut lambda = 1e-3;
-    let mut jtj_last = vec![vec![0.0; np]; np];
+    // SSE one finite-difference step up each parameter, from the last Jacobian, and the
+    // gradient there: the curvature of the SSE for the uncertainty, at no extra cost.
+    let mut sse_up = vec![f64::NAN; np];
+    let mut grad = vec![0.0; np];
+    let mut jac_cost = cost;
     for _ in 0..iterations {
         if np == 0 {
             break;
@@ -208,10 +212,12 @@ fn fit(
             t[j] += h;
             set(model, &t);
             let rp = residuals(model, prep);
+            sse_up[j] = sse(&rp);
             for i in 0..r.len() {
                 jac[i][j] = (rp[i] - r[i]) / 0.01;
             }
         }
+        jac_cost = cost;
         set(model, &theta);
         let mut jtj = vec![vec![0.0; np]; np];
         let mut jtr = vec![0.0; np];
@@ -223,7 +229,9 @@ fn fit(
                 }
             }
         }
-        jtj_last = jtj.clone();
+        for (g, v) in grad.iter_mut().zip(&jtr) {
+            *g = 2.0 * v;
+        }
         let mut improved = false;
         for _ in 0..8 {
             let mut a = jtj.clone();
@@ -259,16 +267,23 @@ fn fit(
             break;
         }
     }
-    // Uncertainty: s² (JᵀJ)⁻¹ in scaled units, converted back.
-    let dof = (r.len() as f64 - np as f64).max(1.0);
-    let s2 = cost / dof;
+    // Uncertainty: the SSE's curvature along each parameter, H = 2(SSE(θ+h) − SSE(θ) − g·h)/h²
+    // (h = 1% of the parameter's scale, from the last Jacobian), and the residual variance per
+    // independent unit s² = SSE/(units − p): σ² = 2s²/H. Per-window scores are not residuals
+    // whose Jacobian gives the SSE's curvature (their square roots are far from zero at the
+    // optimum), so s²(JᵀJ)⁻¹ of them would mislead. Correlations between parameters are not
+    // shown (σ is each parameter's own).
+    let units = independent_units(model, prep);
+    let s2 = cost / (units - np as f64).max(1.0);
+    let h = 0.01;
     let unc = (0..np)
         .map(|k| {
-            let mut e = vec![0.0; np];
-            e[k] = 1.0;
-            solve(jtj_last.clone(), e)
-                .map(|col| (s2 * col[k]).max(0.0).sqrt() * scales[k])
-                .unwrap_or(f64::NAN)
+            let curvature = 2.0 * (sse_up[k] - jac_cost - grad[k] * h) / (h * h);
+            if curvature > 0.0 && curvature.is_finite() {
+                (2.0 * s2 / curvature).sqrt() * scales[k]
+            } else {
+                f64::NAN
+            }
         })
         .collect();
     (cost, unc)
