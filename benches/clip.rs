@@ -32,19 +32,19 @@ impl Rng {
 /// A point inside the wgpu volume (−w ≤ x, y ≤ w, 0 ≤ z ≤ w), w in [0.5, 50).
 fn inside(rng: &mut Rng) -> Vec4 {
     let w = rng.range(0.5, 50.0);
-    Vec4::new(
-        rng.range(-w, w),
-        rng.range(-w, w),
-        rng.range(0.0, w),
-        w,
-    )
+    Vec4::new(rng.range(-w, w), rng.range(-w, w), rng.range(0.0, w), w)
 }
 
 /// A point outside, scaled up to 4× beyond the side planes.
 fn outside(rng: &mut Rng) -> Vec4 {
     let w = rng.range(0.5, 50.0);
     let s = 4.0 * w;
-    let mut p = Vec4::new(rng.range(-s, s), rng.range(-s, s), rng.range(-w, 2.0 * w), w);
+    let mut p = Vec4::new(
+        rng.range(-s, s),
+        rng.range(-s, s),
+        rng.range(-w, 2.0 * w),
+        w,
+    );
     if p.x.abs() <= w && p.y.abs() <= w {
         p.x += 2.0 * w; // push it out through the right plane
     }
@@ -54,7 +54,12 @@ fn outside(rng: &mut Rng) -> Vec4 {
 /// A point behind the eye (w < 0).
 fn behind(rng: &mut Rng) -> Vec4 {
     let w = -rng.range(0.1, 20.0);
-    Vec4::new(rng.range(-20.0, 20.0), rng.range(-20.0, 20.0), rng.range(-20.0, 20.0), w)
+    Vec4::new(
+        rng.range(-20.0, 20.0),
+        rng.range(-20.0, 20.0),
+        rng.range(-20.0, 20.0),
+        w,
+    )
 }
 
 /// 40% inside, 25% outside the same plane, 25% crossing, 10% through the eye plane.

@@ -47,7 +47,10 @@ fn visible(a: Vec4, c: Vec4, depth: DepthRange) -> Option<(Vec4, Vec4)> {
         for e in [p, q] {
             assert!(e.w > 0.0, "{a} → {c} ({depth:?}): {out:?} has w ≤ 0");
             let ndc = perspective_divide(e);
-            assert!(ndc.is_finite(), "{a} → {c} ({depth:?}): {out:?} divides to {ndc}");
+            assert!(
+                ndc.is_finite(),
+                "{a} → {c} ({depth:?}): {out:?} divides to {ndc}"
+            );
         }
     }
     seg
@@ -284,7 +287,12 @@ fn check_edge_through_eye_plane(front: Vec3, behind: Vec3, depth: DepthRange) ->
         assert!(is_inside(p, depth, 1e-5), "{ctx}: {p} outside");
         let t = recover_t(a, c, p).unwrap();
         assert!((-T_TOL..=1.0 + T_TOL).contains(&t), "{ctx}: t = {t}");
-        assert_close!(distance_from_line(a, c, t, p), 0.0, REL_TOL * scale, "{ctx}: {p}");
+        assert_close!(
+            distance_from_line(a, c, t, p),
+            0.0,
+            REL_TOL * scale,
+            "{ctx}: {p}"
+        );
         ts[k] = t;
     }
     assert!(ts[0] <= ts[1], "{ctx}: direction {ts:?}");
@@ -300,7 +308,11 @@ fn check_edge_through_eye_plane(front: Vec3, behind: Vec3, depth: DepthRange) ->
             images.push(Vec2::new(p.x / p.w, p.y / p.w));
         }
     }
-    assert!(images.len() > 100, "{ctx}: {} visible samples", images.len());
+    assert!(
+        images.len() > 100,
+        "{ctx}: {} visible samples",
+        images.len()
+    );
     for &img in &images {
         let (dist, u) = point_segment(img, s0, s1);
         assert!(
@@ -313,7 +325,10 @@ fn check_edge_through_eye_plane(front: Vec3, behind: Vec3, depth: DepthRange) ->
     let (first, last) = (images[0], images[images.len() - 1]);
     assert_close!(s0, first, 1e-5, "{ctx}: start");
     assert_close!(s1, last, 0.05, "{ctx}: end");
-    assert!((s1 - s0).dot(last - first) > 0.0, "{ctx}: drawn the wrong way");
+    assert!(
+        (s1 - s0).dot(last - first) > 0.0,
+        "{ctx}: drawn the wrong way"
+    );
     // NDC of the drawn segment stays in the square.
     for s in [s0, s1] {
         assert!(s.abs().max_element() <= 1.0 + 1e-5, "{ctx}: {s}");
@@ -386,7 +401,10 @@ fn edges_entirely_behind_the_eye_give_nothing() {
             perspective_divide_unchecked(m * Vec3::new(-5.0, 1.0, 0.5).extend(1.0)),
             perspective_divide_unchecked(m * Vec3::new(-5.0, -1.0, -0.5).extend(1.0)),
         );
-        assert!(naive.0.x * naive.1.x < 0.0 && naive.0.y * naive.1.y < 0.0, "{naive:?}");
+        assert!(
+            naive.0.x * naive.1.x < 0.0 && naive.0.y * naive.1.y < 0.0,
+            "{naive:?}"
+        );
     }
 }
 
@@ -410,10 +428,21 @@ fn behind_the_eye_not_trivially_rejected_gives_nothing() {
         assert_eq!(ca & cc, 0, "{depth:?}: {ca:06b} {cc:06b}");
         assert_ne!(ca, 0);
         assert_ne!(cc, 0);
-        let naive = (perspective_divide_unchecked(a), perspective_divide_unchecked(c));
+        let naive = (
+            perspective_divide_unchecked(a),
+            perspective_divide_unchecked(c),
+        );
         assert!(naive.0.x * naive.1.x < 0.0, "{naive:?}");
-        assert_eq!(clip_edge(a, c, depth), ClipOutcome::ClippedAway, "{depth:?}");
-        assert_eq!(clip_edge(c, a, depth), ClipOutcome::ClippedAway, "{depth:?}");
+        assert_eq!(
+            clip_edge(a, c, depth),
+            ClipOutcome::ClippedAway,
+            "{depth:?}"
+        );
+        assert_eq!(
+            clip_edge(c, a, depth),
+            ClipOutcome::ClippedAway,
+            "{depth:?}"
+        );
     }
 }
 
@@ -796,7 +825,10 @@ fn check_edge(a: Vec4, c: Vec4, depth: DepthRange, tally: &mut Tally) -> Result<
              reference (step {h:e}): {reference:?}"
         ))
     };
-    let (ma, mc) = (inside_margin(to_f64(a), depth), inside_margin(to_f64(c), depth));
+    let (ma, mc) = (
+        inside_margin(to_f64(a), depth),
+        inside_margin(to_f64(c), depth),
+    );
     let codes = (
         outcode(&boundary_coords(a, depth)),
         outcode(&boundary_coords(c, depth)),
@@ -809,7 +841,9 @@ fn check_edge(a: Vec4, c: Vec4, depth: DepthRange, tally: &mut Tally) -> Result<
                 return fail("Accepted but changed".into());
             }
             if ma < 0.0 || mc < 0.0 || a.w <= 0.0 || c.w <= 0.0 {
-                return fail(format!("Accepted with an endpoint outside (margins {ma}, {mc})"));
+                return fail(format!(
+                    "Accepted with an endpoint outside (margins {ma}, {mc})"
+                ));
             }
             Some((a2, c2))
         }
@@ -1016,8 +1050,8 @@ fn project_plane(
     let camera = preset
         .camera(&subject, 50f32.to_radians())
         .panned(pan[0] * radius, pan[1] * radius);
-    let clip_from_model: Mat4 = camera.clip_from_world(viewport.aspect(), depth)
-        * model_matrix(subject.position, attitude);
+    let clip_from_model: Mat4 =
+        camera.clip_from_world(viewport.aspect(), depth) * model_matrix(subject.position, attitude);
     let mut out = Vec::new();
     let stats = EdgeProjector::new().project(&mesh, clip_from_model, depth, viewport, &mut out);
     (out, stats, mesh.edges().len())
@@ -1048,7 +1082,8 @@ fn pipeline_segments_stay_in_the_viewport() {
             for yaw in (-180..180).step_by(45) {
                 for pitch in [-90, -60, -20, 0, 30, 90] {
                     for roll in [-150, 0, 40] {
-                        let attitude = EulerZyx::from_degrees(yaw.into(), pitch.into(), roll.into());
+                        let attitude =
+                            EulerZyx::from_degrees(yaw.into(), pitch.into(), roll.into());
                         let (segs, stats, n_edges) =
                             project_plane(attitude, preset, pan, depth, viewport);
                         let ctx = format!("{preset:?} pan {pan:?} {attitude:?} {depth:?}: {stats}");

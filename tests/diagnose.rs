@@ -115,7 +115,9 @@ impl Case {
     }
 
     fn baseline(&self) -> Model {
-        ModelSpec::baseline(self.vehicle).build(self.origin).unwrap()
+        ModelSpec::baseline(self.vehicle)
+            .build(self.origin)
+            .unwrap()
     }
 
     fn config(&self) -> DiagnoseConfig {
@@ -283,7 +285,10 @@ fn clean_fixed_wing_data_give_no_verdict() {
 
 #[test]
 fn iterate_finds_two_hidden_effects() {
-    let case = Case::flight_test(&["wind:north_mps=4,east_mps=-3", "prop_torque:k_torque=0.5"], 4);
+    let case = Case::flight_test(
+        &["wind:north_mps=4,east_mps=-3", "prop_torque:k_torque=0.5"],
+        4,
+    );
     let (ladder, _) = iterate(&case.baseline(), &case.data(), &[], &case.config(), 4);
     let mut text = String::new();
     for rung in &ladder {
@@ -329,14 +334,20 @@ fn finds_gravity_model_on_a_long_shot() {
 #[test]
 fn finds_earth_rotation_on_a_long_shot() {
     for seed in [1, 2] {
-        assert_found(&Case::long_shot(&["earth_rotation"], seed), "earth_rotation");
+        assert_found(
+            &Case::long_shot(&["earth_rotation"], seed),
+            "earth_rotation",
+        );
     }
 }
 
 #[test]
 fn finds_earth_curvature_on_a_long_shot() {
     for seed in [1, 2] {
-        assert_found(&Case::long_shot(&["earth_curvature"], seed), "earth_curvature");
+        assert_found(
+            &Case::long_shot(&["earth_curvature"], seed),
+            "earth_curvature",
+        );
     }
 }
 

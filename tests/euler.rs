@@ -217,8 +217,17 @@ fn just_off_lock_is_free_and_round_trips() {
             );
             // Snapping θ to ±90° (and the heading into yaw) moves the matrix by about cos θ,
             // which is below GIMBAL_LOCK_COS when locked.
-            let tol = if gimbal.is_locked() { 1e-12 + cos } else { 1e-12 };
-            assert_close!(back.to_matrix(), e.to_matrix(), tol, "pitch {pitch}°, {gimbal:?}");
+            let tol = if gimbal.is_locked() {
+                1e-12 + cos
+            } else {
+                1e-12
+            };
+            assert_close!(
+                back.to_matrix(),
+                e.to_matrix(),
+                tol,
+                "pitch {pitch}°, {gimbal:?}"
+            );
         }
     }
 }
@@ -308,7 +317,12 @@ fn aerospace_conversion_is_conjugation_by_d() {
             rng.range(-10.0, 10.0),
         );
         let world_ned = r_ned * b;
-        assert_close!(r_viewer * (D * b), D * world_ned, 1e-11, "b {b}, ned {ned:?}");
+        assert_close!(
+            r_viewer * (D * b),
+            D * world_ned,
+            1e-11,
+            "b {b}, ned {ned:?}"
+        );
         assert_close!(
             r_viewer * viewer_from_ned(b),
             viewer_from_ned(world_ned),
@@ -325,13 +339,18 @@ fn aerospace_conversion_is_conjugation_by_d() {
 #[test]
 fn ned_heading_east_points_the_nose_to_viewer_minus_y() {
     let ned = EulerZyx::from_degrees(90.0, 0.0, 0.0);
-    assert_close!(ned.to_matrix() * DVec3::X, DVec3::Y, 1e-15, "NED: east is +Y");
+    assert_close!(
+        ned.to_matrix() * DVec3::X,
+        DVec3::Y,
+        1e-15,
+        "NED: east is +Y"
+    );
     let nose = EulerZyx::from_aerospace(ned).to_matrix() * DVec3::X;
     assert_close!(nose, -DVec3::Y, 1e-15);
     assert_close!(viewer_from_ned(DVec3::Y), -DVec3::Y, 0.0);
     // West (heading −90°) is viewer +Y.
-    let nose = EulerZyx::from_aerospace(EulerZyx::from_degrees(-90.0, 0.0, 0.0)).to_matrix()
-        * DVec3::X;
+    let nose =
+        EulerZyx::from_aerospace(EulerZyx::from_degrees(-90.0, 0.0, 0.0)).to_matrix() * DVec3::X;
     assert_close!(nose, DVec3::Y, 1e-15);
 }
 

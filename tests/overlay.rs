@@ -26,7 +26,10 @@ fn pixels_of(image: &Image, color: Rgba) -> (Vec2, usize) {
     let mut n = 0;
     for (k, p) in image.pixels.chunks_exact(4).enumerate() {
         if p == color {
-            sum += Vec2::new((k as u32 % image.width) as f32, (k as u32 / image.width) as f32);
+            sum += Vec2::new(
+                (k as u32 % image.width) as f32,
+                (k as u32 / image.width) as f32,
+            );
             n += 1;
         }
     }
@@ -78,7 +81,10 @@ fn model_aircraft_drifts_without_the_effect_and_flies_on_top_with_it() {
         let (modelled, n_modelled) = pixels_of(&image, MODEL_AIRCRAFT);
         let (_, n_strip) = pixels_of(&image, ERROR_STRIP);
         let (_, n_trail) = pixels_of(&image, TRAIL);
-        assert!(n_measured > 50 && n_trail > 20 && n_strip > 100, "{n_measured} {n_trail} {n_strip}");
+        assert!(
+            n_measured > 50 && n_trail > 20 && n_strip > 100,
+            "{n_measured} {n_trail} {n_strip}"
+        );
         (measured.distance(modelled), n_modelled)
     };
     let (gap_baseline, n_baseline) = gap_at(&base);
@@ -89,7 +95,13 @@ fn model_aircraft_drifts_without_the_effect_and_flies_on_top_with_it() {
     let (gap_wind, n_wind) = gap_at(&with_wind);
     eprintln!("model aircraft {gap_baseline:.1} px from the measured one without wind, {gap_wind:.1} px with");
     // Without wind the model's aircraft is off to one side (or out of the frame entirely).
-    assert!(n_baseline == 0 || gap_baseline > 40.0, "{gap_baseline} px, {n_baseline} pixels");
+    assert!(
+        n_baseline == 0 || gap_baseline > 40.0,
+        "{gap_baseline} px, {n_baseline} pixels"
+    );
     assert!(n_wind > 50, "the model aircraft is drawn ({n_wind} pixels)");
-    assert!(gap_wind < 8.0, "with wind the model flies on top of the data: {gap_wind} px");
+    assert!(
+        gap_wind < 8.0,
+        "with wind the model flies on top of the data: {gap_wind} px"
+    );
 }

@@ -338,7 +338,13 @@ impl<'a> Prepared<'a> {
 
     /// [`Self::initial_state`] with the surface positions at `start` already known (see
     /// [`SurfaceTracker`]).
-    fn initial_state_with(&self, model: &Model, start: usize, end: usize, surfaces: DVec3) -> State {
+    fn initial_state_with(
+        &self,
+        model: &Model,
+        start: usize,
+        end: usize,
+        surfaces: DVec3,
+    ) -> State {
         let d = self.data;
         let t0 = d.time[start];
         let fit_end = d.time[start..end]
@@ -858,7 +864,9 @@ mod tests {
         );
         for lagged in [false, true] {
             if lagged {
-                model.add_effect(Box::new(ActuatorLag { tau_s: 0.15 })).unwrap();
+                model
+                    .add_effect(Box::new(ActuatorLag { tau_s: 0.15 }))
+                    .unwrap();
             }
             let mut tracker = SurfaceTracker::new(&model, &data);
             for upto in [0, 1, 13, 13, 50, 51, 200, 399] {

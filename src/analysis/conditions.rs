@@ -68,7 +68,10 @@ pub fn conditions(data: &FlightData, cmp: &Comparison, origin_altitude_m: f64) -
     push(
         "time since start",
         "s",
-        cmp.windows.iter().map(|w| 0.5 * (w.t0 + w.t1) - data.time[0]).collect(),
+        cmp.windows
+            .iter()
+            .map(|w| 0.5 * (w.t0 + w.t1) - data.time[0])
+            .collect(),
     );
     push(
         "altitude",

@@ -108,8 +108,16 @@ pub fn clip_edge(a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
     }
 
     let d = c64 - a64;
-    let a_out = if a_code != 0 { (a64 + t_in * d).as_vec4() } else { a };
-    let c_out = if c_code != 0 { (a64 + t_out * d).as_vec4() } else { c };
+    let a_out = if a_code != 0 {
+        (a64 + t_in * d).as_vec4()
+    } else {
+        a
+    };
+    let c_out = if c_code != 0 {
+        (a64 + t_out * d).as_vec4()
+    } else {
+        c
+    };
     debug_assert!(t_in >= 0.0 && t_out <= 1.0 && t_in <= t_out);
     if a_out.w > 0.0 && c_out.w > 0.0 {
         ClipOutcome::Clipped(a_out, c_out)

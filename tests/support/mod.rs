@@ -19,8 +19,13 @@ pub trait MaxAbsDiff {
 
 /// Max of a sequence of differences that propagates NaN (unlike `f64::max`).
 fn nan_max(it: impl IntoIterator<Item = f64>) -> f64 {
-    it.into_iter()
-        .fold(0.0f64, |m, d| if d.is_nan() || m.is_nan() { f64::NAN } else { m.max(d) })
+    it.into_iter().fold(0.0f64, |m, d| {
+        if d.is_nan() || m.is_nan() {
+            f64::NAN
+        } else {
+            m.max(d)
+        }
+    })
 }
 
 impl MaxAbsDiff for f64 {
@@ -68,7 +73,11 @@ impl MaxAbsDiff for DMat3 {
 
 impl<T: MaxAbsDiff, const N: usize> MaxAbsDiff for [T; N] {
     fn max_abs_diff(&self, other: &Self) -> f64 {
-        nan_max(self.iter().zip(other.iter()).map(|(a, b)| a.max_abs_diff(b)))
+        nan_max(
+            self.iter()
+                .zip(other.iter())
+                .map(|(a, b)| a.max_abs_diff(b)),
+        )
     }
 }
 
