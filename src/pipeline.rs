@@ -104,6 +104,21 @@ pub fn project_clip_edges(
     stats
 }
 
+/// Edges of a polyline through points `0..points`, joining each point to the one before it
+/// except at the indices in `breaks` (sorted; a break at i starts a new piece there, e.g. a
+/// model restarted from the data). Written into `out` (cleared), for [`project_clip_edges`].
+pub fn polyline_edges(points: usize, breaks: &[usize], out: &mut Vec<[u32; 2]>) {
+    out.clear();
+    let mut breaks = breaks.iter().peekable();
+    for i in 1..points {
+        while breaks.next_if(|&&b| b < i).is_some() {}
+        if breaks.peek().is_some_and(|&&b| b == i) {
+            continue;
+        }
+        out.push([i as u32 - 1, i as u32]);
+    }
+}
+
 /// NDC (x, y) of a clipped homogeneous point (w > 0 is guaranteed by the clipper).
 #[inline]
 pub fn perspective_divide(p: Vec4) -> Vec2 {

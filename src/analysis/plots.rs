@@ -515,6 +515,21 @@ fn wrap_deg(a: f64) -> f64 {
     }
 }
 
+/// Top of an error axis starting at 0: the largest finite value (or the noise floor, if
+/// higher) times `headroom`; 1 when there is nothing positive to show.
+fn axis_top(values: impl Iterator<Item = f64>, noise_floor: Option<f64>, headroom: f64) -> f64 {
+    let top = finite_min_max(values)
+        .map(|m| m.1)
+        .unwrap_or(1.0)
+        .max(noise_floor.unwrap_or(0.0))
+        * headroom;
+    if top > 0.0 && top.is_finite() {
+        top
+    } else {
+        1.0
+    }
+}
+
 fn finite_min_max(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
     values
         .into_iter()
@@ -1106,16 +1121,7 @@ fn draw_residuals(root: &Root, ctx: &Ctx) -> anyhow::Result<()> {
         .chain(&after_steps)
         .map(|s| s[0].1)
         .collect();
-    let top = finite_min_max(all_scores.iter().copied())
-        .map(|m| m.1)
-        .unwrap_or(1.0)
-        .max(ctx.noise_floor.unwrap_or(0.0))
-        * 1.12;
-    let top = if top > 0.0 && top.is_finite() {
-        top
-    } else {
-        1.0
-    };
+    let top = axis_top(all_scores.iter().copied(), ctx.noise_floor, 1.12);
     let mut chart = panel(
         &areas[0],
         &score_caption,
@@ -1213,16 +1219,7 @@ fn draw_error_vs_condition(root: &Root, ctx: &Ctx, cond: &ConditionSeries) -> an
     let (xlo, xhi) = finite_min_max(x.iter().copied()).unwrap_or((0.0, 1.0));
     let xr = padded(xlo, xhi);
     let ys: Vec<f64> = yb.iter().chain(ya.iter().flatten()).copied().collect();
-    let ytop = finite_min_max(ys.iter().copied())
-        .map(|m| m.1)
-        .unwrap_or(1.0)
-        .max(ctx.noise_floor.unwrap_or(0.0))
-        * 1.1;
-    let ytop = if ytop > 0.0 && ytop.is_finite() {
-        ytop
-    } else {
-        1.0
-    };
+    let ytop = axis_top(ys.iter().copied(), ctx.noise_floor, 1.1);
     let unit = cond.unit.trim();
     let x_desc = if unit.is_empty() {
         cond.name.clone()

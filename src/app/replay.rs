@@ -15,7 +15,7 @@ use crate::clip::{ClipStats, DepthRange};
 use crate::euler::{viewer_from_ned, EulerZyx};
 use crate::flight::data::FlightData;
 use crate::mesh::{EdgeMesh, EdgeMeshBuilder};
-use crate::pipeline::{model_matrix, project_clip_edges, EdgeProjector, Viewport};
+use crate::pipeline::{model_matrix, polyline_edges, project_clip_edges, EdgeProjector, Viewport};
 use crate::render::{self, palette, LineBatch, LineScene, Rgba, Segment2};
 
 /// Colour of the flown trail.
@@ -244,9 +244,7 @@ impl<'a> FlightScene<'a> {
                 .chain(std::iter::once(&pos.as_vec3()))
                 .map(|p| clip_from_world * p.extend(1.0)),
         );
-        self.edge_scratch.clear();
-        self.edge_scratch
-            .extend((1..self.clip_scratch.len() as u32).map(|i| [i - 1, i]));
+        polyline_edges(self.clip_scratch.len(), &[], &mut self.edge_scratch);
         let mut trail = Vec::new();
         stats.merge(&project_clip_edges(
             &self.clip_scratch,
@@ -285,15 +283,7 @@ impl<'a> FlightScene<'a> {
                     .iter()
                     .map(|p| clip_from_world * p.extend(1.0)),
             );
-            self.edge_scratch.clear();
-            let mut starts = track.window_starts.iter().peekable();
-            for i in 1..=k as u32 {
-                while starts.next_if(|&&s| (s as u32) < i).is_some() {}
-                if starts.peek().is_some_and(|&&s| s as u32 == i) {
-                    continue; // i starts a window: no edge from i − 1
-                }
-                self.edge_scratch.push([i - 1, i]);
-            }
+            polyline_edges(k + 1, &track.window_starts, &mut self.edge_scratch);
             let mut model_trail = Vec::new();
             stats.merge(&project_clip_edges(
                 &self.clip_scratch,

@@ -13,7 +13,7 @@ use crate::clip::{ClipStats, DepthRange};
 use crate::euler::EulerZyx;
 use crate::mesh::world::{World, WorldSpec};
 use crate::mesh::EdgeMesh;
-use crate::pipeline::{model_matrix, project_clip_edges, EdgeProjector, Viewport};
+use crate::pipeline::{model_matrix, polyline_edges, project_clip_edges, EdgeProjector, Viewport};
 use crate::render::{palette, LineBatch, LineScene, Rgba};
 
 /// Colours of the world (the aircraft and the grid use [`palette`]).
@@ -199,15 +199,7 @@ impl SceneBuilder {
                         .chain(std::iter::once(&m.position))
                         .map(|p| clip_from_world * p.extend(1.0)),
                 );
-                self.trail_edges.clear();
-                let mut breaks = m.breaks.iter().peekable();
-                for i in 1..self.trail_clip.len() {
-                    while breaks.next_if(|&&b| b < i).is_some() {}
-                    if breaks.peek().is_some_and(|&&b| b == i) {
-                        continue; // i restarts the model: no edge from i − 1
-                    }
-                    self.trail_edges.push([i as u32 - 1, i as u32]);
-                }
+                polyline_edges(self.trail_clip.len(), &m.breaks, &mut self.trail_edges);
                 stats.merge(&project_clip_edges(
                     &self.trail_clip,
                     &self.trail_edges,
@@ -246,9 +238,7 @@ impl SceneBuilder {
                     .chain(std::iter::once(&spec.plane_position))
                     .map(|p| clip_from_world * p.extend(1.0)),
             );
-            self.trail_edges.clear();
-            self.trail_edges
-                .extend((1..self.trail_clip.len() as u32).map(|i| [i - 1, i]));
+            polyline_edges(self.trail_clip.len(), &[], &mut self.trail_edges);
             stats.merge(&project_clip_edges(
                 &self.trail_clip,
                 &self.trail_edges,
