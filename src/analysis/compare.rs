@@ -818,18 +818,8 @@ pub fn noise_floor(model: &Model, prep: &Prepared, noise: &NoiseEstimate, seed: 
     }
     // Rates: the truth's rates are not kept per sample; measured ones keep their noise level
     // around the data (a slight over-estimate of the floor, on the safe side).
-    let synth_prep = Prepared {
-        data: &synth,
-        unwrapped: synth.attitude.as_ref().map(|att| {
-            [
-                unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
-                unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
-                unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
-            ]
-        }),
-        windows: prep.windows.clone(),
-        cfg: prep.cfg,
-    };
+    // Same times and settings, so the same windows.
+    let synth_prep = Prepared::new(&synth, prep.cfg);
     compare_prepared(model, &synth_prep).total
 }
 
