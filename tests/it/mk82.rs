@@ -1,13 +1,11 @@
 //! JSBSim's Mk-82 bomb (real aerodynamic tables, rotating WGS84 Earth), converted to the
 //! flight-data format: data no one here made. Read it, draw it, simulate against it.
 //!
-//! Needs `../shared/data/jsbsim-mk82.csv` beside the repository; skipped (with a note) when a
-//! clone has no shared/ next to it.
+//! The file is `tests/data/jsbsim-mk82.csv` (source in `tests/data/README.md`).
 
-use std::path::PathBuf;
 
 use wireflight::app::replay::FlightScene;
-use wireflight::flight::data::{self, FlightData};
+use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::{DensityAltitude, Drag, Origin};
 use wireflight::flight::model::{Model, State, Vehicle};
 use wireflight::flight::{Controls, VehicleKind};
@@ -15,14 +13,7 @@ use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::{cpu, palette};
 
-fn mk82() -> Option<FlightData> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/data/jsbsim-mk82.csv");
-    if !path.exists() {
-        eprintln!("skipped: {} not present", path.display());
-        return None;
-    }
-    Some(data::read(&path).expect("the Mk-82 file reads"))
-}
+use crate::support::mk82;
 
 /// RMS position error of a point-mass model started from the first measured state.
 fn position_rms(model: &Model, d: &FlightData) -> f64 {
@@ -39,7 +30,7 @@ fn position_rms(model: &Model, d: &FlightData) -> f64 {
 
 #[test]
 fn mk82_reads_renders_and_simulates() {
-    let Some(d) = mk82() else { return };
+    let d = mk82();
     assert_eq!(d.meta.vehicle, Some(VehicleKind::PointMass));
     assert!(d.len() > 800 && d.duration() > 43.0);
 
@@ -110,7 +101,7 @@ fn mk82_reads_renders_and_simulates() {
 fn mk82_diagnosis_finds_drag_first() {
     use wireflight::analysis::compare::CompareConfig;
     use wireflight::analysis::diagnose::{iterate, DiagnoseConfig};
-    let Some(d) = mk82() else { return };
+    let d = mk82();
     let origin = Origin {
         latitude_deg: d.meta.latitude_deg.unwrap(),
         longitude_deg: d.meta.longitude_deg.unwrap(),

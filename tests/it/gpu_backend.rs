@@ -7,7 +7,7 @@
 //!
 //! Without an adapter the tests print why and pass, unless `WIREFLIGHT_REQUIRE_GPU=1` (CI sets
 //! it after installing Mesa lavapipe), when they fail. The adapter's name is always printed
-//! (`cargo test --test gpu_backend -- --nocapture`).
+//! (`cargo test --test it gpu_backend:: -- --nocapture`).
 
 use std::sync::{Mutex, MutexGuard, OnceLock};
 

@@ -1,7 +1,6 @@
 //! Flight-data CSV: the shared JSBSim sample, every kind of bad file, round trips, JSBSim's own
 //! output, unit variants, and random input (which must never panic).
 
-use std::path::Path;
 
 use glam::DVec3;
 use proptest::prelude::*;
@@ -12,20 +11,7 @@ use wireflight::flight::data::{
 };
 use wireflight::flight::{Controls, VehicleKind};
 
-const MK82: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/../shared/data/jsbsim-mk82.csv"
-);
-
-/// The shared sample, or `None` (with a note) in a clone without `shared/` beside it.
-fn mk82() -> Option<FlightData> {
-    let path = Path::new(MK82);
-    if !path.exists() {
-        eprintln!("note: {MK82} is absent; skipping");
-        return None;
-    }
-    Some(data::read(path).unwrap_or_else(|e| panic!("{e}")))
-}
+use crate::support::mk82;
 
 fn err(text: &str) -> DataError {
     match data::parse(text, "bad.csv") {
@@ -57,7 +43,7 @@ const HEAD: &str =
 
 #[test]
 fn mk82_sample_reads() {
-    let Some(d) = mk82() else { return };
+    let d = mk82();
     assert_eq!(d.meta.vehicle, Some(VehicleKind::PointMass));
     assert_eq!(d.meta.latitude_deg, Some(0.0));
     assert_eq!(d.meta.longitude_deg, Some(0.0));
@@ -82,7 +68,7 @@ fn mk82_sample_reads() {
 
 #[test]
 fn mk82_derived_channels_are_sane() {
-    let Some(d) = mk82() else { return };
+    let d = mk82();
     // Velocity derived from the (noisy) positions agrees with the recorded velocity.
     let mut from_pos = FlightData::new(d.meta.clone(), d.time.clone(), d.pos_ned.clone());
     from_pos.derive_missing();
@@ -465,7 +451,7 @@ fn round_trip_all_channels() {
 
 #[test]
 fn round_trip_skips_derived_channels_and_rederives_them() {
-    let Some(d) = mk82() else { return };
+    let d = mk82();
     let text = data::to_csv_string(&d);
     let header = text.lines().find(|l| !l.starts_with('#')).unwrap();
     assert_eq!(

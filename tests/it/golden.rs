@@ -1,7 +1,7 @@
 //! Golden images of the CPU backend: exact, byte for byte.
 //!
 //! Each case names its parameters. To re-bless after an intended change, run
-//! `WIREFLIGHT_BLESS=1 cargo test --test golden` and look at every image in
+//! `WIREFLIGHT_BLESS=1 cargo test --test it golden::` and look at every image in
 //! `tests/images/golden/` before committing.
 
 use std::path::PathBuf;

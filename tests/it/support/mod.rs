@@ -7,6 +7,7 @@
 #![allow(dead_code)]
 
 use std::fmt;
+use std::path::PathBuf;
 
 use glam::{DMat3, DVec3, Vec2, Vec3, Vec4};
 use wireflight::clip::DepthRange;
@@ -298,3 +299,20 @@ pub fn distance_from_line(a: Vec4, c: Vec4, t: f64, p: Vec4) -> f64 {
 
 /// Both depth ranges, for tests that must hold for each.
 pub const DEPTHS: [DepthRange; 2] = [DepthRange::ZeroToOne, DepthRange::NegOneToOne];
+
+// ---------------------------------------------------------------------------------------------
+// Data files (tests/data/, sources in tests/data/README.md).
+// ---------------------------------------------------------------------------------------------
+
+/// Path of a file in `tests/data/`.
+pub fn data_file(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// JSBSim's Mk-82 flight (`tests/data/jsbsim-mk82.csv`): data no one here made.
+pub fn mk82() -> wireflight::flight::data::FlightData {
+    let path = data_file("jsbsim-mk82.csv");
+    wireflight::flight::data::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}

@@ -4,10 +4,9 @@
 //! reference, and the whole pipeline on the built-in plane. Every property is checked for both
 //! depth ranges.
 
-mod support;
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
-use support::{
+use crate::support::{
     assert_close, distance_from_line, edge_scale, inside_margin, recover_t, reference_ranges,
     to_f64, Rng, DEPTHS,
 };

@@ -1,0 +1,22 @@
+//! All integration tests, built and linked as one binary (linking wgpu once instead of once
+//! per file is most of the build time of `cargo test` on a small machine).
+//!
+//! Run one topic with `cargo test --test it <module>::`, e.g. `cargo test --test it golden::`.
+//! Shared helpers (the approximate-equality macro, a seeded generator, the clipper's
+//! brute-force reference) live in [`support`]; data files a test needs live in `tests/data/`.
+
+mod support;
+
+mod cli;
+mod clip;
+mod diagnose;
+mod euler;
+mod flight_data;
+mod flight_model;
+mod golden;
+mod gpu_backend;
+mod mesh_loaders;
+mod mk82;
+mod overlay;
+mod plots;
+mod view;
