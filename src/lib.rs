@@ -12,6 +12,8 @@ pub mod camera;
 pub mod clip;
 pub mod euler;
 pub mod flight;
+pub mod fsio;
 pub mod mesh;
+pub mod numeric;
 pub mod pipeline;
 pub mod render;

@@ -37,6 +37,7 @@ use crate::euler::EulerZyx;
 use crate::flight::data::{unwrap_angles, FlightData};
 use crate::flight::model::{Model, State, Vehicle};
 use crate::flight::Controls;
+use crate::numeric::{attitude_error_deg, quad_fit};
 
 /// Settings of a comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -182,87 +183,6 @@ pub struct NoiseEstimate {
     pub att_rad: f64,
     /// Body rates, rad/s.
     pub rate_radps: f64,
-}
-
-/// Weighted least-squares quadratic fit of `y(t)` around `t0`: returns (value, slope) at t0.
-fn quad_fit(t: &[f64], y: &[f64], t0: f64) -> (f64, f64) {
-    let n = t.len();
-    if n == 0 {
-        return (0.0, 0.0);
-    }
-    if n < 3 {
-        let slope = if n == 2 && t[1] != t[0] {
-            (y[1] - y[0]) / (t[1] - t[0])
-        } else {
-            0.0
-        };
-        return (y[0] + slope * (t0 - t[0]), slope);
-    }
-    // Normal equations in s = t − t0 for y = a + b s + c s².
-    let mut m = [[0.0f64; 3]; 3];
-    let mut r = [0.0f64; 3];
-    for (&ti, &yi) in t.iter().zip(y) {
-        let s = ti - t0;
-        let basis = [1.0, s, s * s];
-        for i in 0..3 {
-            for j in 0..3 {
-                m[i][j] += basis[i] * basis[j];
-            }
-            r[i] += basis[i] * yi;
-        }
-    }
-    match solve3(m, r) {
-        Some([a, b, _]) => (a, b),
-        None => (y[0], 0.0),
-    }
-}
-
-/// Solve the symmetric positive-definite system `m·x = r` (Cholesky); None when singular.
-fn solve_spd6(m: [[f64; 6]; 6], r: [f64; 6]) -> Option<[f64; 6]> {
-    let mut l = [[0.0f64; 6]; 6];
-    for i in 0..6 {
-        for j in 0..=i {
-            let s: f64 = m[i][j] - (0..j).map(|k| l[i][k] * l[j][k]).sum::<f64>();
-            if i == j {
-                if !(s > 1e-12 * m[i][i].abs().max(1e-300)) {
-                    return None;
-                }
-                l[i][i] = s.sqrt();
-            } else {
-                l[i][j] = s / l[j][j];
-            }
-        }
-    }
-    let mut y = [0.0f64; 6];
-    for i in 0..6 {
-        y[i] = (r[i] - (0..i).map(|k| l[i][k] * y[k]).sum::<f64>()) / l[i][i];
-    }
-    let mut x = [0.0f64; 6];
-    for i in (0..6).rev() {
-        x[i] = (y[i] - (i + 1..6).map(|k| l[k][i] * x[k]).sum::<f64>()) / l[i][i];
-    }
-    Some(x)
-}
-
-fn solve3(m: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |a: &[[f64; 3]; 3]| {
-        a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
-            - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
-            + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0])
-    };
-    let d = det(&m);
-    if d.abs() < 1e-300 || !d.is_finite() {
-        return None;
-    }
-    let mut out = [0.0; 3];
-    for (k, o) in out.iter_mut().enumerate() {
-        let mut mk = m;
-        for i in 0..3 {
-            mk[i][k] = r[i];
-        }
-        *o = det(&mk) / d;
-    }
-    Some(out)
 }
 
 /// Everything precomputed once per data set and reused across model evaluations.
@@ -473,7 +393,7 @@ impl<'a> Prepared<'a> {
                 }
                 jtr[a] = jac[a].iter().zip(&r).map(|(u, v)| u * v).sum();
             }
-            let Some(step) = solve_spd6(jtj, jtr) else {
+            let Some(step) = crate::numeric::solve(jtj, jtr) else {
                 break;
             };
             let mut qn = q;
@@ -611,14 +531,6 @@ impl<'a> SurfaceTracker<'a> {
         self.index = self.index.max(upto);
         self.state
     }
-}
-
-/// Attitude error between two aerospace angle sets, degrees: the rotation angle of R_aᵀR_b
-/// (independent of how the angles are split, so no trouble at gimbal lock or ±180°).
-fn attitude_error_deg(a: &EulerZyx, b: &EulerZyx) -> f64 {
-    let r = a.to_matrix().transpose() * b.to_matrix();
-    let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) / 2.0).clamp(-1.0, 1.0);
-    c.acos().to_degrees()
 }
 
 /// Score predictions against measurements (or against `truth` when given).

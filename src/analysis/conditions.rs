@@ -18,28 +18,9 @@ pub struct Condition {
     pub unit: &'static str,
     /// Mean value per window (same order as the comparison's windows).
     pub per_window: Vec<f64>,
-    /// Pearson correlation of the window score with this condition.
-    pub correlation: f64,
-}
-
-fn pearson(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    if x.len() < 3 {
-        return 0.0;
-    }
-    let mx = x.iter().sum::<f64>() / n;
-    let my = y.iter().sum::<f64>() / n;
-    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for (a, b) in x.iter().zip(y) {
-        sxy += (a - mx) * (b - my);
-        sxx += (a - mx).powi(2);
-        syy += (b - my).powi(2);
-    }
-    if sxx <= 0.0 || syy <= 0.0 {
-        0.0
-    } else {
-        sxy / (sxx * syy).sqrt()
-    }
+    /// Pearson correlation of the window score with this condition; `None` where it has no
+    /// meaning (fewer than three windows, or a condition or score that does not vary).
+    pub correlation: Option<f64>,
 }
 
 /// Conditions per window, each with its correlation to the window score; strongest
@@ -57,7 +38,7 @@ pub fn conditions(data: &FlightData, cmp: &Comparison, origin_altitude_m: f64) -
     };
     let mut out = Vec::new();
     let mut push = |name, unit, per_window: Vec<f64>| {
-        let correlation = pearson(&per_window, &scores);
+        let correlation = crate::numeric::pearson(&per_window, &scores);
         out.push(Condition {
             name,
             unit,
@@ -114,7 +95,8 @@ pub fn conditions(data: &FlightData, cmp: &Comparison, origin_altitude_m: f64) -
     if let Some(c) = &data.controls {
         push("throttle", "0..1", mean_over(&|i| c[i].throttle));
     }
-    out.sort_by(|a, b| b.correlation.abs().total_cmp(&a.correlation.abs()));
+    let strength = |c: &Condition| c.correlation.map_or(-1.0, f64::abs);
+    out.sort_by(|a, b| strength(b).total_cmp(&strength(a)));
     out
 }
 
@@ -179,14 +161,6 @@ pub fn explain_growth(k: f64) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn pearson_of_lines() {
-        let x = [1.0, 2.0, 3.0, 4.0];
-        assert!((pearson(&x, &[2.0, 4.0, 6.0, 8.0]) - 1.0).abs() < 1e-12);
-        assert!((pearson(&x, &[8.0, 6.0, 4.0, 2.0]) + 1.0).abs() < 1e-12);
-        assert_eq!(pearson(&x, &[1.0, 1.0, 1.0, 1.0]), 0.0);
-    }
 
     #[test]
     fn growth_readings() {

@@ -238,7 +238,9 @@ fn fit(
             for k in 0..np {
                 a[k][k] += lambda * jtj[k][k].max(1e-12);
             }
-            let Some(step) = solve(a, jtr.iter().map(|v| -v).collect()) else {
+            let Some(step) =
+                crate::numeric::solve_rows(&a, &jtr.iter().map(|v| -v).collect::<Vec<_>>())
+            else {
                 lambda *= 10.0;
                 continue;
             };
@@ -287,32 +289,6 @@ fn fit(
         })
         .collect();
     (cost, unc)
-}
-
-/// Gaussian elimination with partial pivoting (small systems).
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
-    let n = b.len();
-    for col in 0..n {
-        let piv = (col..n).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        if !(a[piv][col].abs() > 1e-300) {
-            return None;
-        }
-        a.swap(col, piv);
-        b.swap(col, piv);
-        for row in col + 1..n {
-            let f = a[row][col] / a[col][col];
-            for k in col..n {
-                a[row][k] -= f * a[col][k];
-            }
-            b[row] -= f * b[col];
-        }
-    }
-    let mut x = vec![0.0; n];
-    for row in (0..n).rev() {
-        let s: f64 = (row + 1..n).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - s) / a[row][row];
-    }
-    Some(x)
 }
 
 /// Try one effect on top of `base`: fit it and score it. `fixed` lists parameters not to fit.

@@ -13,7 +13,7 @@
 //!
 //! Drawing is into an in-memory RGB buffer (plotters' bitmap backend with the embedded DejaVu
 //! Sans subset as its only font), encoded with `png` and written atomically
-//! ([`crate::render::write_atomic`]).
+//! ([`crate::fsio::write_atomic`]).
 
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -28,6 +28,7 @@ use plotters::style::{FontStyle, RGBAColor};
 use super::compare::{estimate_noise, Comparison, Prediction};
 use crate::euler::EulerZyx;
 use crate::flight::data::{unwrap_angles, FlightData};
+use crate::numeric::{attitude_error_deg, pearson};
 
 /// File name of the measured-vs-model plot.
 pub const MEASURED_VS_MODEL: &str = "measured_vs_model.png";
@@ -132,7 +133,7 @@ pub fn write_plots_with(
         let path = dir.join(name);
         let bytes =
             render_png(size, draw).with_context(|| format!("{}: cannot draw", path.display()))?;
-        crate::render::write_atomic(&path, &bytes)?;
+        crate::fsio::write_atomic(&path, &bytes)?;
         written.push(path);
         Ok(())
     };
@@ -584,28 +585,6 @@ fn error_cap(values: &[f64], at_least: f64) -> f64 {
     }
 }
 
-fn pearson(x: &[f64], y: &[f64]) -> Option<f64> {
-    let pairs: Vec<(f64, f64)> = x
-        .iter()
-        .zip(y)
-        .filter(|(a, b)| a.is_finite() && b.is_finite())
-        .map(|(a, b)| (*a, *b))
-        .collect();
-    if pairs.len() < 3 {
-        return None;
-    }
-    let n = pairs.len() as f64;
-    let mx = pairs.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pairs.iter().map(|p| p.1).sum::<f64>() / n;
-    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
-    for (a, b) in &pairs {
-        sxy += (a - mx) * (b - my);
-        sxx += (a - mx).powi(2);
-        syy += (b - my).powi(2);
-    }
-    (sxx > 0.0 && syy > 0.0).then(|| sxy / (sxx * syy).sqrt())
-}
-
 fn signed(v: f64, decimals: usize) -> String {
     let s = format!("{:+.*}", decimals, v);
     s.replace('-', "\u{2212}")
@@ -1005,14 +984,6 @@ fn draw_measured_vs_model(root: &Root, ctx: &Ctx) -> anyhow::Result<()> {
         }
     }
     Ok(())
-}
-
-/// Attitude error between two aerospace angle sets, degrees: the rotation angle of R_aᵀR_b
-/// (as in the comparison).
-fn attitude_error_deg(a: &EulerZyx, b: &EulerZyx) -> f64 {
-    let r = a.to_matrix().transpose() * b.to_matrix();
-    let c = ((r.x_axis.x + r.y_axis.y + r.z_axis.z - 1.0) / 2.0).clamp(-1.0, 1.0);
-    c.acos().to_degrees()
 }
 
 /// Per-sample error of one channel, one segment per window: (t, |error|).

@@ -375,9 +375,10 @@ pub fn run_compare(args: &CompareArgs) -> anyhow::Result<()> {
     println!("\nerror correlates with:");
     for c in conds.iter().take(3) {
         println!(
-            "  {:36} r = {:+.2}",
+            "  {:36} r = {}",
             format!("{} ({})", c.name, c.unit),
             c.correlation
+                .map_or("n/a".to_string(), |r| format!("{r:+.2}"))
         );
     }
     if let Some(k) = growth {

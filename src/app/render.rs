@@ -261,7 +261,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
         OutputFormat::Svg => (render::svg::to_svg(&scene).into_bytes(), "svg".to_string()),
     };
-    render::write_atomic(out, &bytes)?;
+    crate::fsio::write_atomic(out, &bytes)?;
     let (_, gimbal) = spec.attitude.canonical();
     println!(
         "wrote {} ({}x{}, {how}); {} segments drawn",

@@ -16,7 +16,7 @@ use crate::euler::{viewer_from_ned, EulerZyx};
 use crate::flight::data::FlightData;
 use crate::mesh::{EdgeMesh, EdgeMeshBuilder};
 use crate::pipeline::{model_matrix, polyline_edges, project_clip_edges, EdgeProjector, Viewport};
-use crate::render::{self, palette, LineBatch, LineScene, Rgba, Segment2};
+use crate::render::{palette, LineBatch, LineScene, Rgba, Segment2};
 
 /// Colour of the flown trail.
 pub const TRAIL: Rgba = [255, 200, 60, 255];
@@ -403,7 +403,7 @@ pub fn write_frames(
         total.merge(&stats);
         let image = rasterizer.draw(&lines)?;
         let path = dir.join(format!("frame_{k:05}.png"));
-        render::write_atomic(&path, &image.encode_png().context("encoding PNG")?)?;
+        crate::fsio::write_atomic(&path, &image.encode_png().context("encoding PNG")?)?;
     }
     Ok((frames, total))
 }

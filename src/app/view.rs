@@ -39,7 +39,7 @@ use crate::app::render::{load_model, OutputFormat, Rasterizer};
 use crate::clip::ClipStats;
 use crate::euler::Gimbal;
 use crate::pipeline::Viewport;
-use crate::render::{self, LineScene};
+use crate::render::LineScene;
 use cameras::CameraMode;
 use compare::{Compare, Fit};
 use flight::Start;
@@ -542,7 +542,7 @@ pub fn write_screenshot(scene: &LineScene, path: &Path) -> anyhow::Result<()> {
     let mut rasterizer = Rasterizer::choose(BackendArg::Cpu)?;
     let image = rasterizer.draw(scene)?;
     let png = image.encode_png().context("encoding PNG")?;
-    render::write_atomic(path, &png)
+    crate::fsio::write_atomic(path, &png)
 }
 
 impl ApplicationHandler for App {

@@ -1349,7 +1349,7 @@ pub fn write(path: &Path, data: &FlightData) -> anyhow::Result<()> {
     if data.is_empty() {
         anyhow::bail!("{}: cannot write flight data: no samples", path.display());
     }
-    crate::render::write_atomic(path, to_csv_string(data).as_bytes())
+    crate::fsio::write_atomic(path, to_csv_string(data).as_bytes())
 }
 
 /// The wireflight CSV text of `data`: metadata lines, the header, one row per sample. Writes

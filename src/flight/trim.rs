@@ -59,31 +59,6 @@ fn residuals(model: &Model, z: &[f64; N], va: f64, yaw: f64, pos: DVec3) -> [f64
     ]
 }
 
-/// Solve `a·x = b` (8×8) by Gaussian elimination with partial pivoting; None if singular.
-fn solve(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
-    for col in 0..N {
-        let piv = (col..N).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
-        if a[piv][col].abs() < 1e-14 {
-            return None;
-        }
-        a.swap(col, piv);
-        b.swap(col, piv);
-        for row in col + 1..N {
-            let f = a[row][col] / a[col][col];
-            for k in col..N {
-                a[row][k] -= f * a[col][k];
-            }
-            b[row] -= f * b[col];
-        }
-    }
-    let mut x = [0.0; N];
-    for row in (0..N).rev() {
-        let s: f64 = (row + 1..N).map(|k| a[row][k] * x[k]).sum();
-        x[row] = (b[row] - s) / a[row][row];
-    }
-    Some(x)
-}
-
 /// Trim a fixed-wing model for straight, wings-level flight at airspeed `va` (m/s), heading
 /// `yaw` (rad), position `pos_ned`.
 ///
@@ -114,7 +89,7 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
                 jac[i][j] = (rp[i] - rm[i]) / (2.0 * h);
             }
         }
-        let step = solve(jac, r.map(|v| -v)).ok_or("trim Jacobian is singular")?;
+        let step = crate::numeric::solve(jac, r.map(|v| -v)).ok_or("trim Jacobian is singular")?;
         // Step halving: accept the first fraction of the Newton step that reduces |r|.
         let mut lambda = 1.0;
         loop {
