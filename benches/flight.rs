@@ -4,7 +4,7 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
 
-use wireflight::flight::effects::{catalogue_effect, Origin, CATALOGUE};
+use wireflight::flight::effects::{Origin, CATALOGUE};
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
 use wireflight::flight::trim::trim_level;
@@ -12,11 +12,11 @@ use wireflight::flight::VehicleKind;
 
 fn aerosonde(all_effects: bool) -> Model {
     let params = FixedWingParams::aerosonde();
-    let span = params.geometry.b;
     let mut m = Model::new(Vehicle::FixedWing(Box::new(params)), Origin::default());
     if all_effects {
-        for name in CATALOGUE {
-            let e = catalogue_effect(name, &m.origin, span).unwrap();
+        let ctx = m.effect_context();
+        for info in CATALOGUE {
+            let e = info.build(&ctx);
             if e.applies_to(VehicleKind::FixedWing) {
                 m.add_effect(e).unwrap();
             }

@@ -10,14 +10,14 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
 
-use wireflight::app::render::{frame, ViewSpec};
 use wireflight::camera::{CameraPreset, Subject};
-use wireflight::clip::DepthRange;
 use wireflight::euler::EulerZyx;
 use wireflight::mesh::{plane::builtin_plane, EdgeMesh, EdgeMeshBuilder};
 use wireflight::pipeline::{model_matrix, EdgeProjector, Viewport};
 use wireflight::render::gpu::GpuRenderer;
-use wireflight::render::{cpu, palette, LineBatch, LineScene};
+use wireflight::render::{cpu, LineBatch, LineScene};
+use wireflight::scene::palette;
+use wireflight::scene::{frame, ViewSpec};
 
 const VIEWPORT: Viewport = Viewport {
     width: 1280,
@@ -54,20 +54,13 @@ fn build_scene(projector: &mut EdgeProjector, plane: &EdgeMesh, grid: &EdgeMesh)
         radius,
     };
     let camera = CameraPreset::Chase.camera(&subject, 50f32.to_radians());
-    let clip_from_world = camera.clip_from_world(VIEWPORT.aspect(), DepthRange::ZeroToOne);
+    let clip_from_world = camera.clip_from_world(VIEWPORT.aspect(), projector.depth());
     let mut grid_segments = Vec::with_capacity(grid.edges().len());
-    projector.project(
-        grid,
-        clip_from_world,
-        DepthRange::ZeroToOne,
-        VIEWPORT,
-        &mut grid_segments,
-    );
+    projector.project(grid, clip_from_world, VIEWPORT, &mut grid_segments);
     let mut plane_segments = Vec::with_capacity(plane.edges().len());
     projector.project(
         plane,
         clip_from_world * model_matrix(Vec3::ZERO, attitude),
-        DepthRange::ZeroToOne,
         VIEWPORT,
         &mut plane_segments,
     );
@@ -81,7 +74,7 @@ fn build_scene(projector: &mut EdgeProjector, plane: &EdgeMesh, grid: &EdgeMesh)
                 segments: grid_segments,
             },
             LineBatch {
-                color: palette::MODEL,
+                color: palette::AIRCRAFT,
                 segments: plane_segments,
             },
         ],
@@ -91,7 +84,7 @@ fn build_scene(projector: &mut EdgeProjector, plane: &EdgeMesh, grid: &EdgeMesh)
 fn frames(c: &mut Criterion) {
     let plane = builtin_plane();
     let grid = ground_grid(60, 4.0, 6.0);
-    let mut projector = EdgeProjector::new();
+    let mut projector = EdgeProjector::default();
     let scene = build_scene(&mut projector, &plane, &grid);
 
     let mut group = c.benchmark_group("frame_1280x720");

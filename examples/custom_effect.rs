@@ -1,83 +1,78 @@
 //! Writing your own physical effect without touching the library.
 //!
-//! An effect implements `wireflight::flight::effects::Effect`: a name, optional named
-//! parameters, and one or more hooks (wind, density, gravity, world-frame acceleration,
-//! body-frame force and moment, induced-drag factor, actuator lag). Here: a **thermal**, a
-//! column of rising air of radius `radius_m` around a point, with a smooth Gaussian profile of
-//! updraft speed — something the catalogue does not have.
+//! An effect is a type implementing `wireflight::flight::effects::Effect` plus a static
+//! `EffectInfo`: its name, the vehicles it applies to, and each parameter's metadata (unit,
+//! valid range, typical size for fitting). The hooks it needs do the physics; everything else
+//! (checking `set_param`, fitting, display) works from the metadata. A catalogue effect is
+//! exactly this, as one file in `src/flight/effects/` plus one line in `CATALOGUE`.
 //!
-//! Run: `cargo run --example custom_effect`. It flies the Aerosonde straight through the
-//! thermal with and without the effect and prints the height gained.
+//! Here: a **thermal**, a column of rising air of radius `radius_m` around a point, with a
+//! Gaussian profile of updraft speed — wind that depends on position, which the catalogue's
+//! steady `wind` cannot express.
+//!
+//! Run: `cargo run --release --example custom_effect`. It flies the Aerosonde straight
+//! through the thermal with and without the effect and prints the height gained; then it
+//! records a flight through a hidden thermal and lets `diagnose` find it among the catalogue.
 
 use glam::DVec3;
-use wireflight::flight::effects::{Effect, Origin, Param, Sample};
+use wireflight::analysis::diagnose::{diagnose, DiagnoseConfig};
+use wireflight::flight::autopilot::Manoeuvre;
+use wireflight::flight::effects::{Applies, Effect, EffectContext, EffectInfo, Origin, ParamSpec};
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
+use wireflight::flight::simulate::{simulate, SimSpec};
 use wireflight::flight::trim::trim_level;
-use wireflight::flight::VehicleKind;
 
-/// Rising air around (north_m, east_m): vertical wind −w·exp(−r²/R²) (NED: up is −down).
+/// The thermal's metadata: two parameters, both fittable.
+static THERMAL: EffectInfo = EffectInfo {
+    name: "thermal",
+    summary: "a Gaussian column of rising air at (300 m N, 0 m E)",
+    applies: Applies::FixedWing,
+    params: &[
+        ParamSpec::new("updraft_mps", "m/s", (-20.0, 20.0), 1.0),
+        ParamSpec::new("radius_m", "m", (5.0, 2000.0), 20.0),
+    ],
+    make: |_: &EffectContext| {
+        Box::new(Thermal {
+            values: [0.0, 80.0],
+        })
+    },
+};
+
+/// Rising air around (300 m north, 0 m east): wind (0, 0, −w·exp(−r²/R²)) NED (up is −down).
 #[derive(Clone, Debug)]
 struct Thermal {
-    north_m: f64,
-    east_m: f64,
-    updraft_mps: f64,
-    radius_m: f64,
+    /// `[updraft_mps, radius_m]`, in the order of `THERMAL.params`.
+    values: [f64; 2],
 }
 
 impl Effect for Thermal {
-    fn name(&self) -> &str {
-        "thermal"
+    fn info(&self) -> &'static EffectInfo {
+        &THERMAL
     }
-    fn applies_to(&self, v: VehicleKind) -> bool {
-        v == VehicleKind::FixedWing
+    fn values(&self) -> &[f64] {
+        &self.values
     }
-    fn params(&self) -> Vec<Param> {
-        vec![
-            Param {
-                name: "updraft_mps",
-                value: self.updraft_mps,
-                unit: "m/s",
-            },
-            Param {
-                name: "radius_m",
-                value: self.radius_m,
-                unit: "m",
-            },
-        ]
+    fn values_mut(&mut self) -> &mut [f64] {
+        &mut self.values
     }
-    fn set_param(&mut self, name: &str, value: f64) -> Result<(), String> {
-        match name {
-            "updraft_mps" => self.updraft_mps = value,
-            "radius_m" if value > 0.0 => self.radius_m = value,
-            _ => return Err(format!("thermal: bad parameter {name} = {value}")),
-        }
-        Ok(())
-    }
-    fn clone_box(&self) -> Box<dyn Effect> {
-        Box::new(self.clone())
-    }
-    /// The hooks see the whole state. The catalogue's `wind_ned` hook is for steady, uniform
-    /// wind, so this non-uniform updraft is modelled kinematically instead: inside the column
-    /// the aircraft's vertical speed relaxes toward the updraft with a 2 s time constant.
-    fn accel_ned(&self, s: &Sample) -> DVec3 {
-        let d2 = (s.pos_ned.x - self.north_m).powi(2) + (s.pos_ned.y - self.east_m).powi(2);
-        let w = self.updraft_mps * (-d2 / (self.radius_m * self.radius_m)).exp();
-        DVec3::new(0.0, 0.0, -(w + s.vel_ned.z) / 2.0)
+    fn wind_at(&self, pos_ned: DVec3, _t: f64) -> DVec3 {
+        let [updraft, radius] = self.values;
+        let d2 = (pos_ned.x - 300.0).powi(2) + pos_ned.y.powi(2);
+        DVec3::new(0.0, 0.0, -updraft * (-d2 / (radius * radius)).exp())
     }
 }
 
 fn main() -> anyhow::Result<()> {
     let params = FixedWingParams::aerosonde();
     let base = Model::new(Vehicle::FixedWing(Box::new(params)), Origin::default());
+    let mut thermal = THERMAL.build(&base.effect_context());
+    thermal
+        .set_param("updraft_mps", 3.0)
+        .map_err(anyhow::Error::msg)?;
     let mut with_thermal = base.clone();
     with_thermal
-        .add_effect(Box::new(Thermal {
-            north_m: 300.0,
-            east_m: 0.0,
-            updraft_mps: 3.0,
-            radius_m: 80.0,
-        }))
+        .add_effect(thermal)
         .map_err(anyhow::Error::msg)?;
 
     let start = DVec3::new(0.0, 0.0, -200.0);
@@ -89,6 +84,18 @@ fn main() -> anyhow::Result<()> {
             model.effect_names(),
             -end.pos_ned().z
         );
+    }
+
+    // A level flight through the hidden thermal, diagnosed with the thermal as a candidate
+    // beside the catalogue.
+    let flight = simulate(&with_thermal, &SimSpec::new(Manoeuvre::Level, 30.0))
+        .map_err(anyhow::Error::msg)?;
+    let candidate = THERMAL.build(&base.effect_context());
+    let d = diagnose(&base, &flight, &[candidate], &DiagnoseConfig::default());
+    let verdict = d.verdict.as_deref().unwrap_or("none");
+    println!("diagnosis of a flight through a hidden thermal: {verdict}");
+    if let Some(w) = d.winner() {
+        println!("  fitted: {:?}", w.params);
     }
     Ok(())
 }

@@ -1,8 +1,10 @@
 //! wireflight: a wireframe flight viewer and flight-model workbench.
 //!
 //! Data flows one way: model ([`mesh`]) → transform ([`euler`], [`camera`]) → clip ([`clip`],
-//! in homogeneous space) → project ([`pipeline`]) → draw ([`render`]). [`app`] is the
-//! command line on top. See `ARCHITECTURE.md`.
+//! in homogeneous space) → project ([`pipeline`]) → compose ([`scene`]) → draw ([`render`])
+//! → write ([`output`]). The flight side: [`flight`] models, data and simulation →
+//! [`analysis`] (model vs measurements). [`app`] is the command line on top: each command a
+//! thin file over these stages. See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 
@@ -15,5 +17,7 @@ pub mod flight;
 pub mod fsio;
 pub mod mesh;
 pub mod numeric;
+pub mod output;
 pub mod pipeline;
 pub mod render;
+pub mod scene;

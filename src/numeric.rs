@@ -165,6 +165,111 @@ pub fn attitude_error_deg(a: &EulerZyx, b: &EulerZyx) -> f64 {
     c.acos().to_degrees()
 }
 
+/// ln Γ(x) for x > 0 (Lanczos, g = 7, 9 terms: ~15 digits).
+pub fn ln_gamma(x: f64) -> f64 {
+    const C: [f64; 9] = [
+        0.999_999_999_999_809_9,
+        676.520_368_121_885_1,
+        -1_259.139_216_722_402_8,
+        771.323_428_777_653_1,
+        -176.615_029_162_140_6,
+        12.507_343_278_686_905,
+        -0.138_571_095_265_720_12,
+        9.984_369_578_019_572e-6,
+        1.505_632_735_149_311_6e-7,
+    ];
+    if x < 0.5 {
+        // Reflection: Γ(x)Γ(1−x) = π / sin(πx).
+        let pi = std::f64::consts::PI;
+        return (pi / (pi * x).sin()).abs().ln() - ln_gamma(1.0 - x);
+    }
+    let x = x - 1.0;
+    let mut a = C[0];
+    let t = x + 7.5;
+    for (i, c) in C.iter().enumerate().skip(1) {
+        a += c / (x + i as f64);
+    }
+    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+}
+
+/// The regularised lower incomplete gamma function P(a, x) = γ(a, x)/Γ(a), a > 0, x ≥ 0: the
+/// series below a + 1, Lentz's continued fraction above (Numerical Recipes §6.2).
+pub fn gamma_p(a: f64, x: f64) -> f64 {
+    if !(a > 0.0) || x.is_nan() {
+        return f64::NAN;
+    }
+    if x <= 0.0 {
+        return 0.0;
+    }
+    let front = (a * x.ln() - x - ln_gamma(a)).exp();
+    if x < a + 1.0 {
+        let (mut term, mut sum, mut n) = (1.0 / a, 1.0 / a, a);
+        for _ in 0..10_000 {
+            n += 1.0;
+            term *= x / n;
+            sum += term;
+            if term.abs() < sum.abs() * 1e-16 {
+                break;
+            }
+        }
+        (sum * front).clamp(0.0, 1.0)
+    } else {
+        let tiny = 1e-300;
+        let mut b = x + 1.0 - a;
+        let mut c = 1.0 / tiny;
+        let mut d = 1.0 / b;
+        let mut h = d;
+        for i in 1..10_000 {
+            let an = -(i as f64) * (i as f64 - a);
+            b += 2.0;
+            d = an * d + b;
+            if d.abs() < tiny {
+                d = tiny;
+            }
+            c = b + an / c;
+            if c.abs() < tiny {
+                c = tiny;
+            }
+            d = 1.0 / d;
+            let delta = d * c;
+            h *= delta;
+            if (delta - 1.0).abs() < 1e-16 {
+                break;
+            }
+        }
+        (1.0 - front * h).clamp(0.0, 1.0)
+    }
+}
+
+/// The χ² distribution's quantile: the x with P(χ²_dof ≤ x) = `p` (0 < p < 1, dof > 0), by
+/// bisection on [`gamma_p`] to a relative 1e-12. NaN outside the domain.
+pub fn chi2_quantile(p: f64, dof: f64) -> f64 {
+    if !(p > 0.0 && p < 1.0 && dof > 0.0 && dof.is_finite()) {
+        return f64::NAN;
+    }
+    let cdf = |x: f64| gamma_p(0.5 * dof, 0.5 * x);
+    let mut hi = dof.max(1.0);
+    while cdf(hi) < p {
+        hi *= 2.0;
+        if !hi.is_finite() {
+            return f64::NAN;
+        }
+    }
+    let mut lo = 0.0;
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if cdf(mid) < p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-12 * hi {
+            break;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -224,6 +329,30 @@ mod tests {
             (v - 1.0).abs() < 1e-12 && (d - 2.0).abs() < 1e-11,
             "{v} {d}"
         );
+    }
+
+    #[test]
+    fn chi2_quantiles_match_the_tables() {
+        // (p, dof, table value): the 1% and 5% upper points used by the diagnosis and more.
+        for (p, dof, want) in [
+            (0.99, 1.0, 6.635),
+            (0.99, 2.0, 9.210),
+            (0.99, 4.0, 13.277),
+            (0.95, 1.0, 3.841),
+            (0.95, 3.0, 7.815),
+            (0.99, 10.0, 23.209),
+            (0.99, 30.0, 50.892),
+            (0.5, 2.0, 1.386),
+        ] {
+            let got = chi2_quantile(p, dof);
+            assert!(
+                (got - want).abs() < 1e-3,
+                "p {p}, dof {dof}: {got} vs {want}"
+            );
+        }
+        assert!(chi2_quantile(1.0, 3.0).is_nan());
+        assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-12);
+        assert!((ln_gamma(0.5) - std::f64::consts::PI.sqrt().ln()).abs() < 1e-12);
     }
 
     #[test]

@@ -10,7 +10,7 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use crate::clip::{clip_edge, ClipStats, DepthRange};
+use crate::clip::{ClipStats, Clipper, DepthRange};
 use crate::euler::EulerZyx;
 use crate::mesh::EdgeMesh;
 use crate::render::Segment2;
@@ -46,16 +46,40 @@ impl Viewport {
     }
 }
 
-/// Turns an edge mesh into clipped pixel segments, reusing its vertex buffer across frames.
-#[derive(Default)]
+/// Turns edge meshes and polylines into clipped pixel segments. It carries the clip-space
+/// convention (the projection matrices given to it must be built for [`depth`](Self::depth))
+/// and the clipper, and reuses its buffers across frames.
+#[derive(Debug, Default)]
 pub struct EdgeProjector {
+    clipper: Clipper,
+    depth: DepthRange,
     clip_positions: Vec<Vec4>,
+    polyline_edges: Vec<[u32; 2]>,
 }
 
 impl EdgeProjector {
-    /// A projector with empty scratch space.
-    pub fn new() -> Self {
-        Self::default()
+    /// A projector for one clip-space convention, with empty scratch space.
+    pub fn new(clipper: Clipper, depth: DepthRange) -> Self {
+        Self {
+            clipper,
+            depth,
+            ..Self::default()
+        }
+    }
+
+    /// The clip-space depth range every matrix handed in must be built for.
+    pub fn depth(&self) -> DepthRange {
+        self.depth
+    }
+
+    /// The clipper in use.
+    pub fn clipper(&self) -> Clipper {
+        self.clipper
+    }
+
+    /// Clip with another algorithm from now on.
+    pub fn set_clipper(&mut self, clipper: Clipper) {
+        self.clipper = clipper;
     }
 
     /// Transform, clip and project every edge of `mesh`, appending the visible segments to
@@ -64,7 +88,6 @@ impl EdgeProjector {
         &mut self,
         mesh: &EdgeMesh,
         clip_from_model: Mat4,
-        depth: DepthRange,
         viewport: Viewport,
         out: &mut Vec<Segment2>,
     ) -> ClipStats {
@@ -74,39 +97,56 @@ impl EdgeProjector {
                 .iter()
                 .map(|p| clip_from_model * p.extend(1.0)),
         );
-        project_clip_edges(&self.clip_positions, mesh.edges(), depth, viewport, out)
+        self.clip_indexed(&self.clip_positions, mesh.edges(), viewport, out)
     }
-}
 
-/// Clip edges given by index into clip-space positions and append their pixel segments.
-pub fn project_clip_edges(
-    clip_positions: &[Vec4],
-    edges: &[[u32; 2]],
-    depth: DepthRange,
-    viewport: Viewport,
-    out: &mut Vec<Segment2>,
-) -> ClipStats {
-    let mut stats = ClipStats::default();
-    for &[i, j] in edges {
-        let outcome = clip_edge(
-            clip_positions[i as usize],
-            clip_positions[j as usize],
-            depth,
-        );
-        stats.record(&outcome);
-        if let Some((a, c)) = outcome.segment() {
-            out.push(Segment2 {
-                a: viewport.to_pixels(perspective_divide(a)),
-                b: viewport.to_pixels(perspective_divide(c)),
-            });
-        }
+    /// Project the polyline through `points` (world coordinates), with a break before each
+    /// index in `breaks` (sorted; see [`polyline_edges`]), appending to `out`.
+    pub fn project_polyline<'p>(
+        &mut self,
+        points: impl IntoIterator<Item = &'p Vec3>,
+        breaks: &[usize],
+        clip_from_world: Mat4,
+        viewport: Viewport,
+        out: &mut Vec<Segment2>,
+    ) -> ClipStats {
+        self.clip_positions.clear();
+        self.clip_positions
+            .extend(points.into_iter().map(|p| clip_from_world * p.extend(1.0)));
+        polyline_edges(self.clip_positions.len(), breaks, &mut self.polyline_edges);
+        self.clip_indexed(&self.clip_positions, &self.polyline_edges, viewport, out)
     }
-    stats
+
+    /// Clip edges given by index into clip-space positions and append their pixel segments.
+    pub fn clip_indexed(
+        &self,
+        clip_positions: &[Vec4],
+        edges: &[[u32; 2]],
+        viewport: Viewport,
+        out: &mut Vec<Segment2>,
+    ) -> ClipStats {
+        let mut stats = ClipStats::default();
+        for &[i, j] in edges {
+            let outcome = self.clipper.clip(
+                clip_positions[i as usize],
+                clip_positions[j as usize],
+                self.depth,
+            );
+            stats.record(&outcome);
+            if let Some((a, c)) = outcome.segment() {
+                out.push(Segment2 {
+                    a: viewport.to_pixels(perspective_divide(a)),
+                    b: viewport.to_pixels(perspective_divide(c)),
+                });
+            }
+        }
+        stats
+    }
 }
 
 /// Edges of a polyline through points `0..points`, joining each point to the one before it
 /// except at the indices in `breaks` (sorted; a break at i starts a new piece there, e.g. a
-/// model restarted from the data). Written into `out` (cleared), for [`project_clip_edges`].
+/// model restarted from the data). Written into `out` (cleared).
 pub fn polyline_edges(points: usize, breaks: &[usize], out: &mut Vec<[u32; 2]>) {
     out.clear();
     let mut breaks = breaks.iter().peekable();

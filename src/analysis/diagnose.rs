@@ -17,8 +17,9 @@
 
 use super::compare::{compare_prepared, estimate_noise, noise_floor, CompareConfig, Prepared};
 use crate::flight::data::FlightData;
-use crate::flight::effects::{catalogue_effect, Effect, CATALOGUE};
+use crate::flight::effects::{Effect, CATALOGUE};
 use crate::flight::model::Model;
+use crate::flight::spec::EffectSpec;
 
 /// Settings of a diagnosis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,38 +93,9 @@ impl Diagnosis {
     }
 }
 
-/// χ² quantiles for 1..=4 degrees of freedom at 1% and 5%.
+/// The χ² quantile that `dof` degrees of freedom exceed with probability `alpha`.
 fn chi2_critical(dof: usize, alpha: f64) -> f64 {
-    let at_1 = [6.635, 9.210, 11.345, 13.277];
-    let at_5 = [3.841, 5.991, 7.815, 9.488];
-    let i = dof.clamp(1, 4) - 1;
-    if alpha <= 0.01 {
-        at_1[i]
-    } else {
-        at_5[i]
-    }
-}
-
-/// Typical size of a parameter (finite-difference step and LM scaling).
-fn param_scale(effect: &str, param: &str, value: f64) -> f64 {
-    match (effect, param) {
-        ("wind", _) => 1.0,
-        ("drag", "k") => value.abs().max(1e-4),
-        ("prop_torque", _) => 0.1,
-        ("gyroscopic", _) => 0.01,
-        ("actuator_lag", _) => value.abs().max(0.02),
-        (_, "latitude_deg") => 10.0,
-        _ => value.abs().max(1.0),
-    }
-}
-
-/// Starting value of a fitted parameter.
-fn initial_value(effect: &str, param: &str, default: f64) -> f64 {
-    match (effect, param) {
-        ("drag", "k") => 1e-4,
-        ("actuator_lag", "tau_s") => 0.1,
-        _ => default,
-    }
+    crate::numeric::chi2_quantile(1.0 - alpha, dof.max(1) as f64)
 }
 
 /// Per-window weighted residuals: score_w·√n_w, so Σ r² = total²·N.
@@ -167,29 +139,34 @@ fn fit(
     prep: &Prepared,
     iterations: usize,
 ) -> (f64, Vec<f64>) {
+    let Some(info) = model
+        .effects
+        .iter()
+        .find(|e| e.name() == name)
+        .map(|e| e.info())
+    else {
+        return (f64::NAN, Vec::new());
+    };
+    let specs: Vec<_> = free.iter().filter_map(|p| info.param(p)).collect();
     let get = |m: &Model| -> Vec<f64> {
-        let e = m.effects.iter().find(|e| e.name() == name).expect("added");
+        let e = m.effects.iter().find(|e| e.name() == name);
         free.iter()
-            .map(|p| {
-                e.params()
-                    .iter()
-                    .find(|q| q.name == p)
-                    .map(|q| q.value)
-                    .unwrap_or(0.0)
-            })
+            .map(|p| e.and_then(|e| e.param(p)).unwrap_or(0.0))
             .collect()
     };
+    // The fitter stays inside each parameter's range: a step beyond it lands on the bound.
     let set = |m: &mut Model, v: &[f64]| {
-        let e = m.effect_mut(name).expect("added");
-        for (p, x) in free.iter().zip(v) {
-            let _ = e.set_param(p, *x);
+        if let Some(e) = m.effect_mut(name) {
+            for (spec, x) in specs.iter().zip(v) {
+                let _ = e.set_param(spec.name, x.clamp(spec.range.0, spec.range.1));
+            }
         }
     };
     let mut theta = get(model);
-    let scales: Vec<f64> = free
+    let scales: Vec<f64> = specs
         .iter()
         .zip(&theta)
-        .map(|(p, v)| param_scale(name, p, *v))
+        .map(|(spec, v)| spec.scale_at(*v))
         .collect();
     let mut r = residuals(model, prep);
     let mut cost = sse(&r);
@@ -304,23 +281,28 @@ pub fn try_effect(
     let name = effect.name().to_string();
     let mut model = base.clone();
     model.add_effect(effect)?;
-    let mut free = Vec::new();
-    for p in model.effect_mut(&name).expect("added").params() {
-        if fixed.iter().any(|f| f == p.name) {
-            continue;
-        }
-        free.push(p.name.to_string());
-    }
-    {
-        let e = model.effect_mut(&name).expect("added");
-        for p in &free {
-            let default = e
-                .params()
-                .iter()
-                .find(|q| q.name == p)
-                .map(|q| q.value)
-                .unwrap_or(0.0);
-            let _ = e.set_param(p, initial_value(&name, p, default));
+    let info = model
+        .effects
+        .iter()
+        .find(|e| e.name() == name)
+        .map(|e| e.info())
+        .ok_or_else(|| format!("effect `{name}` was not added"))?;
+    let held_origin = prep.data.meta.latitude_deg.is_some();
+    let free: Vec<String> = info
+        .params
+        .iter()
+        .filter(|p| !fixed.iter().any(|f| f == p.name) && !(p.from_origin && held_origin))
+        .map(|p| p.name.to_string())
+        .collect();
+    if let Some(e) = model.effect_mut(&name) {
+        for p in info
+            .params
+            .iter()
+            .filter(|p| free.iter().any(|f| f == p.name))
+        {
+            if let Some(start) = p.start {
+                e.set_param(p.name, start)?;
+            }
         }
     }
     let (after_sse, fitted_unc) = fit(&mut model, &name, &free, prep, cfg.max_iterations);
@@ -328,7 +310,7 @@ pub fn try_effect(
         .effects
         .iter()
         .find(|e| e.name() == name)
-        .expect("added");
+        .ok_or_else(|| format!("effect `{name}` was not added"))?;
     let params: Vec<(String, f64)> = effect
         .params()
         .iter()
@@ -380,6 +362,28 @@ pub fn try_effect(
     })
 }
 
+/// Add effects to `model` as `--add` does: each spec's given parameters are held, the rest
+/// fitted (on `prep`). Returns the fitted candidates, in order.
+///
+/// # Errors
+/// Unknown effects or parameters, values out of range, an effect already in the model.
+pub fn add_fitted(
+    model: &mut Model,
+    prep: &Prepared,
+    adds: &[EffectSpec],
+    cfg: &DiagnoseConfig,
+) -> Result<Vec<Candidate>, String> {
+    let mut out = Vec::new();
+    for spec in adds {
+        let effect = spec.build(&model.effect_context())?;
+        let before = sse(&residuals(model, prep));
+        let cand = try_effect(model, effect, &spec.given(), prep, cfg, before, 0.0)?;
+        model.add_effect(cand.fitted_effect.clone())?;
+        out.push(cand);
+    }
+    Ok(out)
+}
+
 /// Diagnose: try every catalogue effect that applies to the vehicle and is not in the model
 /// yet, plus `extra` user effects; rank; decide.
 pub fn diagnose(
@@ -392,17 +396,13 @@ pub fn diagnose(
     let before_sse = sse(&residuals(base, &prep));
     let base_error = total_from_sse(before_sse, &prep);
     let floor = noise_floor(base, &prep, &estimate_noise(data), 0x5eed);
-    // Latitudes known from the metadata are facts, not unknowns.
-    let fixed: Vec<String> = if data.meta.latitude_deg.is_some() {
-        vec!["latitude_deg".to_string()]
-    } else {
-        Vec::new()
-    };
+    // Parameters known from the metadata (latitudes) are facts, not unknowns (see
+    // `ParamSpec::from_origin`).
+    let fixed: Vec<String> = Vec::new();
     let kind = base.vehicle.kind();
-    let mut candidates: Vec<Box<dyn Effect>> = CATALOGUE
-        .iter()
-        .filter_map(|n| catalogue_effect(n, &base.origin, base.vehicle.span()))
-        .collect();
+    let ctx = base.effect_context();
+    let mut candidates: Vec<Box<dyn Effect>> =
+        CATALOGUE.iter().map(|info| info.build(&ctx)).collect();
     candidates.extend(extra.iter().cloned());
     let mut ranking: Vec<Candidate> = candidates
         .into_iter()

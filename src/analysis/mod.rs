@@ -5,3 +5,4 @@ pub mod compare;
 pub mod conditions;
 pub mod diagnose;
 pub mod plots;
+pub mod report;

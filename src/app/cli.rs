@@ -5,7 +5,10 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::camera::CameraPreset;
+use crate::clip::Clipper;
+use crate::flight::spec::{EffectSpec, ModelChoice};
 use crate::flight::VehicleKind;
+use crate::render::Backend;
 
 /// wireflight: a wireframe flight viewer with a CPU homogeneous clipper.
 #[derive(Debug, Parser)]
@@ -34,9 +37,17 @@ pub enum Command {
 /// Which model to run against data (shared by compare and diagnose).
 #[derive(Debug, Args)]
 pub struct ModelArgs {
-    /// Model file (TOML); default: the baseline of the data's `vehicle` (and `aircraft`).
+    /// Flight model file (TOML); default: the baseline of the data's `vehicle` (and
+    /// `aircraft`).
     #[arg(long, value_name = "FILE")]
     pub model: Option<std::path::PathBuf>,
+    /// Vehicle family, for data without `# vehicle:` metadata (or to override it).
+    #[arg(long, value_parser = parse_vehicle, conflicts_with = "model")]
+    pub vehicle: Option<VehicleKind>,
+    /// Parameter set of a fixed wing (`aerosonde` or a .toml file), overriding the data's
+    /// `# aircraft:`.
+    #[arg(long, value_name = "NAME|FILE.toml", conflicts_with = "model")]
+    pub aircraft: Option<String>,
     /// Effects in the model, comma-separated (parameters at their defaults).
     #[arg(long, value_name = "A,B")]
     pub effects: Option<String>,
@@ -45,12 +56,35 @@ pub struct ModelArgs {
     pub add: Vec<String>,
 }
 
+impl ModelArgs {
+    /// The flight model these options choose (built against the data by the command).
+    pub fn choice(&self) -> ModelChoice {
+        ModelChoice {
+            model_file: self.model.clone(),
+            vehicle: self.vehicle,
+            aircraft: self.aircraft.clone(),
+            effects: self.effects.clone(),
+        }
+    }
+
+    /// The `--add` effects, parsed.
+    ///
+    /// # Errors
+    /// Unknown effects, malformed `k=v`.
+    pub fn add_specs(&self) -> anyhow::Result<Vec<EffectSpec>> {
+        self.add
+            .iter()
+            .map(|a| EffectSpec::parse(a).map_err(anyhow::Error::msg))
+            .collect()
+    }
+}
+
 const COMPARE_EXAMPLES: &str = "\
 Examples:
-  wireflight compare --data windy.csv
-  wireflight compare --data windy.csv --add wind --plots plots/
-  wireflight compare --data windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
-  wireflight compare --data test.csv --model my-model.toml --json
+  wireflight compare --flight windy.csv
+  wireflight compare --flight windy.csv --add wind --plots plots/
+  wireflight compare --flight windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
+  wireflight compare --flight test.csv --model my-model.toml --json
 
 The model is restarted from the data every --window seconds (multiple shooting) from a
 least-squares estimate of the state, and its prediction compared with the measurements.
@@ -60,9 +94,9 @@ least-squares estimate of the state, and its prediction compared with the measur
 #[derive(Debug, Args)]
 #[command(after_help = COMPARE_EXAMPLES)]
 pub struct CompareArgs {
-    /// Flight data (CSV).
-    #[arg(long, value_name = "FILE.csv")]
-    pub data: std::path::PathBuf,
+    /// Flight data (CSV). (`--data` is an old spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE.csv")]
+    pub flight: std::path::PathBuf,
     /// The model.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -90,9 +124,9 @@ pub struct CompareArgs {
 
 const DIAGNOSE_EXAMPLES: &str = "\
 Examples:
-  wireflight diagnose --data windy.csv
-  wireflight diagnose --data two-effects.csv --iterate
-  wireflight diagnose --data ../shared/data/jsbsim-mk82.csv --iterate --json
+  wireflight diagnose --flight windy.csv
+  wireflight diagnose --flight two-effects.csv --iterate
+  wireflight diagnose --flight tests/data/jsbsim-mk82.csv --iterate --json
 
 Every catalogue effect that applies to the vehicle is added in turn, its parameters fitted,
 and ranked by how much error it removes; a likelihood-ratio test over independent windows
@@ -102,9 +136,9 @@ decides whether that is more than fitting noise would give.";
 #[derive(Debug, Args)]
 #[command(after_help = DIAGNOSE_EXAMPLES)]
 pub struct DiagnoseArgs {
-    /// Flight data (CSV).
-    #[arg(long, value_name = "FILE.csv")]
-    pub data: std::path::PathBuf,
+    /// Flight data (CSV). (`--data` is an old spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE.csv")]
+    pub flight: std::path::PathBuf,
     /// The model to start from.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -133,7 +167,7 @@ Examples:
   wireflight render --out plane.png
   wireflight render --yaw 30 --pitch -15 --roll 40 --camera chase --out banked.png
   wireflight render --camera cockpit --size 1280x720 --backend cpu --out cockpit.png
-  wireflight render --model assets/plane.gltf --camera top --out top.svg
+  wireflight render --mesh assets/plane.gltf --camera top --out top.svg
   wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
   wireflight render --flight test.csv --frames-dir frames --fps 10   # replay a flight
@@ -146,9 +180,15 @@ lowers it, positive roll drops the right wing. The clipper's counts are printed 
 #[derive(Debug, Args)]
 #[command(after_help = RENDER_EXAMPLES)]
 pub struct RenderArgs {
-    /// `plane` for the built-in aircraft, or a model file (.obj, .gltf, .glb).
-    #[arg(long, default_value = "plane", value_name = "plane|FILE")]
-    pub model: String,
+    /// The wireframe: `plane` for the built-in aircraft, or a mesh file (.obj, .gltf, .glb).
+    /// (`--model` is an old spelling of this option.)
+    #[arg(
+        long,
+        alias = "model",
+        default_value = "plane",
+        value_name = "plane|FILE"
+    )]
+    pub mesh: String,
     /// Yaw ψ, degrees: rotation about Z (up).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
     pub yaw: f64,
@@ -196,6 +236,9 @@ pub struct RenderArgs {
     /// Frames per second of flight time for the replay.
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub fps: f64,
+    /// The line clipper.
+    #[arg(long, default_value = "blinn", value_name = "NAME")]
+    pub clipper: Clipper,
 }
 
 const SIMULATE_EXAMPLES: &str = "\
@@ -205,7 +248,7 @@ Examples:
       --noise-pos 0.5 --noise-att 0.3 --seed 7 --out windy.csv
   wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
   wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \\
-      --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --data long-shot.csv
+      --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --flight long-shot.csv
   wireflight simulate --model my-model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
 
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
@@ -286,7 +329,7 @@ pub struct SimulateArgs {
 const VIEW_HELP: &str = "\
 Examples:
   wireflight view
-  wireflight view --model assets/plane.gltf --camera orbit
+  wireflight view --mesh assets/plane.gltf --camera orbit
   wireflight view --flight test.csv                       # replay a recorded flight
   wireflight view --flight windy.csv --compare            # and the model beside it
   wireflight view --flight windy.csv --compare --add wind  # wind ticked from the start
@@ -352,9 +395,9 @@ pub enum ViewCameraArg {
 #[derive(Debug, Args)]
 #[command(after_help = VIEW_HELP)]
 pub struct ViewArgs {
-    /// `plane` for the built-in aircraft, or a model file (.obj, .gltf, .glb).
+    /// The wireframe: `plane` for the built-in aircraft, or a mesh file (.obj, .gltf, .glb).
     #[arg(long, default_value = "plane", value_name = "plane|FILE")]
-    pub model: String,
+    pub mesh: String,
     /// The camera to start with (C cycles them).
     #[arg(long, value_enum, default_value_t = ViewCameraArg::Chase)]
     pub camera: ViewCameraArg,
@@ -389,9 +432,14 @@ pub struct ViewArgs {
     #[arg(long, requires = "flight")]
     pub compare: bool,
     /// With --compare: the flight model (TOML); default: the baseline of the data's vehicle.
-    /// (--model is the aircraft's wireframe here.)
-    #[arg(long, value_name = "FILE", requires = "compare")]
-    pub flight_model: Option<PathBuf>,
+    /// (`--flight-model` is an old spelling of this option; the wireframe is --mesh.)
+    #[arg(
+        long,
+        alias = "flight-model",
+        value_name = "FILE",
+        requires = "compare"
+    )]
+    pub model: Option<PathBuf>,
     /// With --compare: effects in the base model, comma-separated (parameters at their
     /// defaults; always on).
     #[arg(long, value_name = "A,B", requires = "compare")]
@@ -400,6 +448,9 @@ pub struct ViewArgs {
     /// parameters not given come from the fit.
     #[arg(long, value_name = "NAME[:K=V,...]", requires = "compare")]
     pub add: Vec<String>,
+    /// The line clipper to start with (a key cycles them).
+    #[arg(long, default_value = "blinn", value_name = "NAME")]
+    pub clipper: Clipper,
 }
 
 fn time_step(s: &str) -> Result<f64, String> {
@@ -460,7 +511,7 @@ pub enum ProjectionArg {
     Ortho,
 }
 
-/// Rasterizer choice.
+/// Rasterizer choice (see [`Backend`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum BackendArg {
     /// GPU if any wgpu adapter exists, else CPU.
@@ -469,6 +520,16 @@ pub enum BackendArg {
     Gpu,
     /// Bresenham on the CPU (bit-exact).
     Cpu,
+}
+
+impl From<BackendArg> for Backend {
+    fn from(b: BackendArg) -> Self {
+        match b {
+            BackendArg::Auto => Backend::Auto,
+            BackendArg::Gpu => Backend::Gpu,
+            BackendArg::Cpu => Backend::Cpu,
+        }
+    }
 }
 
 /// A finite float (clap's f64 parser accepts "nan" and "inf").

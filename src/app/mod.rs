@@ -3,10 +3,10 @@
 //! Errors travel up as `anyhow::Error` chains and are printed once, prefixed with the program
 //! name; the process then exits with status 2.
 
-pub mod analyze;
 pub mod cli;
+pub mod compare;
+pub mod diagnose;
 pub mod render;
-pub mod replay;
 pub mod simulate;
 pub mod view;
 
@@ -30,8 +30,8 @@ where
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
-        Command::Compare(args) => analyze::run_compare(&args),
-        Command::Diagnose(args) => analyze::run_diagnose(&args),
+        Command::Compare(args) => compare::run(&args),
+        Command::Diagnose(args) => diagnose::run(&args),
         Command::View(args) => view::run(&args),
     }
 }

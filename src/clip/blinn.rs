@@ -17,36 +17,9 @@
 //! are computed in `f64`: `BC_A − BC_C` and `C − A` overflow `f32` for coordinates near
 //! `f32::MAX`, which would give t = 0 and NaN endpoints. Only edges that cross a plane pay.
 
-use glam::{DVec4, Vec4};
+use glam::Vec4;
 
-use super::{boundary_coords, outcode, DepthRange, PLANE_COUNT};
-
-/// What happened to one edge.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ClipOutcome {
-    /// Both endpoints inside: the edge, unchanged.
-    Accepted(Vec4, Vec4),
-    /// Both endpoints outside the same plane: nothing visible.
-    Rejected,
-    /// The visible part `[P(t_in), P(t_out)]`, in the original direction A→C.
-    Clipped(Vec4, Vec4),
-    /// Not trivially rejected, but no part is visible (empty candidate interval), or what
-    /// survived is the single point w = 0, the eye itself, which has no image.
-    ClippedAway,
-    /// An endpoint had a NaN or infinite coordinate; the edge is dropped.
-    NonFinite,
-}
-
-impl ClipOutcome {
-    /// The visible segment, if any (homogeneous clip coordinates, w > 0 at both ends).
-    #[inline]
-    pub fn segment(&self) -> Option<(Vec4, Vec4)> {
-        match *self {
-            ClipOutcome::Accepted(a, c) | ClipOutcome::Clipped(a, c) => Some((a, c)),
-            _ => None,
-        }
-    }
-}
+use super::{boundary_coords, boundary_coords_of, outcode, ClipOutcome, DepthRange, PLANE_COUNT};
 
 /// Clip the edge `a`→`c` (homogeneous clip coordinates) against the view volume.
 ///
@@ -87,8 +60,8 @@ pub fn clip_edge(a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
     }
 
     let (a64, c64) = (a.as_dvec4(), c.as_dvec4());
-    let a_bc = boundary_coords_f64(a64, depth);
-    let c_bc = boundary_coords_f64(c64, depth);
+    let a_bc = boundary_coords_of(a64.to_array(), depth);
+    let c_bc = boundary_coords_of(c64.to_array(), depth);
     let mut t_in = 0.0f64;
     let mut t_out = 1.0f64;
     let crossed = a_code | c_code;
@@ -124,14 +97,4 @@ pub fn clip_edge(a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
     } else {
         ClipOutcome::ClippedAway
     }
-}
-
-/// [`boundary_coords`] in `f64`, for the crossing parameters (see the module docs).
-#[inline]
-fn boundary_coords_f64(p: DVec4, depth: DepthRange) -> [f64; PLANE_COUNT] {
-    let near = match depth {
-        DepthRange::ZeroToOne => p.z,
-        DepthRange::NegOneToOne => p.w + p.z,
-    };
-    [p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y, near, p.w - p.z]
 }

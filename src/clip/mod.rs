@@ -10,11 +10,19 @@
 //! behind the eye (one endpoint with w < 0) from being drawn "wrapped around" through infinity.
 //! Every inequality above implies w ≥ 0, so points behind the eye are outside by construction.
 //!
-//! The algorithm is Blinn's ([`blinn`]). Pure math: no I/O, no allocation.
+//! What every clipper shares lives here: the depth convention, the boundary coordinates and
+//! outcodes, the outcome of clipping one edge ([`ClipOutcome`]) and the tally of a batch
+//! ([`ClipStats`]). Each algorithm is one file; [`Clipper`] names them, and the projector
+//! ([`crate::pipeline::EdgeProjector`]) carries the choice. Drawing uses Blinn's ([`blinn`]).
+//! Pure math: no I/O, no allocation.
 
 pub mod blinn;
 
-pub use blinn::{clip_edge, ClipOutcome};
+pub use blinn::clip_edge;
+
+use std::fmt;
+use std::ops::{Add, Sub};
+use std::str::FromStr;
 
 use glam::Vec4;
 
@@ -63,11 +71,21 @@ pub mod plane {
 /// ```
 #[inline]
 pub fn boundary_coords(p: Vec4, depth: DepthRange) -> [f32; PLANE_COUNT] {
+    boundary_coords_of(p.to_array(), depth)
+}
+
+/// [`boundary_coords`] of `[x, y, z, w]` in any number type (the clippers compute crossing
+/// parameters in `f64`).
+#[inline]
+pub fn boundary_coords_of<T>([x, y, z, w]: [T; 4], depth: DepthRange) -> [T; PLANE_COUNT]
+where
+    T: Copy + Add<Output = T> + Sub<Output = T>,
+{
     let near = match depth {
-        DepthRange::ZeroToOne => p.z,
-        DepthRange::NegOneToOne => p.w + p.z,
+        DepthRange::ZeroToOne => z,
+        DepthRange::NegOneToOne => w + z,
     };
-    [p.w + p.x, p.w - p.x, p.w + p.y, p.w - p.y, near, p.w - p.z]
+    [w + x, w - x, w + y, w - y, near, w - z]
 }
 
 /// 6-bit outcode of boundary coordinates: bit i set when BC_i < 0 (outside plane i).
@@ -86,6 +104,87 @@ pub fn outcode(bc: &[f32; PLANE_COUNT]) -> u8 {
 pub fn is_inside(p: Vec4, depth: DepthRange, rel_tol: f32) -> bool {
     let slack = rel_tol * p.abs().max_element();
     boundary_coords(p, depth).iter().all(|&b| b >= -slack)
+}
+
+/// What happened to one edge.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ClipOutcome {
+    /// Both endpoints inside: the edge, unchanged.
+    Accepted(Vec4, Vec4),
+    /// Both endpoints outside the same plane: nothing visible.
+    Rejected,
+    /// The visible part `[P(t_in), P(t_out)]`, in the original direction A→C.
+    Clipped(Vec4, Vec4),
+    /// Not trivially rejected, but no part is visible (empty candidate interval), or what
+    /// survived is the single point w = 0, the eye itself, which has no image.
+    ClippedAway,
+    /// An endpoint had a NaN or infinite coordinate; the edge is dropped.
+    NonFinite,
+}
+
+impl ClipOutcome {
+    /// The visible segment, if any (homogeneous clip coordinates, w > 0 at both ends).
+    #[inline]
+    pub fn segment(&self) -> Option<(Vec4, Vec4)> {
+        match *self {
+            ClipOutcome::Accepted(a, c) | ClipOutcome::Clipped(a, c) => Some((a, c)),
+            _ => None,
+        }
+    }
+}
+
+/// The line clippers that can draw a frame. Each takes an edge in homogeneous clip space and
+/// returns a [`ClipOutcome`] under the same contract (see [`blinn`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Clipper {
+    /// Blinn's homogeneous clipper: boundary coordinates, outcodes, `[t_in, t_out]`.
+    #[default]
+    Blinn,
+}
+
+impl Clipper {
+    /// Every clipper, in the order a key cycles them.
+    pub const ALL: [Clipper; 1] = [Clipper::Blinn];
+
+    /// The name used on the command line and in the HUD.
+    pub fn name(self) -> &'static str {
+        match self {
+            Clipper::Blinn => "blinn",
+        }
+    }
+
+    /// Clip the edge `a`→`c` against the view volume of `depth`.
+    #[inline]
+    pub fn clip(self, a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
+        match self {
+            Clipper::Blinn => blinn::clip_edge(a, c, depth),
+        }
+    }
+
+    /// The next clipper after this one (wrapping), for a key that cycles them.
+    pub fn next(self) -> Clipper {
+        let i = Self::ALL.iter().position(|&c| c == self).unwrap_or(0);
+        Self::ALL[(i + 1) % Self::ALL.len()]
+    }
+}
+
+impl fmt::Display for Clipper {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Clipper {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|c| c.name() == s.trim())
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
+                format!("unknown clipper `{s}` (known: {})", names.join(", "))
+            })
+    }
 }
 
 /// Tally of what the clipper did to a batch of edges (one frame).

@@ -17,7 +17,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::effects::{Effect, Origin, Sample, RHO_SEA_LEVEL};
+use super::effects::{Effect, EffectContext, Origin, Sample, RHO_SEA_LEVEL};
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
 use crate::euler::EulerZyx;
@@ -184,6 +184,14 @@ impl Model {
         Ok(())
     }
 
+    /// What the defaults of an effect added to this model depend on.
+    pub fn effect_context(&self) -> EffectContext {
+        EffectContext {
+            origin: self.origin,
+            span_m: self.vehicle.span(),
+        }
+    }
+
     /// Whether an effect of that name is present.
     pub fn has_effect(&self, name: &str) -> bool {
         self.effects.iter().any(|e| e.name() == name)
@@ -224,8 +232,8 @@ impl Model {
         self.origin.altitude_m - pos_ned.z
     }
 
-    /// Environment at a position: (wind NED, density, gravity magnitude).
-    fn environment(&self, pos_ned: DVec3) -> (DVec3, f64, f64) {
+    /// Environment at a position and time: (wind NED, density, gravity magnitude).
+    fn environment(&self, pos_ned: DVec3, t: f64) -> (DVec3, f64, f64) {
         let h = self.altitude(pos_ned);
         let base_rho = match &self.vehicle {
             Vehicle::PointMass => RHO_SEA_LEVEL,
@@ -235,16 +243,21 @@ impl Model {
         let mut rho = base_rho;
         let mut g = G0;
         for e in &self.effects {
-            wind += e.wind_ned();
+            wind += e.wind_at(pos_ned, t);
             rho = e.density(h, rho);
             g = e.gravity(h, g);
         }
         (wind, rho, g)
     }
 
-    /// Air data of a fixed-wing state (airspeed, α, β, ρ).
-    pub fn air_data(&self, x: &State) -> AirData {
-        let (wind, rho, _) = self.environment(x.pos_ned());
+    /// Wind, NED, m/s, at a position and time (the sum of the effects' winds).
+    pub fn wind_at(&self, pos_ned: DVec3, t: f64) -> DVec3 {
+        self.effects.iter().map(|e| e.wind_at(pos_ned, t)).sum()
+    }
+
+    /// Air data of a fixed-wing state at time `t` (airspeed, α, β, ρ).
+    pub fn air_data(&self, t: f64, x: &State) -> AirData {
+        let (wind, rho, _) = self.environment(x.pos_ned(), t);
         let v_r = x.vel() - x.rot().transpose() * wind;
         air_angles(v_r, rho)
     }
@@ -260,7 +273,7 @@ impl Model {
     fn point_mass_derivative(&self, t: f64, x: &State) -> State {
         let pos = x.pos_ned();
         let vel = x.vel();
-        let (wind, rho, g) = self.environment(pos);
+        let (wind, rho, g) = self.environment(pos, t);
         let s = Sample {
             t,
             pos_ned: pos,
@@ -296,7 +309,7 @@ impl Model {
         let q = x.quat();
         let rot = DMat3::from_quat(q);
         let omega = x.omega();
-        let (wind, rho, g) = self.environment(pos);
+        let (wind, rho, g) = self.environment(pos, t);
         let tau = self.actuator_tau();
         let ctl = self.surfaces_in_effect(x, cmd);
         let vel_ned = rot * uvw;

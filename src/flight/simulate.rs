@@ -56,6 +56,27 @@ pub struct SimSpec {
     pub listed_effects: Vec<String>,
 }
 
+impl SimSpec {
+    /// A spec for `manoeuvre` over `duration_s` with the defaults of `wireflight simulate`:
+    /// 50 Hz, 25 m/s trim airspeed, 200 m above the origin, a 150 m/s launch for a point mass,
+    /// no noise, seed 1.
+    pub fn new(manoeuvre: Manoeuvre, duration_s: f64) -> Self {
+        Self {
+            manoeuvre,
+            duration_s,
+            rate_hz: 50.0,
+            airspeed_mps: 25.0,
+            height_m: 200.0,
+            launch_speed_mps: 150.0,
+            noise: Noise::default(),
+            seed: 1,
+            source: format!("wireflight simulate --manoeuvre {manoeuvre}"),
+            aircraft: None,
+            listed_effects: Vec::new(),
+        }
+    }
+}
+
 /// Longest integration step inside one output interval, s.
 pub const MAX_STEP: f64 = 0.01;
 
@@ -119,7 +140,7 @@ pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, String> {
             );
             for k in 0..samples {
                 let t = k as f64 * dt_out;
-                let air = model.air_data(&x);
+                let air = model.air_data(t, &x);
                 let cmd = pilot.commands(t, dt_out, x.attitude(), x.omega().to_array(), &air);
                 truth.push_fixed_wing(t, &x, air.airspeed, cmd);
                 x = model.advance(t, &x, &cmd, t + dt_out, max_dt);

@@ -16,11 +16,12 @@
 //!
 //! `--effects a,b` and `--add name[:k=v,...]` on the command line do the same.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context};
 
-use super::effects::{catalogue_effect, Origin, CATALOGUE};
+use super::data::FlightData;
+use super::effects::{catalogue_names, find, Effect, EffectContext, Origin};
 use super::model::{Model, Vehicle};
 use super::params::FixedWingParams;
 use super::VehicleKind;
@@ -44,10 +45,10 @@ impl EffectSpec {
             Some((n, r)) => (n.trim(), r),
             None => (text.trim(), ""),
         };
-        if !CATALOGUE.contains(&name) {
+        if find(name).is_none() {
             return Err(format!(
                 "unknown effect `{name}` (known: {})",
-                CATALOGUE.join(", ")
+                catalogue_names().join(", ")
             ));
         }
         let mut params = Vec::new();
@@ -67,6 +68,33 @@ impl EffectSpec {
             name: name.to_string(),
             params,
         })
+    }
+
+    /// The effect with these parameters (the rest at their defaults for `ctx`). The one place
+    /// where a spec becomes an effect.
+    ///
+    /// # Errors
+    /// Unknown effect, unknown parameter, a value outside the parameter's range.
+    pub fn build(&self, ctx: &EffectContext) -> Result<Box<dyn Effect>, String> {
+        let info = find(&self.name).ok_or_else(|| {
+            format!(
+                "unknown effect `{}` (known: {})",
+                self.name,
+                catalogue_names().join(", ")
+            )
+        })?;
+        let mut effect = info.build(ctx);
+        for (k, v) in &self.params {
+            effect
+                .set_param(k, *v)
+                .map_err(|e| format!("`{}`: {e}", self.to_arg()))?;
+        }
+        Ok(effect)
+    }
+
+    /// Names of the parameters given (these are held, not fitted, by `--add`).
+    pub fn given(&self) -> Vec<String> {
+        self.params.iter().map(|(k, _)| k.clone()).collect()
     }
 
     /// `name:k=v,...` as given on a command line (inverse of [`parse`](Self::parse)).
@@ -94,6 +122,9 @@ pub struct ModelSpec {
     pub effects: Vec<EffectSpec>,
     /// Origin fields given explicitly (latitude, longitude, altitude).
     pub origin: [Option<f64>; 3],
+    /// Directory that a relative `aircraft` path is relative to: the model file's (or the
+    /// data file's, for metadata); `None`: the working directory.
+    pub base_dir: Option<PathBuf>,
 }
 
 impl ModelSpec {
@@ -104,6 +135,7 @@ impl ModelSpec {
             aircraft: "aerosonde".into(),
             effects: Vec::new(),
             origin: [None; 3],
+            base_dir: None,
         }
     }
 
@@ -115,7 +147,10 @@ impl ModelSpec {
     pub fn load(path: &Path) -> anyhow::Result<Self> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("{}: cannot read", path.display()))?;
-        Self::from_toml(&text).with_context(|| format!("{}: bad model file", path.display()))
+        let mut spec = Self::from_toml(&text)
+            .with_context(|| format!("{}: bad model file", path.display()))?;
+        spec.base_dir = path.parent().map(Path::to_path_buf);
+        Ok(spec)
     }
 
     /// Parse model-file text.
@@ -220,20 +255,99 @@ impl ModelSpec {
         let vehicle = match self.vehicle {
             VehicleKind::PointMass => Vehicle::PointMass,
             VehicleKind::FixedWing => {
-                Vehicle::FixedWing(Box::new(FixedWingParams::load(&self.aircraft)?))
+                Vehicle::FixedWing(Box::new(FixedWingParams::load(&self.aircraft_source())?))
             }
         };
-        let span = vehicle.span();
         let mut model = Model::new(vehicle, origin);
+        let ctx = model.effect_context();
         for e in &self.effects {
-            let mut effect = catalogue_effect(&e.name, &origin, span)
-                .with_context(|| format!("unknown effect `{}`", e.name))?;
-            for (k, v) in &e.params {
-                effect.set_param(k, *v).map_err(anyhow::Error::msg)?;
-            }
+            let effect = e.build(&ctx).map_err(anyhow::Error::msg)?;
             model.add_effect(effect).map_err(anyhow::Error::msg)?;
         }
         Ok(model)
+    }
+
+    /// The parameter set to load: a built-in name as it is; a relative file path resolved
+    /// from [`base_dir`](Self::base_dir) when the file is there (else as given, from the
+    /// working directory).
+    pub fn aircraft_source(&self) -> String {
+        let given = Path::new(&self.aircraft);
+        if let Some(dir) = &self.base_dir {
+            let looks_like_file = self.aircraft.ends_with(".toml") || self.aircraft.contains('/');
+            if looks_like_file && given.is_relative() {
+                let beside = dir.join(given);
+                if beside.exists() {
+                    return beside.to_string_lossy().into_owned();
+                }
+            }
+        }
+        self.aircraft.clone()
+    }
+}
+
+/// Which flight model to run against a flight: a model file, or the vehicle (and aircraft)
+/// of the data's metadata or given explicitly; plus effects by name.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ModelChoice {
+    /// Model file (TOML).
+    pub model_file: Option<PathBuf>,
+    /// Vehicle family, overriding the data's `# vehicle:`.
+    pub vehicle: Option<VehicleKind>,
+    /// Parameter set (name or file), overriding the data's `# aircraft:`.
+    pub aircraft: Option<String>,
+    /// Effects in the model, comma-separated (`--effects a,b`).
+    pub effects: Option<String>,
+}
+
+impl ModelChoice {
+    /// The model for the flight `data` read from `data_path`: the choice's, with the origin
+    /// from the data's metadata. Relative paths in the metadata are resolved from the data
+    /// file's directory.
+    ///
+    /// # Errors
+    /// No vehicle known, bad model file or parameter set, unknown effects, a fixed-wing
+    /// model for data without controls.
+    pub fn build(&self, data_path: &Path, data: &FlightData) -> anyhow::Result<Model> {
+        let mut spec = match &self.model_file {
+            Some(path) => ModelSpec::load(path)?,
+            None => {
+                let vehicle = self.vehicle.or(data.meta.vehicle).with_context(|| {
+                    format!(
+                        "{}: no `# vehicle:` metadata; say which model with --vehicle or \
+                         --model FILE",
+                        data_path.display()
+                    )
+                })?;
+                let mut s = ModelSpec::baseline(vehicle);
+                if let Some(a) = &data.meta.aircraft {
+                    s.aircraft = a.clone();
+                    s.base_dir = data_path.parent().map(Path::to_path_buf);
+                }
+                s
+            }
+        };
+        if let Some(a) = &self.aircraft {
+            spec.aircraft = a.clone();
+            spec.base_dir = None;
+        }
+        if let Some(list) = &self.effects {
+            spec.add_effect_list(list).map_err(anyhow::Error::msg)?;
+        }
+        let origin = Origin {
+            latitude_deg: data
+                .meta
+                .latitude_deg
+                .unwrap_or(Origin::default().latitude_deg),
+            longitude_deg: data.meta.longitude_deg.unwrap_or(0.0),
+            altitude_m: data.meta.altitude_m.unwrap_or(0.0),
+        };
+        if spec.vehicle == VehicleKind::FixedWing && data.controls.is_none() {
+            bail!(
+                "{}: a fixed-wing model needs the control columns",
+                data_path.display()
+            );
+        }
+        spec.build(origin).context("building the model")
     }
 }
 
@@ -258,7 +372,10 @@ mod tests {
         .unwrap();
         let m = spec.build(Origin::default()).unwrap();
         assert_eq!(m.effect_names(), ["wind", "actuator_lag"]);
-        assert_eq!(m.effects[0].wind_ned(), glam::DVec3::new(5.0, -1.0, 0.0));
+        assert_eq!(
+            m.effects[0].wind_at(glam::DVec3::ZERO, 0.0),
+            glam::DVec3::new(5.0, -1.0, 0.0)
+        );
         assert_eq!(m.origin.latitude_deg, 10.0);
     }
 

@@ -39,7 +39,7 @@ fn build(model: &Model, z: &[f64; N], va: f64, yaw: f64, pos: DVec3) -> (State, 
             beta.sin(),
             alpha.sin() * beta.cos(),
         );
-    let wind: DVec3 = model.effects.iter().map(|e| e.wind_ned()).sum();
+    let wind = model.wind_at(pos, 0.0);
     x.set_vel(v_air + attitude.to_matrix().transpose() * wind);
     x.set_surfaces(DVec3::new(de, da, dr));
     let cmd = Controls {
@@ -173,7 +173,7 @@ mod tests {
         }))
         .unwrap();
         let t = trim_level(&m, 25.0, 0.0, DVec3::new(0.0, 0.0, -100.0)).unwrap();
-        assert!((m.air_data(&t.state).airspeed - 25.0).abs() < 1e-9);
+        assert!((m.air_data(0.0, &t.state).airspeed - 25.0).abs() < 1e-9);
         let ground_vel = t.state.rot() * t.state.vel();
         assert!(
             (ground_vel - DVec3::new(25.0 * 0.0f64.cos() + 5.0, -3.0, 0.0)).length() < 0.05,

@@ -240,6 +240,18 @@ pub fn load(path: &Path) -> Result<EdgeMesh, MeshError> {
     }
 }
 
+/// The mesh named on the command line: `plane` is the built-in aircraft, anything else a
+/// file (see [`load`]).
+///
+/// # Errors
+/// Loading errors naming the file.
+pub fn load_named(name: &str) -> Result<EdgeMesh, MeshError> {
+    if name == "plane" {
+        return Ok(plane::builtin_plane());
+    }
+    load(Path::new(name))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,9 +8,9 @@
 
 use std::f32::consts::{PI, TAU};
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
-use super::{EdgeMesh, EdgeMeshBuilder};
+use super::{EdgeMesh, EdgeMeshBuilder, MeshProblem};
 
 /// Size of the world.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -92,25 +92,49 @@ impl World {
     }
 }
 
-/// A square grid at z = 0 from `−half` to `half` in x and y with cells of `spacing`; every cell
-/// side is its own edge, so the clipper sees each short piece (and clips those crossing the
-/// near, far and side planes).
+/// A square grid at z = 0 from `−half` to `half` in x and y with cells of about `spacing`
+/// (a whole number of them).
 pub fn ground_grid(half: f32, spacing: f32) -> EdgeMesh {
-    let n = (2.0 * half / spacing).round().max(1.0) as i32;
+    let n = (2.0 * half / spacing).round().max(1.0) as u32;
     let step = 2.0 * half / n as f32;
-    let p = |i: i32, j: i32| Vec3::new(-half + i as f32 * step, -half + j as f32 * step, 0.0);
+    grid_cells(Vec2::splat(-half), step, n, n).expect("a finite, positive grid has edges")
+}
+
+/// The ground grid under a flight: covering the rectangle `min..max` (x, y) plus a margin of a
+/// quarter of its larger side (at least 50 m), with about `cells` cells along that side.
+///
+/// # Errors
+/// Bounds that are not finite, or so large that a cell would not be distinguishable from its
+/// neighbours in `f32` (the grid would be degenerate).
+pub fn grid_around(min: Vec2, max: Vec2, cells: u32) -> Result<EdgeMesh, MeshProblem> {
+    let margin = 0.25 * (max - min).max_element().max(200.0);
+    let (lo, hi) = (min - margin, max + margin);
+    let step = ((hi - lo).max_element() / cells.max(1) as f32).max(1.0);
+    let nx = ((hi.x - lo.x) / step).ceil();
+    let ny = ((hi.y - lo.y) / step).ceil();
+    if !(nx.is_finite() && ny.is_finite() && lo.is_finite()) {
+        return Err(MeshProblem::NonFinite(lo.extend(0.0)));
+    }
+    grid_cells(lo, step, nx as u32, ny as u32)
+}
+
+/// `nx` × `ny` square cells of side `step` at z = 0, from corner `lo`. Every cell side is its
+/// own edge, so the clipper sees each short piece (and clips those crossing the near, far and
+/// side planes).
+fn grid_cells(lo: Vec2, step: f32, nx: u32, ny: u32) -> Result<EdgeMesh, MeshProblem> {
+    let p = |i: u32, j: u32| Vec3::new(lo.x + i as f32 * step, lo.y + j as f32 * step, 0.0);
     let mut b = EdgeMeshBuilder::new();
-    for i in 0..=n {
-        for j in 0..=n {
-            if i < n {
-                b.edge_between(p(i, j), p(i + 1, j)).expect("finite grid");
+    for i in 0..=nx {
+        for j in 0..=ny {
+            if i < nx {
+                b.edge_between(p(i, j), p(i + 1, j))?;
             }
-            if j < n {
-                b.edge_between(p(i, j), p(i, j + 1)).expect("finite grid");
+            if j < ny {
+                b.edge_between(p(i, j), p(i, j + 1))?;
             }
         }
     }
-    b.build().expect("the grid has edges")
+    b.build()
 }
 
 /// A runway along X centred on the origin, at z = 0: outline, threshold bars at both ends,

@@ -9,11 +9,15 @@
 //!   lavapipe included).
 //! * [`svg`]: the exact segments as vector lines.
 //!
-//! Files are written atomically ([`write_atomic`]).
+//! [`Rasterizer`] picks a backend at run time. Writing pictures to files is
+//! [`crate::output`]'s job.
 
 pub mod cpu;
 pub mod gpu;
+pub mod rasterizer;
 pub mod svg;
+
+pub use rasterizer::{Backend, OutputFormat, Rasterizer};
 
 use glam::Vec2;
 
@@ -56,17 +60,6 @@ impl LineScene {
     pub fn segment_count(&self) -> usize {
         self.batches.iter().map(|b| b.segments.len()).sum()
     }
-}
-
-/// Default colours of the viewer: night-sky background, phosphor-green model.
-pub mod palette {
-    use super::Rgba;
-    /// Background.
-    pub const BACKGROUND: Rgba = [8, 12, 24, 255];
-    /// The aircraft.
-    pub const MODEL: Rgba = [80, 255, 120, 255];
-    /// Secondary lines (ground grid, trails).
-    pub const GRID: Rgba = [40, 90, 140, 255];
 }
 
 /// An RGBA8 image, rows top to bottom, tightly packed (`width * 4` bytes per row).

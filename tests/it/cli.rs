@@ -3,11 +3,11 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use wireflight::app::render::{frame, ViewSpec};
 use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::Image;
+use wireflight::scene::{frame, ViewSpec};
 
 fn wireflight(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wireflight"))

@@ -4,16 +4,15 @@
 //! reference, and the whole pipeline on the built-in plane. Every property is checked for both
 //! depth ranges.
 
-
-use glam::{Mat4, Vec2, Vec3, Vec4};
 use crate::support::{
     assert_close, distance_from_line, edge_scale, inside_margin, recover_t, reference_ranges,
     to_f64, Rng, DEPTHS,
 };
+use glam::{Mat4, Vec2, Vec3, Vec4};
 use wireflight::camera::{Camera, CameraPreset, Projection, Subject};
 use wireflight::clip::{
-    boundary_coords, clip_edge, is_inside, outcode, plane, ClipOutcome, ClipStats, DepthRange,
-    PLANE_COUNT,
+    boundary_coords, clip_edge, is_inside, outcode, plane, ClipOutcome, ClipStats, Clipper,
+    DepthRange, PLANE_COUNT,
 };
 use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
@@ -1052,7 +1051,12 @@ fn project_plane(
     let clip_from_model: Mat4 =
         camera.clip_from_world(viewport.aspect(), depth) * model_matrix(subject.position, attitude);
     let mut out = Vec::new();
-    let stats = EdgeProjector::new().project(&mesh, clip_from_model, depth, viewport, &mut out);
+    let stats = EdgeProjector::new(Clipper::Blinn, depth).project(
+        &mesh,
+        clip_from_model,
+        viewport,
+        &mut out,
+    );
     (out, stats, mesh.edges().len())
 }
 

@@ -2,11 +2,10 @@
 //! round trips (random and on a 15° grid), gimbal lock, the seed's body axes, and the aerospace
 //! (NED/FRD) conversion.
 
-
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use glam::{DMat3, DVec3, EulerRot};
 use crate::support::{angle_distance, assert_close, wrap_angle, Rng};
+use glam::{DMat3, DVec3, EulerRot};
 use wireflight::euler::{
     ned_from_viewer, rot_x, rot_y, rot_z, viewer_from_ned, EulerZyx, Gimbal, GIMBAL_LOCK_COS,
 };

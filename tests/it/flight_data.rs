@@ -1,7 +1,6 @@
 //! Flight-data CSV: the shared JSBSim sample, every kind of bad file, round trips, JSBSim's own
 //! output, unit variants, and random input (which must never panic).
 
-
 use glam::DVec3;
 use proptest::prelude::*;
 use wireflight::euler::EulerZyx;

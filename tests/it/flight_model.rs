@@ -4,8 +4,8 @@ use glam::DVec3;
 
 use wireflight::euler::EulerZyx;
 use wireflight::flight::effects::{
-    catalogue_effect, isa_density, DensityAltitude, Drag, EarthRotation, GravityModel, Origin,
-    Wind, CATALOGUE,
+    catalogue_effect, isa_density, DensityAltitude, Drag, EarthRotation, EffectContext,
+    GravityModel, Origin, Wind, CATALOGUE,
 };
 use wireflight::flight::model::{Model, State, Vehicle};
 use wireflight::flight::params::FixedWingParams;
@@ -127,8 +127,13 @@ fn gravity_model_and_coriolis_enter_the_point_mass_equations() {
 fn effects_are_rejected_on_the_wrong_vehicle_and_twice() {
     let mut pm = point_mass();
     let mut fw = aerosonde();
-    for name in CATALOGUE {
-        let e = catalogue_effect(name, &Origin::default(), 2.9).unwrap();
+    let ctx = EffectContext {
+        origin: Origin::default(),
+        span_m: 2.9,
+    };
+    for info in CATALOGUE {
+        let name = info.name;
+        let e = catalogue_effect(name, &ctx).unwrap();
         let for_pm = e.applies_to(VehicleKind::PointMass);
         assert_eq!(pm.add_effect(e.clone()).is_ok(), for_pm, "{name}");
         assert_eq!(
@@ -163,7 +168,7 @@ fn trimmed_aerosonde_flies_level_for_60_s() {
         "height {}",
         -x.pos_ned().z
     );
-    assert!((m.air_data(&x).airspeed - 25.0).abs() < 0.05);
+    assert!((m.air_data(0.0, &x).airspeed - 25.0).abs() < 0.05);
     for (a, b) in [(e.yaw, e0.yaw), (e.pitch, e0.pitch), (e.roll, e0.roll)] {
         assert!((a - b).abs().to_degrees() < 0.1, "{e:?} vs {e0:?}");
     }

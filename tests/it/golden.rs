@@ -6,13 +6,14 @@
 
 use std::path::PathBuf;
 
-use wireflight::app::render::{frame, ViewSpec};
 use wireflight::camera::CameraPreset;
 use wireflight::clip::{ClipStats, DepthRange};
 use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, palette, Image};
+use wireflight::render::{cpu, Image};
+use wireflight::scene::palette;
+use wireflight::scene::{frame, ViewSpec};
 
 fn spec(yaw: f64, pitch: f64, roll: f64, camera: CameraPreset) -> ViewSpec {
     ViewSpec {

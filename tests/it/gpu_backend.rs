@@ -12,13 +12,14 @@
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use glam::Vec2;
-use wireflight::app::render::{frame, ViewSpec};
 use wireflight::camera::CameraPreset;
 use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::gpu::GpuRenderer;
-use wireflight::render::{cpu, palette, Image, LineBatch, LineScene, Rgba, Segment2};
+use wireflight::render::{cpu, Image, LineBatch, LineScene, Rgba, Segment2};
+use wireflight::scene::palette;
+use wireflight::scene::{frame, ViewSpec};
 
 /// Least fraction of lit pixels with a lit pixel of the other image within one pixel.
 const MIN_AGREEMENT: f64 = 0.97;
@@ -260,7 +261,7 @@ fn border_point(rng: &mut SplitMix, width: u32, height: u32) -> Vec2 {
 /// Long lines from border to border in three colours, plus shorter ones inside the frame.
 fn crossing_lines(width: u32, height: u32, lines: usize, seed: u64) -> LineScene {
     let mut rng = SplitMix(seed);
-    let colours: [Rgba; 3] = [palette::GRID, [255, 200, 60, 255], palette::MODEL];
+    let colours: [Rgba; 3] = [palette::GRID, [255, 200, 60, 255], palette::AIRCRAFT];
     let batches = colours
         .iter()
         .map(|&color| LineBatch {
@@ -313,7 +314,7 @@ fn many_long_lines_crossing_the_frame_match_the_cpu() {
         height: 300,
         background: palette::BACKGROUND,
         batches: vec![LineBatch {
-            color: palette::MODEL,
+            color: palette::AIRCRAFT,
             segments: (0..4)
                 .map(|i| Segment2 {
                     a: corners[i],
@@ -323,7 +324,7 @@ fn many_long_lines_crossing_the_frame_match_the_cpu() {
         }],
     };
     let image = assert_backends_agree("frame_border", &mut gpu, &border);
-    let lit = |x, y| image.pixel(x, y) == palette::MODEL;
+    let lit = |x, y| image.pixel(x, y) == palette::AIRCRAFT;
     let right = (1..299).filter(|&y| lit(399, y)).count();
     let bottom = (1..399).filter(|&x| lit(x, 299)).count();
     assert!(
@@ -372,7 +373,7 @@ fn readback_strips_row_padding() {
         height,
         background: palette::BACKGROUND,
         batches: vec![LineBatch {
-            color: palette::MODEL,
+            color: palette::AIRCRAFT,
             segments: vec![
                 Segment2 {
                     a: Vec2::new(0.0, 100.5),
@@ -392,7 +393,7 @@ fn readback_strips_row_padding() {
     let image = assert_backends_agree("padding_lines_333x201", &mut gpu, &scene);
     for y in 0..height {
         let row: Vec<u32> = (0..width)
-            .filter(|&x| image.pixel(x, y) == palette::MODEL)
+            .filter(|&x| image.pixel(x, y) == palette::AIRCRAFT)
             .collect();
         if y == 100 {
             assert!(
@@ -426,7 +427,7 @@ fn empty_scene_is_the_background() {
         height: 3,
         background: [8, 12, 24, 255],
         batches: vec![LineBatch {
-            color: palette::MODEL,
+            color: palette::AIRCRAFT,
             segments: vec![],
         }],
     };
@@ -461,7 +462,7 @@ fn cli_renders_on_the_gpu_and_names_the_adapter() {
     let lit = image
         .pixels
         .chunks_exact(4)
-        .filter(|p| *p == palette::MODEL)
+        .filter(|p| *p == palette::AIRCRAFT)
         .count();
     assert!(lit > 100, "only {lit} model pixels");
 }

@@ -187,8 +187,8 @@ fn plane_gltf_is_the_builtin_plane() {
 }
 
 #[test]
-fn load_model_dispatches_plane_and_files() {
-    use wireflight::app::render::load_model;
+fn load_named_dispatches_plane_and_files() {
+    use wireflight::mesh::load_named as load_model;
     assert_eq!(load_model("plane").unwrap(), builtin_plane());
     let m = load_model(asset("plane.obj").to_str().unwrap()).unwrap();
     assert_same_edges(&m, &builtin_plane(), 1e-6);

@@ -3,15 +3,16 @@
 //!
 //! The file is `tests/data/jsbsim-mk82.csv` (source in `tests/data/README.md`).
 
-
-use wireflight::app::replay::FlightScene;
+use wireflight::clip::Clipper;
 use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::{DensityAltitude, Drag, Origin};
 use wireflight::flight::model::{Model, State, Vehicle};
 use wireflight::flight::{Controls, VehicleKind};
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, palette};
+use wireflight::render::cpu;
+use wireflight::scene::palette;
+use wireflight::scene::replay::ReplayScene;
 
 use crate::support::mk82;
 
@@ -36,7 +37,7 @@ fn mk82_reads_renders_and_simulates() {
 
     // Draw a replay frame: the aircraft and its trail are on screen.
     let mesh = builtin_plane();
-    let mut scene = FlightScene::new(&d, &mesh).unwrap();
+    let mut scene = ReplayScene::new(&d, &mesh, Clipper::Blinn).unwrap();
     let (lines, stats) = scene.frame(
         20.0,
         Viewport {

@@ -5,7 +5,7 @@
 use glam::Vec2;
 
 use wireflight::analysis::compare::{compare, CompareConfig};
-use wireflight::app::replay::{FlightScene, ModelTrack, ERROR_STRIP, MODEL_AIRCRAFT, TRAIL};
+use wireflight::clip::Clipper;
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
@@ -13,7 +13,10 @@ use wireflight::flight::spec::{EffectSpec, ModelSpec};
 use wireflight::flight::VehicleKind;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, palette, Image, Rgba};
+use wireflight::render::{cpu, Image, Rgba};
+use wireflight::scene::palette::{self, ERROR_STRIP, MODEL_AIRCRAFT, TRAIL};
+use wireflight::scene::replay::ReplayScene;
+use wireflight::scene::track::ModelTrack;
 
 const VIEW: Viewport = Viewport {
     width: 480,
@@ -44,12 +47,6 @@ fn model_aircraft_drifts_without_the_effect_and_flies_on_top_with_it() {
         .effects
         .push(EffectSpec::parse("wind:north_mps=6,east_mps=-4").unwrap());
     let spec = SimSpec {
-        manoeuvre: Manoeuvre::ClimbingTurn,
-        duration_s: 30.0,
-        rate_hz: 50.0,
-        airspeed_mps: 25.0,
-        launch_speed_mps: 150.0,
-        height_m: 200.0,
         noise: Noise {
             pos_m: 0.2,
             att_deg: 0.1,
@@ -57,9 +54,7 @@ fn model_aircraft_drifts_without_the_effect_and_flies_on_top_with_it() {
             rate_dps: 0.2,
         },
         seed: 5,
-        source: "tests/overlay.rs".into(),
-        aircraft: Some("aerosonde".into()),
-        listed_effects: Vec::new(),
+        ..SimSpec::new(Manoeuvre::ClimbingTurn, 30.0)
     };
     let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
     let mesh = builtin_plane();
@@ -74,10 +69,12 @@ fn model_aircraft_drifts_without_the_effect_and_flies_on_top_with_it() {
         let comparison = compare(&model, &data, cfg);
         let track = ModelTrack::from_comparison(&data, &comparison).unwrap();
         assert_eq!(track.window_starts, [0, 500, 1000]);
-        let mut scene = FlightScene::new(&data, &mesh).unwrap().with_model(track);
+        let mut scene = ReplayScene::new(&data, &mesh, Clipper::Blinn)
+            .unwrap()
+            .with_model(track);
         let (lines, _) = scene.frame(19.0, VIEW);
-        let image = cpu::render(&lines);
-        let (measured, n_measured) = pixels_of(&image, palette::MODEL);
+        let image = cpu::render(lines);
+        let (measured, n_measured) = pixels_of(&image, palette::AIRCRAFT);
         let (modelled, n_modelled) = pixels_of(&image, MODEL_AIRCRAFT);
         let (_, n_strip) = pixels_of(&image, ERROR_STRIP);
         let (_, n_trail) = pixels_of(&image, TRAIL);

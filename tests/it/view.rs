@@ -12,19 +12,18 @@ use std::time::{Duration, Instant};
 
 use std::sync::Arc;
 
-use wireflight::app::analyze::load_data_and_model;
-use wireflight::app::cli::ModelArgs;
-use wireflight::app::replay::{MODEL_AIRCRAFT, MODEL_TRAIL};
 use wireflight::app::view::cameras::CameraMode;
 use wireflight::app::view::compare::{Compare, Fit};
 use wireflight::app::view::flight::Start;
-use wireflight::app::view::scene::batch;
 use wireflight::app::view::script;
 use wireflight::app::view::session::{Held, Session};
 use wireflight::euler::Gimbal;
+use wireflight::flight::spec::ModelChoice;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
-use wireflight::render::{palette, Image, Rgba};
+use wireflight::render::{Image, Rgba};
+use wireflight::scene::builder::Part;
+use wireflight::scene::palette::{self, MODEL_AIRCRAFT, MODEL_TRAIL};
 
 const WINDOW_TIMEOUT: Duration = Duration::from_secs(300);
 
@@ -139,7 +138,14 @@ fn scripted_window_run_shows_the_plane_and_the_grid_deterministically() {
     );
 
     // The aircraft (model colour) in the middle third of the picture.
-    let plane = count(&image, w / 3, h / 3, 2 * w / 3, 2 * h / 3, palette::MODEL);
+    let plane = count(
+        &image,
+        w / 3,
+        h / 3,
+        2 * w / 3,
+        2 * h / 3,
+        palette::AIRCRAFT,
+    );
     assert!(plane > 200, "{plane} model-colour pixels near the centre");
     // The ground grid, and not a blank or black frame.
     let grid = count(&image, 0, 0, w, h, palette::GRID);
@@ -249,7 +255,7 @@ fn looping_through_the_vertical_clips_every_frame_and_reports_gimbal_lock() {
         );
         locked += usize::from(r.gimbal != Gimbal::Free);
         // The chase camera keeps the whole aircraft in the picture all the way round.
-        let plane = &s.scene().batches[batch::PLANE].segments;
+        let plane = &s.scene().batches[s.builder().batch(Part::Aircraft)].segments;
         assert_eq!(plane.len(), plane_edges, "frame {frame}");
     }
     assert!(min_clipped > 0, "some edge is clipped in every frame");
@@ -303,15 +309,8 @@ fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
 fn compare_mode_ticking_the_fitted_wind_makes_the_error_fall() {
     let dir = tempfile::tempdir().unwrap();
     let path = windy_flight(dir.path(), 40.0);
-    let (data, base) = load_data_and_model(
-        &path,
-        &ModelArgs {
-            model: None,
-            effects: None,
-            add: Vec::new(),
-        },
-    )
-    .unwrap();
+    let data = wireflight::flight::data::read(&path).unwrap();
+    let base = ModelChoice::default().build(&path, &data).unwrap();
     let data = Arc::new(data);
     let compare = Compare::new(Arc::clone(&data), base, &[]).unwrap();
     assert!(
@@ -346,10 +345,20 @@ fn compare_mode_ticking_the_fitted_wind_makes_the_error_fall() {
     }
     s.build(viewport);
     let scene = s.scene();
-    assert!(!scene.batches[batch::MODEL_PLANE].segments.is_empty());
-    assert!(!scene.batches[batch::MODEL_TRAIL].segments.is_empty());
-    assert_eq!(scene.batches[batch::MODEL_PLANE].color, MODEL_AIRCRAFT);
-    assert_eq!(scene.batches[batch::MODEL_TRAIL].color, MODEL_TRAIL);
+    assert!(!scene.batches[s.builder().batch(Part::ModelAircraft)]
+        .segments
+        .is_empty());
+    assert!(!scene.batches[s.builder().batch(Part::ModelTrail)]
+        .segments
+        .is_empty());
+    assert_eq!(
+        scene.batches[s.builder().batch(Part::ModelAircraft)].color,
+        MODEL_AIRCRAFT
+    );
+    assert_eq!(
+        scene.batches[s.builder().batch(Part::ModelTrail)].color,
+        MODEL_TRAIL
+    );
 
     // Ticking `wind` before the fit is in: the default (zero) wind changes nothing.
     let c = s.compare_mut().unwrap();
@@ -442,7 +451,7 @@ fn compare_window_run_shows_both_aircraft() {
     assert!(stdout.contains("compare: base model total"), "{stdout}");
     let image = Image::decode_png(&std::fs::read(&shot).expect("the screenshot exists")).unwrap();
     let (w, h) = (image.width, image.height);
-    let measured = count(&image, 0, 0, w, h, palette::MODEL);
+    let measured = count(&image, 0, 0, w, h, palette::AIRCRAFT);
     let model = count(&image, 0, 0, w, h, MODEL_AIRCRAFT);
     let model_trail = count(&image, 0, 0, w, h, MODEL_TRAIL);
     assert!(measured > 200, "{measured} measured-aircraft pixels");

@@ -18,11 +18,11 @@ use crate::analysis::compare::{
     compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
 };
 use crate::analysis::diagnose::{diagnose, DiagnoseConfig, Diagnosis};
-use crate::app::replay::ModelTrack;
 use crate::flight::data::FlightData;
-use crate::flight::effects::{catalogue_effect, Effect, Param, CATALOGUE};
+use crate::flight::effects::{Effect, Param, CATALOGUE};
 use crate::flight::model::Model;
 use crate::flight::spec::EffectSpec;
+use crate::scene::track::ModelTrack;
 
 /// Columns of the precomputed error-over-time curve (the window's plot scales it).
 pub const ERROR_BINS: usize = 600;
@@ -162,10 +162,12 @@ impl Compare {
         start_fit: bool,
     ) -> anyhow::Result<Self> {
         let kind = base.vehicle.kind();
+        let ctx = base.effect_context();
         let mut rows: Vec<EffectRow> = CATALOGUE
             .iter()
-            .filter_map(|&name| {
-                let default = catalogue_effect(name, &base.origin, base.vehicle.span())?;
+            .filter_map(|info| {
+                let name = info.name;
+                let default = info.build(&ctx);
                 default.applies_to(kind).then(|| EffectRow {
                     name,
                     on: base.has_effect(name),
@@ -191,12 +193,8 @@ impl Compare {
                     spec.name
                 );
             }
-            let mut check = row.default.clone();
-            for (k, v) in &spec.params {
-                check
-                    .set_param(k, *v)
-                    .map_err(|e| anyhow::anyhow!("--add {text}: {e}"))?;
-            }
+            spec.build(&ctx)
+                .map_err(|e| anyhow::anyhow!("--add {text}: {e}"))?;
             row.on = true;
             row.fixed = spec.params;
         }

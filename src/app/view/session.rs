@@ -10,16 +10,16 @@ use glam::{DQuat, DVec3, Vec3};
 use super::cameras::{CameraMode, CameraRig, Target};
 use super::compare::Compare;
 use super::flight::{Controls, Kinematic, Start};
-use super::scene::{FrameSpec, ModelFrame, SceneBuilder};
 use super::script::{Player, Script};
-use crate::app::replay::{pose_at, ModelTrack};
-use crate::clip::ClipStats;
+use crate::clip::{ClipStats, Clipper};
 use crate::euler::{viewer_from_ned, EulerZyx, Gimbal};
 use crate::flight::data::FlightData;
-use crate::mesh::world::WorldSpec;
+use crate::mesh::world::{World, WorldSpec};
 use crate::mesh::EdgeMesh;
 use crate::pipeline::Viewport;
 use crate::render::LineScene;
+use crate::scene::builder::{FrameSpec, Layer, SceneBuilder};
+use crate::scene::track::{model_frame, pose_at};
 
 /// Pitch rate commanded by the pitch keys, degrees/s.
 pub const KEY_PITCH_RATE: f64 = 45.0;
@@ -230,7 +230,11 @@ impl Session {
             source,
             rig: CameraRig::new(CameraMode::Chase, fov_y),
             paused: false,
-            builder: SceneBuilder::new(plane, &WorldSpec::default()),
+            builder: SceneBuilder::new(
+                plane,
+                Layer::world(World::new(&WorldSpec::default())),
+                Clipper::Blinn,
+            ),
             trail: Vec::new(),
             trail_clock: 0.0,
             initial_camera: camera,
@@ -417,7 +421,7 @@ impl Session {
 
     /// The aircraft as the cameras see it.
     pub fn target(&self) -> Target {
-        let (centre, radius) = self.builder.plane().bounding_sphere();
+        let (centre, radius) = self.builder.aircraft().bounding_sphere();
         Target {
             position: self.pose().0,
             orientation: self.orientation(),
@@ -444,8 +448,8 @@ impl Session {
         self.builder.build(&FrameSpec {
             camera: &camera,
             viewport,
-            plane_position: position.as_vec3(),
-            plane_attitude: attitude,
+            aircraft_position: position.as_vec3(),
+            aircraft_attitude: attitude,
             ground_z,
             trail,
             model,
@@ -455,6 +459,21 @@ impl Session {
     /// The last frame built.
     pub fn scene(&self) -> &LineScene {
         self.builder.scene()
+    }
+
+    /// The scene builder (its layers, batch indices and clipper).
+    pub fn builder(&self) -> &SceneBuilder {
+        &self.builder
+    }
+
+    /// The clipper in use.
+    pub fn clipper(&self) -> Clipper {
+        self.builder.clipper()
+    }
+
+    /// Clip with another algorithm from the next frame on.
+    pub fn set_clipper(&mut self, clipper: Clipper) {
+        self.builder.set_clipper(clipper);
     }
 
     /// Edges clipped per frame apart from the trail.
@@ -501,95 +520,10 @@ impl Session {
     }
 }
 
-/// The model's aircraft at time `t`: position and attitude interpolated between its samples
-/// (not across a restart), its trail up to there.
-pub fn model_frame(track: &ModelTrack, t: f64) -> ModelFrame<'_> {
-    let n = track
-        .path
-        .len()
-        .min(track.attitude.len())
-        .min(track.time.len());
-    if n == 0 {
-        return ModelFrame {
-            position: Vec3::ZERO,
-            attitude: EulerZyx::default(),
-            trail: &[],
-            breaks: &[],
-        };
-    }
-    let k = track.time[..n].partition_point(|&s| s <= t).clamp(1, n) - 1;
-    let next = k + 1;
-    let restart = track.window_starts.binary_search(&next).is_ok();
-    let (position, attitude) = if next < n && !restart && t > track.time[k] {
-        let span = track.time[next] - track.time[k];
-        let f = if span > 0.0 {
-            ((t - track.time[k]) / span).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let q = |e: EulerZyx| DQuat::from_mat3(&e.to_matrix());
-        let q = q(track.attitude[k]).slerp(q(track.attitude[next]), f);
-        (
-            track.path[k].lerp(track.path[next], f as f32),
-            EulerZyx::from_matrix(glam::DMat3::from_quat(q)).0,
-        )
-    } else {
-        (track.path[k], track.attitude[k])
-    };
-    ModelFrame {
-        position,
-        attitude,
-        trail: &track.path[..=k],
-        breaks: &track.window_starts,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mesh::plane::builtin_plane;
-
-    /// Four samples a second apart, the model restarted at the third.
-    fn track() -> ModelTrack {
-        ModelTrack {
-            time: vec![0.0, 1.0, 2.0, 3.0],
-            path: vec![
-                Vec3::ZERO,
-                Vec3::X * 10.0,
-                Vec3::new(20.0, 5.0, 0.0),
-                Vec3::new(30.0, 5.0, 0.0),
-            ],
-            attitude: vec![
-                EulerZyx::default(),
-                EulerZyx::new(0.2, 0.0, 0.0),
-                EulerZyx::default(),
-                EulerZyx::default(),
-            ],
-            window_starts: vec![0, 2],
-            error_m: vec![0.0; 4],
-            strip_scale_m: 1.0,
-        }
-    }
-
-    #[test]
-    fn the_model_aircraft_moves_between_samples_but_not_across_a_restart() {
-        let t = track();
-        let m = model_frame(&t, 0.5);
-        assert_eq!(m.position, Vec3::X * 5.0);
-        assert!((m.attitude.yaw - 0.1).abs() < 1e-9, "{:?}", m.attitude);
-        assert_eq!(m.trail.len(), 1);
-        // Between the last sample of a window and the restart: held, not slid across.
-        let m = model_frame(&t, 1.5);
-        assert_eq!(m.position, Vec3::X * 10.0);
-        assert_eq!(m.trail.len(), 2);
-        assert_eq!(m.breaks, [0, 2]);
-        let m = model_frame(&t, 2.5);
-        assert_eq!(m.position, Vec3::new(25.0, 5.0, 0.0));
-        // Before the start and after the end: the end samples.
-        assert_eq!(model_frame(&t, -1.0).position, Vec3::ZERO);
-        assert_eq!(model_frame(&t, 9.0).position, Vec3::new(30.0, 5.0, 0.0));
-        assert_eq!(model_frame(&t, 9.0).trail.len(), 4);
-    }
 
     #[test]
     fn keys_fly_and_pause_stops_time() {
@@ -652,5 +586,109 @@ mod tests {
         assert!(r.angles.roll.abs() < 1e-9, "keys ignored: {r:?}");
         assert!((r.angles.pitch.to_degrees() + 10.0).abs() < 1e-6, "{r:?}");
         assert_eq!(a.rig.mode, CameraMode::Orbit);
+    }
+
+    #[test]
+    fn a_chase_frame_over_the_field_clips_against_near_far_and_sides() {
+        use crate::scene::builder::{ModelFrame, Part};
+        use crate::scene::palette;
+        use glam::DQuat;
+        let mut b = SceneBuilder::new(
+            builtin_plane(),
+            Layer::world(World::new(&WorldSpec::default())),
+            Clipper::Blinn,
+        );
+        let (centre, radius) = b.aircraft().bounding_sphere();
+        let position = Vec3::new(-1500.0, 0.0, 150.0);
+        let target = Target {
+            position: position.as_dvec3(),
+            orientation: DQuat::IDENTITY,
+            centre,
+            radius,
+        };
+        let mut rig = CameraRig::new(CameraMode::Chase, 55f32.to_radians());
+        rig.follow(&target, 0.0);
+        let camera = rig.camera(&target);
+        let viewport = Viewport {
+            width: 640,
+            height: 360,
+        };
+        let trail = [Vec3::new(-1600.0, 0.0, 150.0)];
+        let stats = b.build(&FrameSpec {
+            camera: &camera,
+            viewport,
+            aircraft_position: position,
+            aircraft_attitude: EulerZyx::default(),
+            ground_z: 0.0,
+            trail: &trail,
+            model: None,
+        });
+        assert_eq!(stats.edges_in as usize, b.edges_per_frame() + 1);
+        assert!(stats.clipped > 50, "{stats}");
+        assert!(stats.trivially_rejected > 1000, "{stats}");
+        assert!(stats.trivially_accepted > 100, "{stats}");
+        let scene = b.scene();
+        assert_eq!((scene.width, scene.height), (640, 360));
+        assert_eq!(
+            scene.batches[b.batch(Part::Aircraft)].segments.len(),
+            b.aircraft().edges().len(),
+            "the whole aircraft is in view"
+        );
+        assert!(!scene.batches[0].segments.is_empty());
+        assert!(!scene.batches[1].segments.is_empty());
+        assert_eq!(scene.batches[b.batch(Part::Trail)].segments.len(), 1);
+        // Every segment lies in the image (the clipper's job).
+        for s in scene.batches.iter().flat_map(|b| &b.segments) {
+            for p in [s.a, s.b] {
+                assert!(
+                    (-0.01..=640.01).contains(&p.x) && (-0.01..=360.01).contains(&p.y),
+                    "{p}"
+                );
+            }
+        }
+        // The horizon is level and above the middle of the picture seen from behind and above.
+        let h = &scene.batches[1].segments;
+        let ys: Vec<f32> = h.iter().flat_map(|s| [s.a.y, s.b.y]).collect();
+        let (lo, hi) = ys
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(l, u), &y| (l.min(y), u.max(y)));
+        assert!(hi - lo < 2.0 && hi < 180.0, "{lo}..{hi}");
+
+        // With the model's aircraft ahead: its trail is broken where the model restarts.
+        let model_trail = [
+            Vec3::new(-1490.0, 5.0, 150.0),
+            Vec3::new(-1480.0, 5.0, 150.0),
+            Vec3::new(-1470.0, 8.0, 150.0),
+            Vec3::new(-1460.0, 8.0, 150.0),
+        ];
+        let stats = b.build(&FrameSpec {
+            camera: &camera,
+            viewport,
+            aircraft_position: position,
+            aircraft_attitude: EulerZyx::default(),
+            ground_z: 0.0,
+            trail: &trail,
+            model: Some(ModelFrame {
+                position: Vec3::new(-1450.0, 8.0, 150.0),
+                attitude: EulerZyx::default(),
+                trail: &model_trail,
+                breaks: &[0, 2],
+            }),
+        });
+        // 5 points, 4 joins, one of them across the restart at 2.
+        let plane_edges = b.aircraft().edges().len();
+        assert_eq!(
+            stats.edges_in as usize,
+            b.edges_per_frame() + 1 + plane_edges + 3
+        );
+        let scene = b.scene();
+        assert_eq!(scene.batches[b.batch(Part::ModelTrail)].segments.len(), 3);
+        assert!(!scene.batches[b.batch(Part::ModelAircraft)]
+            .segments
+            .is_empty());
+        assert_eq!(
+            scene.batches[b.batch(Part::ModelAircraft)].color,
+            palette::MODEL_AIRCRAFT
+        );
     }
 }

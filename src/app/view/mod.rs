@@ -16,7 +16,6 @@
 pub mod cameras;
 pub mod compare;
 pub mod flight;
-pub mod scene;
 pub mod script;
 pub mod session;
 pub mod surface;
@@ -33,13 +32,13 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop, OwnedDisplayHan
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
-use crate::app::analyze::load_data_and_model;
-use crate::app::cli::{BackendArg, ModelArgs, ViewArgs, ViewCameraArg};
-use crate::app::render::{load_model, OutputFormat, Rasterizer};
+use crate::app::cli::{ViewArgs, ViewCameraArg};
 use crate::clip::ClipStats;
 use crate::euler::Gimbal;
+use crate::flight::spec::ModelChoice;
 use crate::pipeline::Viewport;
 use crate::render::LineScene;
+use crate::render::{OutputFormat, Rasterizer};
 use cameras::CameraMode;
 use compare::{Compare, Fit};
 use flight::Start;
@@ -89,17 +88,18 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let mesh = load_model(&args.model)?;
+    let mesh = crate::mesh::load_named(&args.mesh)?;
     let fov_y = (args.fov as f32).to_radians();
     let camera = CameraMode::from(args.camera);
-    let session = match &args.flight {
+    let mut session = match &args.flight {
         Some(path) if args.compare => {
-            let model_args = ModelArgs {
-                model: args.flight_model.clone(),
+            let choice = ModelChoice {
+                model_file: args.model.clone(),
                 effects: args.effects.clone(),
-                add: Vec::new(),
+                ..ModelChoice::default()
             };
-            let (data, base) = load_data_and_model(path, &model_args)?;
+            let data = crate::flight::data::read(path)?;
+            let base = choice.build(path, &data)?;
             let data = Arc::new(data);
             let compare = Compare::new(Arc::clone(&data), base, &args.add)
                 .with_context(|| format!("{}: cannot compare", path.display()))?;
@@ -117,6 +117,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
             Session::fly(mesh, Start::default(), script, camera, fov_y)
         }
     };
+    session.set_clipper(args.clipper);
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: {e} (no display? set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)"
@@ -539,10 +540,7 @@ impl App {
 /// # Errors
 /// Encoding or write errors, naming the file.
 pub fn write_screenshot(scene: &LineScene, path: &Path) -> anyhow::Result<()> {
-    let mut rasterizer = Rasterizer::choose(BackendArg::Cpu)?;
-    let image = rasterizer.draw(scene)?;
-    let png = image.encode_png().context("encoding PNG")?;
-    crate::fsio::write_atomic(path, &png)
+    crate::output::write_still(path, scene, &mut Rasterizer::Cpu).map(|_| ())
 }
 
 impl ApplicationHandler for App {
@@ -864,9 +862,9 @@ fn draw_compare(ctx: &egui::Context, c: &Compare, r: session::Readout) -> Vec<(u
             ui.horizontal(|ui| {
                 ui.spacing_mut().item_spacing.x = 0.0;
                 ui.monospace("measured ");
-                swatch(ui, rgba(crate::render::palette::MODEL));
+                swatch(ui, rgba(crate::scene::palette::AIRCRAFT));
                 ui.monospace("   model ");
-                swatch(ui, rgba(crate::app::replay::MODEL_AIRCRAFT));
+                swatch(ui, rgba(crate::scene::palette::MODEL_AIRCRAFT));
                 ui.monospace("   ");
                 let verdict = RichText::new(c.verdict_line()).monospace();
                 ui.label(if fitting {
@@ -1014,7 +1012,10 @@ fn error_plot(ui: &mut egui::Ui, c: &Compare, t: Option<f64>) {
         painter.add(egui::Shape::line(points, Stroke::new(1.5, color)));
     };
     line(&c.before.error_bins, Color32::from_gray(150));
-    line(&c.now.error_bins, rgba(crate::app::replay::MODEL_AIRCRAFT));
+    line(
+        &c.now.error_bins,
+        rgba(crate::scene::palette::MODEL_AIRCRAFT),
+    );
     let track = &c.now.track;
     if let (Some(t), Some(&t0), Some(&t1)) = (t, track.time.first(), track.time.last()) {
         let f = ((t - t0) / (t1 - t0).max(1e-9)).clamp(0.0, 1.0) as f32;

@@ -1,0 +1,90 @@
+//! `wireflight diagnose`: which physical effect the flight model is missing, with evidence.
+
+use serde_json::json;
+
+use crate::analysis::compare::{CompareConfig, Prepared};
+use crate::analysis::diagnose::{self, add_fitted, DiagnoseConfig};
+use crate::analysis::report::{candidate_json, diagnosis_json, diagnosis_text, model_label};
+use crate::app::cli::DiagnoseArgs;
+
+/// Run `wireflight diagnose`.
+///
+/// # Errors
+/// Bad data or model.
+pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
+    let data = crate::flight::data::read(&args.flight)?;
+    let mut base = args.model.choice().build(&args.flight, &data)?;
+    let cfg = DiagnoseConfig {
+        compare: CompareConfig {
+            window_s: args
+                .window
+                .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
+            ..DiagnoseConfig::default().compare
+        },
+        ..DiagnoseConfig::default()
+    };
+    if !args.model.add.is_empty() {
+        let prep = Prepared::new(&data, cfg.compare);
+        add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg).map_err(anyhow::Error::msg)?;
+    }
+    if args.iterate {
+        let (ladder, _) = diagnose::iterate(&base, &data, &[], &cfg, 5);
+        let last = &ladder[ladder.len() - 1].diagnosis;
+        if args.json {
+            let v = json!({
+                "verdict": ladder.first().and_then(|r| r.diagnosis.verdict.clone()),
+                "ranking": ladder[0].diagnosis.ranking.iter().map(candidate_json).collect::<Vec<_>>(),
+                "ladder": ladder.iter().map(|r| json!({
+                    "effects": r.effects, "error": r.error,
+                    "noise_floor": r.diagnosis.noise_floor,
+                    "verdict": r.diagnosis.verdict,
+                })).collect::<Vec<_>>(),
+                "found": ladder.iter().filter_map(|r| r.diagnosis.verdict.clone()).collect::<Vec<_>>(),
+                "final": diagnosis_json(last),
+            });
+            println!("{}", serde_json::to_string_pretty(&v)?);
+            return Ok(());
+        }
+        for (i, r) in ladder.iter().enumerate() {
+            println!(
+                "step {}: model {}",
+                i + 1,
+                if r.effects.is_empty() {
+                    "baseline".into()
+                } else {
+                    format!("+ {}", r.effects.join(" + "))
+                }
+            );
+            print!("{}", diagnosis_text(&r.diagnosis));
+            println!();
+        }
+        println!("ladder (error vs effects added):");
+        for r in &ladder {
+            println!(
+                "  {:40} {:9.3}   (noise floor {:.3})",
+                if r.effects.is_empty() {
+                    "baseline".into()
+                } else {
+                    format!("+ {}", r.effects.join(" + "))
+                },
+                r.error,
+                r.diagnosis.noise_floor
+            );
+        }
+        return Ok(());
+    }
+    let d = diagnose::diagnose(&base, &data, &[], &cfg);
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&diagnosis_json(&d))?);
+    } else {
+        println!(
+            "{}: {} samples, {:.1} s; model {}",
+            args.flight.display(),
+            data.len(),
+            data.duration(),
+            model_label(&base)
+        );
+        print!("{}", diagnosis_text(&d));
+    }
+    Ok(())
+}

@@ -1,0 +1,110 @@
+//! Scenes: what a frame shows, built from meshes, poses and cameras into a [`LineScene`] of
+//! clipped pixel segments. One room for every picture the program draws:
+//!
+//! * [`frame`]: a still of one model in a given attitude ([`ViewSpec`]), for `render`, the
+//!   golden images and the benchmarks;
+//! * [`builder::SceneBuilder`]: a frame of a flight over layers of world — the window's 10 km
+//!   world, or a grid fitted to a recorded flight — with trails and, in comparisons, the
+//!   flight model's aircraft;
+//! * [`replay::ReplayScene`]: offscreen replay frames of a recorded flight (and comparison
+//!   frames with the error strip);
+//! * [`track`]: flights in the viewer's frame (poses between samples, the model's track);
+//! * [`palette`]: the colours.
+//!
+//! Pure: no I/O. Drawing the scenes is [`crate::render`]'s job, writing them
+//! [`crate::output`]'s.
+
+pub mod builder;
+pub mod palette;
+pub mod replay;
+pub mod track;
+
+use crate::camera::{CameraPreset, Projection, Subject};
+use crate::clip::{ClipStats, Clipper, DepthRange};
+use crate::euler::EulerZyx;
+use crate::mesh::EdgeMesh;
+use crate::pipeline::{model_matrix, EdgeProjector, Viewport};
+use crate::render::{LineBatch, LineScene};
+
+/// Everything that decides one still frame of one model, apart from the model itself.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewSpec {
+    /// Attitude of the model (body → world).
+    pub attitude: EulerZyx,
+    /// Camera placement.
+    pub camera: CameraPreset,
+    /// Parallel instead of perspective projection.
+    pub orthographic: bool,
+    /// Vertical field of view, degrees (perspective), in (0, 180).
+    pub fov_y_deg: f64,
+    /// Output image.
+    pub viewport: Viewport,
+    /// Clip-space depth convention (wgpu's 0..w unless testing OpenGL's −w..w).
+    pub depth: DepthRange,
+    /// Camera pan `[right, up]` in bounding radii (moves the model the other way in the frame).
+    pub pan: [f32; 2],
+    /// The line clipper.
+    pub clipper: Clipper,
+}
+
+impl Default for ViewSpec {
+    fn default() -> Self {
+        Self {
+            attitude: EulerZyx::default(),
+            camera: CameraPreset::Chase,
+            orthographic: false,
+            fov_y_deg: 50.0,
+            viewport: Viewport {
+                width: 800,
+                height: 600,
+            },
+            depth: DepthRange::ZeroToOne,
+            pan: [0.0, 0.0],
+            clipper: Clipper::Blinn,
+        }
+    }
+}
+
+/// Build the frame: model at the world origin in the given attitude, seen by the preset
+/// camera, clipped and projected. Returns the line scene and the clipper's counts.
+pub fn frame(mesh: &EdgeMesh, spec: &ViewSpec) -> (LineScene, ClipStats) {
+    let (centre, radius) = mesh.bounding_sphere();
+    let subject = Subject {
+        position: glam::Vec3::ZERO,
+        attitude: spec.attitude,
+        centre,
+        radius,
+    };
+    let mut camera = spec
+        .camera
+        .camera(&subject, (spec.fov_y_deg as f32).to_radians())
+        .panned(spec.pan[0] * radius, spec.pan[1] * radius);
+    if spec.orthographic {
+        if let Projection::Perspective { near, far, .. } = camera.projection {
+            camera.projection = Projection::Orthographic {
+                half_height: 1.1 * radius,
+                near,
+                far,
+            };
+        }
+    }
+    let clip_from_model = camera.clip_from_world(spec.viewport.aspect(), spec.depth)
+        * model_matrix(subject.position, spec.attitude);
+    let mut segments = Vec::with_capacity(mesh.edges().len());
+    let stats = EdgeProjector::new(spec.clipper, spec.depth).project(
+        mesh,
+        clip_from_model,
+        spec.viewport,
+        &mut segments,
+    );
+    let scene = LineScene {
+        width: spec.viewport.width,
+        height: spec.viewport.height,
+        background: palette::BACKGROUND,
+        batches: vec![LineBatch {
+            color: palette::AIRCRAFT,
+            segments,
+        }],
+    };
+    (scene, stats)
+}
