@@ -1,0 +1,472 @@
+//! The window's head-up display (egui): attitude, speed, clipper counts and frame timing;
+//! the help overlay; and, in `--compare` mode, the comparison panel with its effect
+//! checkboxes and the error-over-time plot. Also the frame [`Meter`] the HUD and the closing
+//! report read.
+
+use std::time::{Duration, Instant};
+
+use super::compare::{Compare, Fit};
+use super::session::{self, Session};
+use super::KEY_HELP;
+use crate::clip::ClipStats;
+use crate::euler::Gimbal;
+
+/// Frame timing and clipper counts for the HUD and the closing report.
+#[derive(Default)]
+pub(super) struct Meter {
+    pub(super) frames: u64,
+    pub(super) last: Option<Instant>,
+    /// Smoothed frame interval, s.
+    pub(super) interval: f64,
+    /// Smoothed scene build time (transform + clip + project), s.
+    pub(super) build: f64,
+    pub(super) clip: ClipStats,
+    pub(super) total: ClipStats,
+    pub(super) segments: usize,
+    pub(super) segments_total: u64,
+    pub(super) build_total: f64,
+    /// Sum and count of frame intervals while animating (gaps over 0.25 s, i.e. pauses,
+    /// are left out).
+    pub(super) active_time: f64,
+    pub(super) active_intervals: u64,
+}
+
+impl Meter {
+    pub(super) fn record(
+        &mut self,
+        now: Instant,
+        build: Duration,
+        clip: ClipStats,
+        segments: usize,
+    ) {
+        if let Some(last) = self.last {
+            let dt = (now - last).as_secs_f64();
+            if dt < 0.25 {
+                self.active_time += dt;
+                self.active_intervals += 1;
+            }
+            self.interval = if self.interval > 0.0 {
+                0.9 * self.interval + 0.1 * dt
+            } else {
+                dt
+            };
+        }
+        self.last = Some(now);
+        let b = build.as_secs_f64();
+        self.build = if self.frames == 0 {
+            b
+        } else {
+            0.9 * self.build + 0.1 * b
+        };
+        self.frames += 1;
+        self.clip = clip;
+        self.total.merge(&clip);
+        self.segments = segments;
+        self.segments_total += segments as u64;
+        self.build_total += b;
+    }
+
+    pub(super) fn fps(&self) -> f64 {
+        if self.interval > 0.0 {
+            1.0 / self.interval
+        } else {
+            0.0
+        }
+    }
+}
+
+/// What the HUD reads.
+pub(super) struct HudData<'a> {
+    pub(super) session: &'a Session,
+    pub(super) meter: &'a Meter,
+    pub(super) size: (u32, u32),
+    pub(super) scale: f64,
+    pub(super) adapter: &'a str,
+    pub(super) note: Option<&'a str>,
+    pub(super) frames: Option<u64>,
+}
+
+fn thousands(v: u64) -> String {
+    let s = v.to_string();
+    let mut out = String::with_capacity(s.len() + s.len() / 3);
+    for (i, c) in s.chars().enumerate() {
+        if i > 0 && (s.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
+    use egui::{Color32, RichText};
+    let r = hud.session.readout();
+    // `+ 0.0` shows −0.0 as 0.00.
+    let [yaw, pitch, roll] = r.angles.to_degrees().map(|a| a + 0.0);
+    let aero = r.angles.to_aerospace().to_degrees().map(|a| a + 0.0);
+    let frame = egui::Frame::NONE
+        .fill(Color32::from_black_alpha(170))
+        .inner_margin(8.0)
+        .corner_radius(4.0);
+    egui::Area::new(egui::Id::unique("wireflight-hud"))
+        .anchor(egui::Align2::LEFT_TOP, [8.0, 8.0])
+        .interactable(false)
+        .show(ctx, |ui| {
+            frame.show(ui, |ui| {
+                ui.style_mut().override_text_style = Some(egui::TextStyle::Monospace);
+                ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+                ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
+                let mode = hud.session.rig.mode;
+                let state = match (r.replay, hud.session.paused) {
+                    (Some(_), true) => "replay paused",
+                    (Some(_), false) => "replay playing",
+                    (None, true) => "PAUSED",
+                    (None, false) if hud.session.scripted() => "scripted",
+                    (None, false) => "flying",
+                };
+                ui.label(format!("camera {mode}  ·  {state}  ·  H: help"));
+                ui.label(format!(
+                    "yaw {yaw:8.2}°  pitch {pitch:7.2}°  roll {roll:8.2}°  (z-y-x, Z up, +pitch = nose down)"
+                ));
+                ui.label(format!(
+                    "     {:8.2}°        {:7.2}°       {:8.2}°  (aerospace NED/FRD, +pitch = nose up)",
+                    aero[0], aero[1], aero[2]
+                ));
+                match r.gimbal {
+                    Gimbal::LockedNoseUp | Gimbal::LockedNoseDown => {
+                        ui.label(
+                            RichText::new(
+                                "GIMBAL LOCK (pitch ±90°): yaw and roll share one axis; shown as yaw, roll 0",
+                            )
+                            .color(Color32::from_rgb(255, 80, 80))
+                            .strong(),
+                        );
+                    }
+                    Gimbal::Free if r.cos_pitch < 1f64.to_radians().sin() => {
+                        ui.label(
+                            RichText::new(
+                                "near gimbal lock (|θ| > 89°): yaw and roll are ill-conditioned",
+                            )
+                            .color(Color32::from_rgb(255, 200, 60)),
+                        );
+                    }
+                    Gimbal::Free => {}
+                }
+                let mut line = format!(
+                    "speed {:6.1} m/s ({:5.1} kt)  altitude {:7.1} m",
+                    r.speed,
+                    r.speed * 1.943_844,
+                    r.altitude
+                );
+                if let Some(t) = r.throttle {
+                    line += &format!("  throttle {:3.0}%", 100.0 * t);
+                }
+                ui.label(line);
+                if let Some((t, t0, t1)) = r.replay {
+                    ui.label(format!("replay t {:7.2} s of {:.2}..{:.2} s", t, t0, t1));
+                } else {
+                    ui.label(format!("flight time {:7.2} s", r.time));
+                }
+                let m = hud.meter;
+                ui.label(format!(
+                    "{:5.1} FPS  frame {:6.2} ms  scene {:5.2} ms  {}x{} px @{:.2}x",
+                    m.fps(),
+                    m.interval * 1e3,
+                    m.build * 1e3,
+                    hud.size.0,
+                    hud.size.1,
+                    hud.scale
+                ));
+                let c = &m.clip;
+                ui.label(format!(
+                    "clip: edges in {}  accepted {}  rejected {}  clipped {}  removed {}",
+                    thousands(c.edges_in),
+                    thousands(c.trivially_accepted),
+                    thousands(c.trivially_rejected),
+                    thousands(c.clipped),
+                    thousands(c.clipped_away)
+                ));
+                ui.label(format!(
+                    "segments drawn {}  ·  {}",
+                    thousands(m.segments as u64),
+                    hud.adapter
+                ));
+                if let Some(n) = hud.frames {
+                    ui.label(format!("frame {} of {n}", m.frames));
+                }
+                if let Some(note) = hud.note {
+                    ui.label(RichText::new(note).color(Color32::from_rgb(255, 220, 120)));
+                }
+            });
+        });
+}
+
+pub(super) fn draw_help(ctx: &egui::Context, open: &mut bool) {
+    egui::Window::new("Keys")
+        .open(open)
+        .collapsible(false)
+        .resizable(false)
+        .anchor(egui::Align2::RIGHT_TOP, [-8.0, 8.0])
+        .show(ctx, |ui| {
+            egui::Grid::new("keys").striped(true).show(ui, |ui| {
+                for (key, what) in KEY_HELP {
+                    ui.monospace(*key);
+                    ui.label(*what);
+                    ui.end_row();
+                }
+            });
+        });
+}
+
+fn fmt_channel(v: Option<f64>, unit: &str) -> String {
+    v.map_or_else(|| "—".into(), |x| format!("{x:.3} {unit}"))
+}
+
+/// "base model → with effects" errors in one line, for stdout.
+pub(super) fn compare_summary(c: &Compare) -> String {
+    let label = |effects: &[String]| {
+        if effects.is_empty() {
+            "base model".to_string()
+        } else {
+            format!("+ {}", effects.join(" + "))
+        }
+    };
+    let (b, n) = (&c.before, &c.now);
+    format!(
+        "compare: {} total {:.3} (position {}, velocity {}, attitude {}) → {} total {:.3} \
+         (position {}, velocity {}, attitude {}); model run {:.1} ms; {}",
+        label(&b.effects),
+        b.total,
+        fmt_channel(Some(b.channels.position_m), "m"),
+        fmt_channel(b.channels.velocity_mps, "m/s"),
+        fmt_channel(b.channels.attitude_deg, "°"),
+        label(&n.effects),
+        n.total,
+        fmt_channel(Some(n.channels.position_m), "m"),
+        fmt_channel(n.channels.velocity_mps, "m/s"),
+        fmt_channel(n.channels.attitude_deg, "°"),
+        1e3 * n.compute_s,
+        c.verdict_line()
+    )
+}
+
+/// A small square of `color` in the text line (the legend).
+fn swatch(ui: &mut egui::Ui, color: egui::Color32) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 1.0, color);
+}
+
+fn rgba(c: crate::render::Rgba) -> egui::Color32 {
+    egui::Color32::from_rgba_unmultiplied(c[0], c[1], c[2], c[3])
+}
+
+/// The `--compare` panel: errors before / now, the error over time with a cursor at the replay
+/// time, a checkbox per effect. Returns the rows whose checkbox was clicked, with their new
+/// state.
+pub(super) fn draw_compare(
+    ctx: &egui::Context,
+    c: &Compare,
+    r: session::Readout,
+) -> Vec<(usize, bool)> {
+    use egui::{Color32, RichText};
+    let mut toggles = Vec::new();
+    let frame = egui::Frame::NONE
+        .fill(Color32::from_black_alpha(190))
+        .inner_margin(8.0)
+        .corner_radius(4.0);
+    egui::Window::new("compare")
+        .id(egui::Id::unique("wireflight-compare"))
+        .frame(frame)
+        .anchor(egui::Align2::LEFT_BOTTOM, [8.0, -8.0])
+        .resizable(false)
+        .collapsible(true)
+        .title_bar(true)
+        .show(ctx, |ui| {
+            ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
+            ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
+            let fitting = matches!(c.fit, Fit::Running(_));
+            ui.horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = 0.0;
+                ui.monospace("measured ");
+                swatch(ui, rgba(crate::scene::palette::AIRCRAFT));
+                ui.monospace("   model ");
+                swatch(ui, rgba(crate::scene::palette::MODEL_AIRCRAFT));
+                ui.monospace("   ");
+                let verdict = RichText::new(c.verdict_line()).monospace();
+                ui.label(if fitting {
+                    verdict.color(Color32::from_rgb(255, 220, 120))
+                } else {
+                    verdict.strong()
+                });
+            });
+            let (b, n) = (&c.before, &c.now);
+            egui::Grid::new("wireflight-compare-errors")
+                .num_columns(3)
+                .spacing([16.0, 2.0])
+                .show(ui, |ui| {
+                    ui.monospace("error (RMS)");
+                    ui.monospace("before");
+                    ui.monospace("now");
+                    ui.end_row();
+                    let row = |ui: &mut egui::Ui, name: &str, x: String, y: String| {
+                        ui.monospace(name);
+                        ui.monospace(x);
+                        ui.monospace(y);
+                        ui.end_row();
+                    };
+                    row(
+                        ui,
+                        "total",
+                        format!("{:.3}", b.total),
+                        format!("{:.3}", n.total),
+                    );
+                    row(
+                        ui,
+                        "position",
+                        fmt_channel(Some(b.channels.position_m), "m"),
+                        fmt_channel(Some(n.channels.position_m), "m"),
+                    );
+                    row(
+                        ui,
+                        "velocity",
+                        fmt_channel(b.channels.velocity_mps, "m/s"),
+                        fmt_channel(n.channels.velocity_mps, "m/s"),
+                    );
+                    row(
+                        ui,
+                        "attitude",
+                        fmt_channel(b.channels.attitude_deg, "°"),
+                        fmt_channel(n.channels.attitude_deg, "°"),
+                    );
+                });
+            let status = if c.recomputing() {
+                "model: recomputing…".to_string()
+            } else {
+                format!(
+                    "model run {:.1} ms (toggle → shown {:.1} ms)",
+                    1e3 * n.compute_s,
+                    1e3 * n.latency_s
+                )
+            };
+            ui.monospace(status);
+            if let Some(e) = &c.error {
+                ui.label(RichText::new(e).color(Color32::from_rgb(255, 80, 80)));
+            }
+            error_plot(ui, c, r.replay.map(|(t, _, _)| t));
+            ui.separator();
+            egui::Grid::new("wireflight-compare-effects")
+                .num_columns(3)
+                .spacing([10.0, 1.0])
+                .show(ui, |ui| {
+                    ui.monospace("effect");
+                    ui.monospace(if c.rows.iter().any(|r| r.fitted.is_some()) {
+                        "parameters (fitted)"
+                    } else {
+                        "parameters (defaults)"
+                    });
+                    ui.monospace("fit error");
+                    ui.end_row();
+                    for (i, row) in c.rows.iter().enumerate() {
+                        let mut on = row.on;
+                        let response =
+                            ui.add_enabled(!row.in_base, egui::Checkbox::new(&mut on, row.name));
+                        if response.changed() {
+                            toggles.push((i, on));
+                            // Space and the arrows belong to the replay, not to the checkbox.
+                            response.surrender_focus();
+                        }
+                        let params = row.params();
+                        let units: Vec<String> = params
+                            .iter()
+                            .map(|p| format!("{} = {} {}", p.name, p.value, p.unit))
+                            .collect();
+                        let params: Vec<String> = params
+                            .iter()
+                            .map(|p| format!("{}={:.3}", p.name, p.value))
+                            .collect();
+                        let mut text = params.join("\n");
+                        if row.in_base {
+                            text = format!("in the base model\n{text}");
+                        }
+                        let label = ui.monospace(text);
+                        if !units.is_empty() {
+                            label.on_hover_text(units.join("\n"));
+                        }
+                        ui.monospace(
+                            row.fitted_error
+                                .filter(|_| !row.in_base)
+                                .map_or_else(String::new, |e| format!("{e:.3}")),
+                        );
+                        ui.end_row();
+                    }
+                });
+        });
+    toggles
+}
+
+/// The position error over the flight: the base model in grey, the model as ticked in the
+/// model's colour, one scale (the larger peak), a cursor at the replay time.
+fn error_plot(ui: &mut egui::Ui, c: &Compare, t: Option<f64>) {
+    use egui::{pos2, Color32, Stroke};
+    let size = egui::vec2(400.0, 84.0);
+    let (response, painter) = ui.allocate_painter(size, egui::Sense::hover());
+    let rect = response.rect;
+    painter.rect_filled(rect, 2.0, Color32::from_black_alpha(120));
+    let peak = c
+        .before
+        .error_bins
+        .iter()
+        .chain(&c.now.error_bins)
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0f32, f32::max)
+        .max(1e-6);
+    let plot = rect.shrink2(egui::vec2(4.0, 14.0));
+    let line = |bins: &[f32], color: Color32| {
+        let n = bins.len().max(2) as f32 - 1.0;
+        let points: Vec<egui::Pos2> = bins
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .map(|(i, v)| {
+                pos2(
+                    plot.left() + i as f32 / n * plot.width(),
+                    plot.bottom() - (v / peak).clamp(0.0, 1.0) * plot.height(),
+                )
+            })
+            .collect();
+        painter.add(egui::Shape::line(points, Stroke::new(1.5, color)));
+    };
+    line(&c.before.error_bins, Color32::from_gray(150));
+    line(
+        &c.now.error_bins,
+        rgba(crate::scene::palette::MODEL_AIRCRAFT),
+    );
+    let track = &c.now.track;
+    if let (Some(t), Some(&t0), Some(&t1)) = (t, track.time.first(), track.time.last()) {
+        let f = ((t - t0) / (t1 - t0).max(1e-9)).clamp(0.0, 1.0) as f32;
+        let x = plot.left() + f * plot.width();
+        painter.line_segment(
+            [pos2(x, rect.top() + 2.0), pos2(x, rect.bottom() - 2.0)],
+            Stroke::new(1.0, Color32::from_rgb(255, 220, 120)),
+        );
+    }
+    let font = egui::FontId::monospace(11.0);
+    painter.text(
+        rect.left_top() + egui::vec2(4.0, 1.0),
+        egui::Align2::LEFT_TOP,
+        format!(
+            "position error, m (peak {peak:.1}; restarts every {:.0} s)",
+            c.window_s()
+        ),
+        font.clone(),
+        Color32::from_gray(200),
+    );
+    painter.text(
+        rect.right_bottom() - egui::vec2(4.0, 1.0),
+        egui::Align2::RIGHT_BOTTOM,
+        "grey: base model   time →",
+        font,
+        Color32::from_gray(160),
+    );
+}
