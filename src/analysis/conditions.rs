@@ -19,8 +19,11 @@ pub struct Condition {
     /// Mean value per window (same order as the comparison's windows).
     pub per_window: Vec<f64>,
     /// Pearson correlation of the window score with this condition; `None` where it has no
-    /// meaning (fewer than three windows, or a condition or score that does not vary).
+    /// meaning (fewer than three windows, or a condition or score that does not vary). For
+    /// the heading, the multiple correlation with (cos ψ, sin ψ), which is ≥ 0.
     pub correlation: Option<f64>,
+    /// More to say (e.g. the heading at which the error is largest).
+    pub note: Option<String>,
 }
 
 /// Conditions per window, each with its correlation to the window score; strongest
@@ -44,6 +47,7 @@ pub fn conditions(data: &FlightData, cmp: &Comparison, origin_altitude_m: f64) -
             unit,
             per_window,
             correlation,
+            note: None,
         });
     };
     push(
@@ -94,10 +98,81 @@ pub fn conditions(data: &FlightData, cmp: &Comparison, origin_altitude_m: f64) -
     }
     if let Some(c) = &data.controls {
         push("throttle", "0..1", mean_over(&|i| c[i].throttle));
+        push(
+            "elevator activity |δe|",
+            "deg",
+            mean_over(&|i| c[i].elevator.abs().to_degrees()),
+        );
+        push(
+            "aileron activity |δa|",
+            "deg",
+            mean_over(&|i| c[i].aileron.abs().to_degrees()),
+        );
+        push(
+            "rudder activity |δr|",
+            "deg",
+            mean_over(&|i| c[i].rudder.abs().to_degrees()),
+        );
+    }
+    if let Some(att) = &data.attitude {
+        let cos = mean_over(&|i| att[i].yaw.cos());
+        let sin = mean_over(&|i| att[i].yaw.sin());
+        out.push(heading_condition(&cos, &sin, &scores));
     }
     let strength = |c: &Condition| c.correlation.map_or(-1.0, f64::abs);
     out.sort_by(|a, b| strength(b).total_cmp(&strength(a)));
     out
+}
+
+/// The window score against the heading: the least-squares fit score ≈ a + b·cos ψ + c·sin ψ
+/// over the windows (a wind makes the error depend on the heading this way), its multiple
+/// correlation R (adjusted for the two regressors), and the heading where the fit peaks.
+fn heading_condition(cos: &[f64], sin: &[f64], scores: &[f64]) -> Condition {
+    let per_window: Vec<f64> = cos
+        .iter()
+        .zip(sin)
+        .map(|(c, s)| s.atan2(*c).to_degrees().rem_euclid(360.0))
+        .collect();
+    let n = scores.len();
+    let mut correlation = None;
+    let mut note = None;
+    if n >= 4 {
+        let mut a = [[0.0; 3]; 3];
+        let mut r = [0.0; 3];
+        for k in 0..n {
+            let x = [1.0, cos[k], sin[k]];
+            for i in 0..3 {
+                for j in 0..3 {
+                    a[i][j] += x[i] * x[j];
+                }
+                r[i] += x[i] * scores[k];
+            }
+        }
+        if let Some([b0, b1, b2]) = crate::numeric::solve(a, r) {
+            let fitted: Vec<f64> = (0..n).map(|k| b0 + b1 * cos[k] + b2 * sin[k]).collect();
+            let mean = scores.iter().sum::<f64>() / n as f64;
+            let ss_tot: f64 = scores.iter().map(|s| (s - mean).powi(2)).sum();
+            let ss_fit: f64 = fitted.iter().map(|f| (f - mean).powi(2)).sum();
+            if ss_tot > 0.0 {
+                // Adjusted for the two regressors, so a handful of windows does not read as
+                // a strong dependence.
+                let r2 = (ss_fit / ss_tot).clamp(0.0, 1.0);
+                let adjusted = 1.0 - (1.0 - r2) * (n as f64 - 1.0) / (n as f64 - 3.0);
+                correlation = Some(adjusted.max(0.0).sqrt());
+                note = Some(format!(
+                    "largest heading toward {:.0}°",
+                    b2.atan2(b1).to_degrees().rem_euclid(360.0)
+                ));
+            }
+        }
+    }
+    Condition {
+        name: "heading",
+        unit: "deg",
+        per_window,
+        correlation,
+        note,
+    }
 }
 
 /// How the position error grows within a window: exponent k of `e ∝ τ^k` fitted on the

@@ -15,6 +15,7 @@ mod flight_data;
 mod flight_model;
 mod golden;
 mod gpu_backend;
+mod independent;
 mod mesh_loaders;
 mod mk82;
 mod overlay;
