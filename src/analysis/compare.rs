@@ -34,7 +34,8 @@
 use glam::DVec3;
 
 use crate::euler::EulerZyx;
-use crate::flight::data::{unwrap_angles, FlightData};
+use crate::flight::data::FlightData;
+use crate::flight::derive::unwrap_angles;
 use crate::flight::model::{Model, State, Vehicle};
 use crate::flight::Controls;
 use crate::numeric::{attitude_error_deg, quad_fit};

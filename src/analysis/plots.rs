@@ -27,7 +27,8 @@ use plotters::style::{FontStyle, RGBAColor};
 
 use super::compare::{estimate_noise, Comparison, Prediction};
 use crate::euler::EulerZyx;
-use crate::flight::data::{unwrap_angles, FlightData};
+use crate::flight::data::FlightData;
+use crate::flight::derive::unwrap_angles;
 use crate::numeric::{attitude_error_deg, pearson};
 
 /// File name of the measured-vs-model plot.
