@@ -12,7 +12,7 @@ use super::style::{
     draw_err, draw_line, finite_min_max, header, panel, value_range, Key, Root, AFTER, BEFORE,
     MEASURED,
 };
-use super::{prediction_windows, PlotContext};
+use super::{prediction_windows, window_segments, PlotContext, Segments};
 use crate::analysis::compare::{Comparison, Prediction};
 use crate::euler::EulerZyx;
 use crate::flight::data::FlightData;
@@ -25,29 +25,30 @@ struct Series {
     y_desc: String,
     measured: Vec<f64>,
     /// Prediction segments of the "before" model, one per window: (t, value).
-    before: Vec<Vec<(f64, f64)>>,
+    before: Segments,
     /// The same for the "after" model.
-    after: Vec<Vec<(f64, f64)>>,
+    after: Segments,
     /// Wrapped angle (degrees): split lines at ±180° jumps.
     wrapped: bool,
 }
 
-/// Segments of `f(prediction, k)` per window.
-fn pred_segments(
-    data: &FlightData,
-    cmp: &Comparison,
-    f: &dyn Fn(&Prediction, usize) -> f64,
-) -> Vec<Vec<(f64, f64)>> {
-    let p = &cmp.prediction;
-    prediction_windows(cmp)
-        .into_iter()
-        .map(|(_, k0, len)| {
-            (k0..k0 + len)
-                .filter(|&k| k < p.index.len() && p.index[k] < data.len())
-                .map(|k| (data.time[p.index[k]], f(p, k)))
-                .collect()
-        })
-        .collect()
+impl Series {
+    /// A quantity that is not a wrapped angle, with its (before, after) prediction segments.
+    fn plain(
+        caption: String,
+        y_desc: String,
+        measured: Vec<f64>,
+        (before, after): (Segments, Segments),
+    ) -> Self {
+        Self {
+            caption,
+            y_desc,
+            measured,
+            before,
+            after,
+            wrapped: false,
+        }
+    }
 }
 
 /// Angle segments per window (degrees): unwrapped within the window, then shifted by whole
@@ -57,7 +58,7 @@ fn angle_segments(
     cmp: &Comparison,
     measured_unwrapped: &[f64],
     get: fn(&EulerZyx) -> f64,
-) -> Vec<Vec<(f64, f64)>> {
+) -> Segments {
     let p = &cmp.prediction;
     prediction_windows(cmp)
         .into_iter()
@@ -89,9 +90,10 @@ fn build_series(ctx: &PlotContext) -> Vec<Vec<Series>> {
     let mut rows = Vec::new();
     let after = ctx.after.map(|(c, _)| c);
     let segs = |f: &dyn Fn(&Prediction, usize) -> f64| {
+        let f = |p: &Prediction, k: usize, _: usize| f(p, k);
         (
-            pred_segments(d, ctx.before, f),
-            after.map(|a| pred_segments(d, a, f)).unwrap_or_default(),
+            window_segments(d, ctx.before, &f),
+            after.map(|a| window_segments(d, a, &f)).unwrap_or_default(),
         )
     };
 
@@ -109,25 +111,19 @@ fn build_series(ctx: &PlotContext) -> Vec<Vec<Series>> {
         ),
         ("position East", "east", |v: DVec3| v.y),
     ] {
-        let (b, a) = segs(&|p, k| get(p.pos_ned[k]));
-        row.push(Series {
-            caption: caption.into(),
-            y_desc: format!("{axis} (m)"),
-            measured: d.pos_ned.iter().map(|v| get(*v)).collect(),
-            before: b,
-            after: a,
-            wrapped: false,
-        });
+        row.push(Series::plain(
+            caption.into(),
+            format!("{axis} (m)"),
+            d.pos_ned.iter().map(|v| get(*v)).collect(),
+            segs(&|p, k| get(p.pos_ned[k])),
+        ));
     }
-    let (b, a) = segs(&|p, k| alt0 - p.pos_ned[k].z);
-    row.push(Series {
-        caption: alt_caption.into(),
-        y_desc: format!("{} (m)", alt_caption.split(' ').next().unwrap_or("height")),
-        measured: d.pos_ned.iter().map(|v| alt0 - v.z).collect(),
-        before: b,
-        after: a,
-        wrapped: false,
-    });
+    row.push(Series::plain(
+        alt_caption.into(),
+        format!("{} (m)", alt_caption.split(' ').next().unwrap_or("height")),
+        d.pos_ned.iter().map(|v| alt0 - v.z).collect(),
+        segs(&|p, k| alt0 - p.pos_ned[k].z),
+    ));
     rows.push(row);
 
     if let (true, Some(vel)) = (ctx.has_vel, &d.vel_ned) {
@@ -146,15 +142,12 @@ fn build_series(ctx: &PlotContext) -> Vec<Vec<Series>> {
             ("velocity East", "east", |v: DVec3| v.y),
             ("velocity Down", "down", |v: DVec3| v.z),
         ] {
-            let (b, a) = segs(&|p, k| get(p.vel_ned[k]));
-            row.push(Series {
-                caption: format!("{caption}{derived}"),
-                y_desc: format!("{axis} (m/s)"),
-                measured: vel.iter().map(|v| get(*v)).collect(),
-                before: b,
-                after: a,
-                wrapped: false,
-            });
+            row.push(Series::plain(
+                format!("{caption}{derived}"),
+                format!("{axis} (m/s)"),
+                vel.iter().map(|v| get(*v)).collect(),
+                segs(&|p, k| get(p.vel_ned[k])),
+            ));
         }
         rows.push(row);
     }

@@ -34,7 +34,7 @@ use self::error_vs_condition::draw_error_vs_condition;
 use self::measured_vs_model::draw_measured_vs_model;
 use self::residuals::draw_residuals;
 use self::style::{render_png, Root};
-use super::compare::Comparison;
+use super::compare::{Comparison, Prediction};
 use crate::flight::data::FlightData;
 
 /// File name of the measured-vs-model plot.
@@ -273,4 +273,26 @@ fn prediction_windows(cmp: &Comparison) -> Vec<(usize, usize, usize)> {
         }
     }
     out
+}
+
+/// One line per compared window, each a list of `(t, value)` points.
+type Segments = Vec<Vec<(f64, f64)>>;
+
+/// Per compared window, the points `(t, f(prediction, k, i))` of its prediction, `k` indexing
+/// the prediction and `i` the data sample it predicts.
+fn window_segments(
+    data: &FlightData,
+    cmp: &Comparison,
+    f: &dyn Fn(&Prediction, usize, usize) -> f64,
+) -> Segments {
+    let p = &cmp.prediction;
+    prediction_windows(cmp)
+        .into_iter()
+        .map(|(_, k0, len)| {
+            (k0..k0 + len)
+                .filter(|&k| k < p.index.len() && p.index[k] < data.len())
+                .map(|k| (data.time[p.index[k]], f(p, k, p.index[k])))
+                .collect()
+        })
+        .collect()
 }

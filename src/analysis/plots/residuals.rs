@@ -11,28 +11,9 @@ use super::style::{
     axis_top, draw_hline_dashed, draw_line, error_cap, fmt_score, header, panel, shade, Key, Root,
     AFTER, BEFORE, NOISE, SHADE,
 };
-use super::{prediction_windows, PlotContext};
+use super::{window_segments, PlotContext, Segments};
 use crate::analysis::compare::{estimate_noise, Comparison, Prediction};
-use crate::flight::data::FlightData;
 use crate::numeric::attitude_error_deg;
-
-/// Per-sample error of one channel, one segment per window: (t, |error|).
-fn error_segments(
-    data: &FlightData,
-    cmp: &Comparison,
-    f: &dyn Fn(&Prediction, usize, usize) -> f64,
-) -> Vec<Vec<(f64, f64)>> {
-    let p = &cmp.prediction;
-    prediction_windows(cmp)
-        .into_iter()
-        .map(|(_, k0, len)| {
-            (k0..k0 + len)
-                .filter(|&k| k < p.index.len() && p.index[k] < data.len())
-                .map(|k| (data.time[p.index[k]], f(p, k, p.index[k])))
-                .collect()
-        })
-        .collect()
-}
 
 /// Draws `residuals.png` into `root`.
 pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> anyhow::Result<()> {
@@ -110,7 +91,7 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> anyhow::Result<(
     let x_desc = |row: usize| (row + 1 == n_rows).then_some("time (s)");
 
     // Window score.
-    let steps = |c: &Comparison| -> Vec<Vec<(f64, f64)>> {
+    let steps = |c: &Comparison| -> Segments {
         c.windows
             .iter()
             .map(|w| vec![(w.t0, w.score), (w.t1, w.score)])
@@ -123,56 +104,84 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> anyhow::Result<(
         .chain(&after_steps)
         .map(|s| s[0].1)
         .collect();
-    let top = axis_top(all_scores.iter().copied(), ctx.noise_floor, 1.12);
-    let mut chart = panel(
-        &areas[0],
-        &score_caption,
-        ctx.t_range.clone(),
-        0.0..top,
-        x_desc(0),
-        "score",
-        10,
-        4,
-    )?;
-    shade(&mut chart, &worst)?;
-    for (segs, color) in [(&before_steps, BEFORE), (&after_steps, AFTER)] {
-        for s in segs {
-            draw_line(&mut chart, s, color.stroke_width(3))?;
-        }
+    ErrorPanel {
+        caption: &score_caption,
+        y_desc: "score",
+        top: axis_top(all_scores.iter().copied(), ctx.noise_floor, 1.12),
+        before: &before_steps,
+        after: &after_steps,
+        width: 3,
+        level: ctx.noise_floor,
     }
-    if let Some(f) = ctx.noise_floor {
-        draw_hline_dashed(&mut chart, f, NOISE)?;
-    }
+    .draw(&areas[0], ctx, x_desc(0), &worst)?;
 
+    // One channel per row.
     for (row, (caption, unit, f, noise_level)) in channels.iter().enumerate() {
         let row = row + 1;
-        let b = error_segments(d, ctx.before, f.as_ref());
+        let b = window_segments(d, ctx.before, f.as_ref());
         let a = ctx
             .after
-            .map(|(c, _)| error_segments(d, c, f.as_ref()))
+            .map(|(c, _)| window_segments(d, c, f.as_ref()))
             .unwrap_or_default();
         let values: Vec<f64> = b.iter().chain(&a).flatten().map(|p| p.1).collect();
         let noise_level = noise_level.filter(|v| *v > 0.0 && v.is_finite());
-        let cap = error_cap(&values, noise_level.unwrap_or(0.0));
-        let mut chart = panel(
-            &areas[row],
+        ErrorPanel {
             caption,
+            y_desc: unit,
+            top: error_cap(&values, noise_level.unwrap_or(0.0)),
+            before: &b,
+            after: &a,
+            width: 2,
+            level: noise_level,
+        }
+        .draw(&areas[row], ctx, x_desc(row), &worst)?;
+    }
+    Ok(())
+}
+
+/// One panel of the residual plot: an axis from 0 to `top` against time, the worst windows
+/// shaded, the before and after lines, and a dashed line at `level` (the noise floor or the
+/// measurement noise).
+struct ErrorPanel<'s> {
+    caption: &'s str,
+    y_desc: &'s str,
+    top: f64,
+    /// Segments of the "before" model, (t, value).
+    before: &'s [Vec<(f64, f64)>],
+    /// Segments of the "after" model (empty without one).
+    after: &'s [Vec<(f64, f64)>],
+    /// Line width, pixels.
+    width: u32,
+    level: Option<f64>,
+}
+
+impl ErrorPanel<'_> {
+    fn draw(
+        &self,
+        area: &Root,
+        ctx: &PlotContext,
+        x_desc: Option<&str>,
+        worst: &[(f64, f64)],
+    ) -> anyhow::Result<()> {
+        let mut chart = panel(
+            area,
+            self.caption,
             ctx.t_range.clone(),
-            0.0..cap,
-            x_desc(row),
-            unit,
+            0.0..self.top,
+            x_desc,
+            self.y_desc,
             10,
             4,
         )?;
-        shade(&mut chart, &worst)?;
-        for (segs, color) in [(&b, BEFORE), (&a, AFTER)] {
+        shade(&mut chart, worst)?;
+        for (segs, color) in [(self.before, BEFORE), (self.after, AFTER)] {
             for s in segs {
-                draw_line(&mut chart, s, color.stroke_width(2))?;
+                draw_line(&mut chart, s, color.stroke_width(self.width))?;
             }
         }
-        if let Some(level) = noise_level {
+        if let Some(level) = self.level {
             draw_hline_dashed(&mut chart, level, NOISE)?;
         }
+        Ok(())
     }
-    Ok(())
 }

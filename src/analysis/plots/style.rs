@@ -194,6 +194,13 @@ fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> String {
     }
 }
 
+/// A chart of `f64` against `f64` drawn on an in-memory bitmap.
+pub(super) type Chart<'a, 'b> = ChartContext<
+    'a,
+    BitMapBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
 /// A panel: caption, axes with descriptions, light grid; returns the chart.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn panel<'a, 'b>(
@@ -205,13 +212,7 @@ pub(super) fn panel<'a, 'b>(
     y_desc: &str,
     x_labels: usize,
     y_labels: usize,
-) -> anyhow::Result<
-    ChartContext<
-        'a,
-        BitMapBackend<'b>,
-        Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
-    >,
-> {
+) -> anyhow::Result<Chart<'a, 'b>> {
     let mut builder = ChartBuilder::on(area);
     if !caption.is_empty() {
         builder.caption(caption, (FONT, CAPTION_PX).into_font().color(&TEXT));
@@ -244,12 +245,6 @@ pub(super) fn panel<'a, 'b>(
     mesh.draw().map_err(draw_err)?;
     Ok(chart)
 }
-
-pub(super) type Chart<'a, 'b> = ChartContext<
-    'a,
-    BitMapBackend<'b>,
-    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
->;
 
 // ---------------------------------------------------------------------------------------------
 // Lines and shading.
