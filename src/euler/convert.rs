@@ -343,7 +343,8 @@ impl EulerAngles {
             .to_cols_array()
             .into_iter()
             .fold(0.0, |m: f64, d| m.max(d.abs()));
-        if !(deviation <= tolerance) {
+        // A NaN tolerance accepts nothing.
+        if deviation > tolerance || tolerance.is_nan() {
             return Err(NotRotation::NotOrthonormal {
                 deviation,
                 tolerance,
