@@ -154,7 +154,8 @@ fn intrinsic_matrix(sequence: Sequence, [alpha, beta, gamma]: [f64; 3]) -> DMat3
 /// Principal intrinsic angles of `m` for `sequence`, with the lock rule (third angle 0). The
 /// caller has checked that `m` is finite.
 ///
-/// Tait–Bryan: cβ = |(m_ca, m_cb)| from column c, β = atan2(ε·m_ca, cβ) ∈ [−π/2, π/2];
+/// With m_xy = `m[x][y]` (column x, row y) as in [`intrinsic_matrix`].
+/// Tait–Bryan: cβ = |(m_cc, m_cb)| from column c, β = atan2(ε·m_ca, cβ) ∈ [−π/2, π/2];
 /// α = atan2(−ε·m_cb, m_cc) from column c, γ = atan2(−ε·m_ba, m_aa) from row a (the same
 /// elements and operations as [`EulerZyx::from_matrix`]). Proper Euler: sβ = |(m_ab, m_ac)|
 /// from column a, β = atan2(sβ, m_aa) ∈ [0, π]; α = atan2(m_ab, −ε·m_ac), γ = atan2(m_ba,
