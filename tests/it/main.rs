@@ -11,6 +11,7 @@ mod cli;
 mod clip;
 mod diagnose;
 mod euler;
+mod euler_sequences;
 mod flight_data;
 mod flight_model;
 mod golden;
