@@ -93,7 +93,10 @@ fn main() -> anyhow::Result<()> {
     let candidate = THERMAL.build(&base.effect_context());
     let d = diagnose(&base, &flight, &[candidate], &DiagnoseConfig::default())
         .map_err(anyhow::Error::msg)?;
-    println!("diagnosis of a flight through a hidden thermal: {}", d.verdict);
+    println!(
+        "diagnosis of a flight through a hidden thermal: {}",
+        d.verdict
+    );
     if let Some(w) = d.winner() {
         println!("  fitted: {:?}", w.params);
     }

@@ -1,117 +1,191 @@
-//! The workbench on flights it did not make: an independent implementation of the spec
-//! (`support::refsim`: Euler-angle state, RK4 at 1 ms or Dormand–Prince, its own trim and
-//! autopilot, its own noise), with control steps anywhere in a window.
+//! The workbench on flights it did not make: `support::refsim` is an independent
+//! implementation of the spec (Euler-angle state, RK4 at 1 ms or Dormand–Prince 5(4), its own
+//! trim, autopilot and noise), and its flights put control steps anywhere in a window — the
+//! case where reading a start state off the data biases it and a right model looks wrong.
 
-use wireflight::analysis::compare::{
-    compare, estimate_noise, noise_floor, CompareConfig, Prepared,
-};
+use wireflight::analysis::compare::{compare, noise_floor, CompareConfig, Prepared};
+use wireflight::analysis::diagnose::{diagnose, Candidate, DiagnoseConfig, Diagnosis, Verdict};
 use wireflight::flight::data::{self, FlightData};
+use wireflight::flight::model::Model;
 use wireflight::flight::spec::ModelChoice;
 
-use crate::support::refsim::{self, FlightOptions, Noise, Schedule};
+use crate::support::refsim::{self, Effects, FlightOptions, Integrator, Noise, Schedule};
+
+/// GPS-RTK-grade position, good AHRS attitude, air data and rate gyros (1σ): 0.05 m, 0.05°,
+/// 0.05 m/s, 0.2°/s, airspeed 0.05 m/s.
+fn survey_noise() -> Noise {
+    Noise::new(0.05, 0.05, 0.05, 0.2, 0.05)
+}
 
 fn flight(opts: &FlightOptions) -> FlightData {
     let csv = refsim::flight_csv(opts).expect("refsim flies");
     data::parse(&csv, "refsim.csv").expect("refsim's CSV reads")
 }
 
-fn model_for(d: &FlightData) -> wireflight::flight::model::Model {
+/// The model the data's metadata name (the Aerosonde baseline).
+fn baseline(d: &FlightData) -> Model {
     ModelChoice::default()
         .build(std::path::Path::new("refsim.csv"), d)
         .expect("model")
 }
 
-#[test]
-#[ignore]
-fn explore_noise_free_steps() {
-    let opts = FlightOptions::new(Schedule::steps_8_18_24_34_36_41());
-    let d = flight(&opts);
-    let m = model_for(&d);
-    for w in [4.0, 6.0, 8.0, 9.0, 10.0, 12.0] {
-        let t = std::time::Instant::now();
-        let c = compare(
-            &m,
-            &d,
-            CompareConfig {
-                window_s: w,
-                ..CompareConfig::default()
-            },
-        );
-        eprintln!(
-            "window {w}: total {:.5} nu {:.3} ({} windows, {:.2} s)",
-            c.total,
-            c.noise_units(),
-            c.windows.len(),
-            t.elapsed().as_secs_f64()
-        );
-    }
-    let mut o = opts.clone();
-    o.noise = Noise::new(0.05, 0.05, 0.05, 0.2, 0.05);
-    o.seed = 3;
-    let d = flight(&o);
-    let n = estimate_noise(&d);
-    eprintln!(
-        "noise: pos {:.4} vel {:.4} att {:.4} deg rate {:.4} dps air {:.4}",
-        n.pos_m,
-        n.vel_mps,
-        n.att_rad.to_degrees(),
-        n.rate_radps.to_degrees(),
-        n.airspeed_mps
-    );
-    for w in [4.0, 8.0, 12.0] {
-        let cfg = CompareConfig {
-            window_s: w,
-            ..CompareConfig::default()
-        };
-        let c = compare(&m, &d, cfg);
-        let floor = noise_floor(&m, &Prepared::new(&d, cfg));
-        eprintln!(
-            "noisy window {w}: total {:.4} floor {:.4} nu {:.3} rho {:.3}",
-            c.total,
-            floor,
-            c.noise_units(),
-            c.residual_autocorrelation()
-        );
-    }
+/// A 45 s flight test at 50 Hz: turns both ways, a climb, doublets on every surface.
+fn flight_test(effects: Effects, seed: u64) -> FlightOptions {
+    let mut o = FlightOptions::new(Schedule::flight_test());
+    o.duration_s = 45.0;
+    o.effects = effects;
+    o.noise = survey_noise();
+    o.seed = seed;
+    o
 }
 
 #[test]
-#[ignore]
-fn explore_diagnose_speed() {
-    use wireflight::analysis::diagnose::{diagnose, DiagnoseConfig};
-    let mut o = FlightOptions::new(Schedule::flight_test());
-    o.noise = Noise::new(0.05, 0.05, 0.05, 0.2, 0.05);
-    o.effects = refsim::Effects::none().with("gyroscopic", &[2.5]).unwrap();
+fn noise_free_flights_of_another_integrator_compare_at_zero_for_every_window_and_offset() {
+    let mut worst = 0.0f64;
+    let mut report = String::new();
+    for (schedule, integrator, windows) in [
+        (
+            Schedule::steps_8_18_24_34_36_41(),
+            Integrator::rk4_1ms(),
+            &[4.0, 6.0, 8.0, 9.0, 10.0, 12.0][..],
+        ),
+        (
+            Schedule::window_steps(4.0),
+            Integrator::rk4_1ms(),
+            &[4.0, 8.0, 12.0][..],
+        ),
+        (
+            Schedule::steps_8_18_24_34_36_41(),
+            Integrator::dopri(1e-10),
+            &[8.0][..],
+        ),
+    ] {
+        let mut o = FlightOptions::new(schedule);
+        o.integrator = integrator;
+        let d = flight(&o);
+        let model = baseline(&d);
+        for &window_s in windows {
+            for offset_s in [0.0, 1.3, 2.7] {
+                let cfg = CompareConfig {
+                    window_s,
+                    offset_s,
+                    ..CompareConfig::default()
+                };
+                let c = compare(&model, &d, cfg);
+                report += &format!(
+                    "{} {}: window {window_s} s, offset {offset_s} s: total {:.5}\n",
+                    o.schedule.name,
+                    integrator.describe(),
+                    c.total
+                );
+                worst = worst.max(c.total);
+            }
+        }
+    }
+    eprint!("{report}");
+    // Before the start states were fitted: 0.30 to 2.10 on the steps flight.
+    assert!(worst <= 0.05, "worst total {worst}\n{report}");
+}
+
+#[test]
+fn noise_is_told_from_manoeuvres_and_a_right_model_sits_at_its_floor() {
+    let mut o = FlightOptions::new(Schedule::steps_8_18_24_34_36_41());
+    o.noise = survey_noise();
+    o.seed = 11;
     let d = flight(&o);
-    let m = model_for(&d);
-    let t = std::time::Instant::now();
-    let c = compare(&m, &d, CompareConfig::default());
-    eprintln!(
-        "compare {:.3} s, flights {}",
-        t.elapsed().as_secs_f64(),
-        wireflight::analysis::compare::predict::flights()
-    );
+    let model = baseline(&d);
     let prep = Prepared::new(&d, CompareConfig::default());
-    for (k, w) in prep.windows.iter().enumerate() {
-        let f0 = wireflight::analysis::compare::predict::flights();
-        let mut s = wireflight::analysis::compare::start::Scratch::default();
-        let x = prep.warm_start(&m, *w, glam::DVec3::ZERO);
-        let fit = prep.fit_start(&m, *w, x, &mut s);
-        eprintln!(
-            "window {k}: {} iterations, {} flights, chi2/row {:.3}",
-            fit.iterations,
-            wireflight::analysis::compare::predict::flights() - f0,
-            fit.residuals.iter().map(|r| r * r).sum::<f64>() / fit.residuals.len() as f64
+    let n = prep.noise;
+    let truth = [
+        ("position", n.pos_m, 0.05),
+        ("velocity", n.vel_mps, 0.05),
+        ("attitude", n.att_rad.to_degrees(), 0.05),
+        ("rates", n.rate_radps.to_degrees(), 0.2),
+        ("airspeed", n.airspeed_mps, 0.05),
+    ];
+    for (what, got, want) in truth {
+        assert!(
+            (got / want - 1.0).abs() <= 0.3,
+            "{what} noise estimated {got}, true {want}"
         );
     }
-    let t = std::time::Instant::now();
-    let dg = diagnose(&m, &d, &[], &DiagnoseConfig::default()).unwrap();
-    eprintln!(
-        "diagnose {:.3} s, flights {}; verdict {}",
-        t.elapsed().as_secs_f64(),
-        wireflight::analysis::compare::predict::flights(),
-        dg.verdict
+    for window_s in [4.0, 8.0, 12.0] {
+        let cfg = CompareConfig {
+            window_s,
+            ..CompareConfig::default()
+        };
+        let c = compare(&model, &d, cfg);
+        let floor = noise_floor(&model, &Prepared::new(&d, cfg));
+        eprintln!(
+            "window {window_s}: total {:.4}, floor {floor:.4}, {:.3} × noise",
+            c.total,
+            c.noise_units()
+        );
+        assert!(c.total <= 1.5 * floor, "{} vs floor {floor}", c.total);
+        assert!(c.noise_units() < 1.1, "{}", c.noise_units());
+    }
+}
+
+fn report(d: &Diagnosis) -> String {
+    let mut s = format!(
+        "verdict {}: error {:.3} ({:.2} × noise), floor {:.3}\n",
+        d.verdict, d.base_error, d.noise_units, d.noise_floor
     );
-    eprint!("{}", wireflight::analysis::report::diagnosis_text(&dg));
-    let _ = c;
+    for c in &d.ranking {
+        s += &format!(
+            "  {:16} {:.2} × noise, LR {:.1} > {:.1}: {} {}, {:?} ± {:?}\n",
+            c.effect,
+            c.noise_units_after,
+            c.lr_statistic,
+            c.lr_critical,
+            c.significant,
+            c.partial,
+            c.params,
+            c.uncertainty
+        );
+    }
+    s
+}
+
+/// The verdict is `effect`, and its parameter `name` is within 2σ of `truth`.
+fn assert_found(d: &Diagnosis, effect: &str, name: &str, truth: f64) -> Candidate {
+    let text = report(d);
+    eprint!("{text}");
+    assert_eq!(d.verdict, Verdict::Effect(effect.into()), "{text}");
+    let w = d.winner().expect("a winner").clone();
+    assert!(w.significant && !w.partial, "{text}");
+    let k = w.params.iter().position(|(n, _)| n == name).expect(name);
+    let (value, sigma) = (w.params[k].1, w.uncertainty[k]);
+    assert!(
+        sigma.is_finite() && (value - truth).abs() <= 2.0 * sigma,
+        "{name}: {value} ± {sigma} (1σ) vs truth {truth}\n{text}"
+    );
+    w
+}
+
+#[test]
+fn hidden_gyroscopic_effect_is_found_with_its_value() {
+    let o = flight_test(Effects::none().with("gyroscopic", &[2.5]).unwrap(), 21);
+    let d = flight(&o);
+    let dg = diagnose(&baseline(&d), &d, &[], &DiagnoseConfig::default()).unwrap();
+    assert_found(&dg, "gyroscopic", "k_gyro", 2.5);
+}
+
+#[test]
+fn hidden_actuator_lag_is_found_with_its_value() {
+    let o = flight_test(Effects::none().with("actuator_lag", &[0.12]).unwrap(), 22);
+    let d = flight(&o);
+    let dg = diagnose(&baseline(&d), &d, &[], &DiagnoseConfig::default()).unwrap();
+    assert_found(&dg, "actuator_lag", "tau_s", 0.12);
+}
+
+#[test]
+fn clean_independent_flights_give_none() {
+    for seed in [31, 32] {
+        let d = flight(&flight_test(Effects::none(), seed));
+        let dg = diagnose(&baseline(&d), &d, &[], &DiagnoseConfig::default()).unwrap();
+        let text = report(&dg);
+        eprint!("{text}");
+        assert_eq!(dg.verdict, Verdict::None, "{text}");
+    }
 }
