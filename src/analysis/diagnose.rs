@@ -35,7 +35,7 @@ use glam::DVec3;
 
 use super::compare::start::{params_of, project_out, state_of, Scratch, StartFit};
 use super::compare::{
-    compare_from, compare_with_fits, noise_floor, CompareConfig, Comparison, Prepared,
+    compare_from, compare_many, compare_with_fits, noise_floor, CompareConfig, Comparison, Prepared,
 };
 use crate::flight::data::FlightData;
 use crate::flight::effects::{Effect, ParamSpec, CATALOGUE};
@@ -476,33 +476,47 @@ fn fit(
     name: &str,
     free: &[Free],
     prep: &Prepared,
-    fits: &[StartFit],
+    baseline: &Baseline,
     iterations: usize,
 ) -> (Comparison, Option<Vec<f64>>) {
     let np = free.len();
+    let fits = &baseline.fits;
     let starts: Vec<State> = fits.iter().map(|f| f.state).collect();
     if np == 0 {
         return (compare_from(model, prep, Some(&starts)), None);
     }
+    let chi2_base: f64 = fits
+        .iter()
+        .map(|f| f.residuals.iter().map(|r| r * r).sum::<f64>())
+        .sum();
     let mut theta = values(model, name, free);
     let mut lin: Vec<Linearised> = fits.iter().map(|f| Linearised::of(model, f)).collect();
-    let mut exact = None;
-    // The linearisation is around the starts of the model without the effect; after each
-    // fit on it, the starts are fitted exactly and the linearisation taken there again.
+    let mut linear = fit_linearised(model, name, free, &mut theta, prep, &mut lin, iterations);
+    if !(chi2_base - linear > FIT_TOL.max(1e-6 * chi2_base)) {
+        // The effect explains nothing the starts could not: its best values change the misfit
+        // by less than a hundredth of a noise unit, so the comparison is the baseline's.
+        let (a, _) = normal_equations(model, name, free, &theta, prep, &lin);
+        let cov = covariance(&a, free, &baseline.comparison);
+        return (baseline.comparison.clone(), cov);
+    }
+    // The linearisation is around the starts of the model without the effect; the starts are
+    // then fitted exactly, and when that changes the misfit by more than the tolerance, the
+    // fit is repeated around them.
+    let mut exact: Option<(Comparison, Vec<StartFit>)> = None;
     for _ in 0..3 {
-        fit_linearised(model, name, free, &mut theta, prep, &mut lin, iterations);
         let starts: Vec<State> = lin.iter().map(|l| l.state(model)).collect();
         let (cmp, new_fits) = compare_with_fits(model, prep, Some(&starts));
-        let settled = exact.as_ref().is_some_and(|(c, _): &(Comparison, _)| {
-            c.chi2 - cmp.chi2 < FIT_TOL.max(1e-6 * cmp.chi2)
-        });
+        let settled = (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2);
         lin = new_fits.iter().map(|f| Linearised::of(model, f)).collect();
         exact = Some((cmp, new_fits));
         if settled {
             break;
         }
+        linear = fit_linearised(model, name, free, &mut theta, prep, &mut lin, iterations);
     }
-    let (cmp, _) = exact.expect("the loop runs at least once");
+    let Some((cmp, _)) = exact else {
+        unreachable!("the loop runs at least once");
+    };
     let (a, _) = normal_equations(model, name, free, &theta, prep, &lin);
     let cov = covariance(&a, free, &cmp);
     (cmp, cov)
@@ -578,14 +592,7 @@ pub fn try_effect(
     let mut model = base.clone();
     model.add_effect(effect)?;
     let free = free_params(&mut model, &name, fixed, prep, true)?;
-    let (after, cov) = fit(
-        &mut model,
-        &name,
-        &free,
-        prep,
-        &before.fits,
-        cfg.max_iterations,
-    );
+    let (after, cov) = fit(&mut model, &name, &free, prep, before, cfg.max_iterations);
     make_candidate(
         &model,
         &name,
@@ -598,99 +605,98 @@ pub fn try_effect(
     )
 }
 
-/// A candidate fitted on a subset of windows, fitted again on all of them: one Gauss–Newton
-/// step from its subset values with the start fits of every window (computed window by
-/// window, never held all at once), the comparison, and the covariance from all windows.
-fn refit_on_all(
+/// The full pass of a screened diagnosis: the base model and the best `top` candidates (at
+/// their subset values) compared on every window in one pass; for each candidate, each
+/// window's share of the parameters' normal equations is taken while its start fit exists, so
+/// no window's Jacobian outlives it. Each candidate's parameters then take one Gauss–Newton
+/// step on all windows — the all-window estimate, whose covariance is the all-window one —
+/// while its errors are those at the subset values (the two differ by a few of the subset's
+/// σ, which changes the misfit by a few units in hundreds of thousands).
+fn full_pass(
     base: &Model,
-    cand: &Candidate,
+    top: &[Candidate],
     full: &Prepared,
-    before: &Comparison,
     cfg: &DiagnoseConfig,
     candidates: usize,
-) -> Result<Candidate, String> {
-    let name = cand.effect.clone();
-    let mut model = base.clone();
-    model.add_effect(cand.fitted_effect.clone())?;
-    let held: Vec<String> = cand
-        .params
+) -> (Comparison, Vec<Candidate>) {
+    struct Fitting {
+        model: Model,
+        name: String,
+        free: Vec<Free>,
+        theta: Vec<f64>,
+        perturbed: Vec<Model>,
+    }
+    let fittings: Vec<Fitting> = top
         .iter()
-        .zip(&cand.held)
-        .filter(|(_, h)| **h)
-        .map(|((k, _), _)| k.clone())
+        .filter_map(|c| {
+            let mut model = base.clone();
+            model.add_effect(c.fitted_effect.clone()).ok()?;
+            let held: Vec<String> = c
+                .params
+                .iter()
+                .zip(&c.held)
+                .filter(|(_, h)| **h)
+                .map(|((k, _), _)| k.clone())
+                .collect();
+            let free = free_params(&mut model, &c.effect, &held, full, false).ok()?;
+            let theta = values(&model, &c.effect, &free);
+            let perturbed = perturbed_models(&model, &c.effect, &free, &theta);
+            Some(Fitting {
+                name: c.effect.clone(),
+                model,
+                free,
+                theta,
+                perturbed,
+            })
+        })
         .collect();
-    let free = free_params(&mut model, &name, &held, full, false)?;
-    let theta = values(&model, &name, &free);
-    let np = free.len();
-    let starts = before.starts();
-    let (a, g) = streamed_normal_equations(&model, &name, &free, &theta, full, &starts);
-    let mut after = compare_from(&model, full, Some(&starts));
-    if np > 0 {
+    let mut models: Vec<&Model> = vec![base];
+    models.extend(fittings.iter().map(|f| &f.model));
+    let results = compare_many(&models, full, None, |k, w, fit| {
+        (k > 0).then(|| {
+            let f = &fittings[k - 1];
+            window_normal(
+                &f.model,
+                &f.perturbed,
+                full,
+                w,
+                &Linearised::of(&f.model, fit),
+            )
+        })
+    });
+    let mut results = results.into_iter();
+    let Some((base_cmp, _)) = results.next() else {
+        unreachable!("compare_many returns one result per model");
+    };
+    let mut out = Vec::new();
+    for (f, (after, shares)) in fittings.into_iter().zip(results) {
+        let np = f.free.len();
+        let mut sum = (vec![0.0; np * np], vec![0.0; np]);
+        for share in shares.iter().flatten() {
+            add_into(&mut sum, share);
+        }
+        let (a, g) = sum;
+        let mut model = f.model;
         let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
         let mut m = a.clone();
-        if solve_in_place(&mut m, &mut step, np).is_some() {
-            let trial: Vec<f64> = theta
+        if np > 0 && solve_in_place(&mut m, &mut step, np).is_some() {
+            let theta: Vec<f64> = f
+                .theta
                 .iter()
                 .zip(&step)
-                .zip(&free)
-                .map(|((t, s), f)| (t + s * f.scale).clamp(f.spec.range.0, f.spec.range.1))
+                .zip(&f.free)
+                .map(|((t, s), p)| (t + s * p.scale).clamp(p.spec.range.0, p.spec.range.1))
                 .collect();
-            let mut stepped = model.clone();
-            set_values(&mut stepped, &name, &free, &trial);
-            let c = compare_from(&stepped, full, Some(&after.starts()));
-            if c.chi2 < after.chi2 {
-                model = stepped;
-                after = c;
-            }
+            set_values(&mut model, &f.name, &f.free, &theta);
+        }
+        let cov = (np > 0).then(|| covariance(&a, &f.free, &after)).flatten();
+        if let Ok(c) = make_candidate(
+            &model, &f.name, &f.free, &base_cmp, &after, cov, cfg, candidates,
+        ) {
+            out.push(c);
         }
     }
-    let cov = (np > 0).then(|| covariance(&a, &free, &after)).flatten();
-    make_candidate(&model, &name, &free, before, &after, cov, cfg, candidates)
-}
-
-/// [`normal_equations`] with each window's start fitted (and its Jacobian taken) on the
-/// spot, so no window's Jacobian outlives its share.
-fn streamed_normal_equations(
-    model: &Model,
-    name: &str,
-    free: &[Free],
-    theta: &[f64],
-    prep: &Prepared,
-    starts: &[State],
-) -> (Vec<f64>, Vec<f64>) {
-    let np = free.len();
-    let a = vec![0.0; np * np];
-    let g = vec![0.0; np];
-    if np == 0 {
-        return (a, g);
-    }
-    let mut tracker = super::compare::SurfaceTracker::new(model, prep.data);
-    let initial: Vec<State> = prep
-        .windows
-        .iter()
-        .zip(starts)
-        .map(|(w, x)| {
-            let mut x = *x;
-            x.set_surfaces(tracker.at(w.0));
-            x
-        })
-        .collect();
-    let perturbed = perturbed_models(model, name, free, theta);
-    let parts: Vec<(Vec<f64>, Vec<f64>)> = prep
-        .windows
-        .par_iter()
-        .zip(initial.par_iter())
-        .map(|(&w, x)| {
-            let mut scratch = Scratch::default();
-            let fit = prep.fit_start(model, w, *x, &mut scratch);
-            window_normal(model, &perturbed, prep, w, &Linearised::of(model, &fit))
-        })
-        .collect();
-    let mut sum = (a, g);
-    for p in &parts {
-        add_into(&mut sum, p);
-    }
-    sum
+    (base_cmp, out)
 }
 
 /// Build the candidate's record from its fit.
@@ -854,7 +860,6 @@ pub fn diagnose(
             cfg.compare.window_s
         ));
     }
-    let base_cmp = compare_from(base, &full, None);
     let screened = cfg.screen_windows > 0 && full.windows.len() > cfg.screen_windows;
     let screen = screened.then(|| {
         Prepared::new(
@@ -874,15 +879,21 @@ pub fn diagnose(
         .filter_map(|e| try_effect(base, e, &[], prep, &baseline, cfg, k).ok())
         .collect();
     rank(&mut ranking);
-    if screened {
-        // The best on the subset, fitted again on every window.
-        for i in 0..ranking.len().min(2) {
-            if let Ok(c) = refit_on_all(base, &ranking[i], &full, &base_cmp, cfg, k) {
-                ranking[i] = c;
+    let base_cmp = if screened {
+        // The best on the subset, on every window (when it is significant there: otherwise
+        // there is nothing to sharpen).
+        let top = usize::from(ranking.first().is_some_and(|c| c.significant));
+        let (base_cmp, refitted) = full_pass(base, &ranking[..top], &full, cfg, k);
+        for c in refitted {
+            if let Some(slot) = ranking.iter_mut().find(|r| r.effect == c.effect) {
+                *slot = c;
             }
         }
         rank(&mut ranking);
-    }
+        base_cmp
+    } else {
+        baseline.comparison
+    };
     let noise_units = base_cmp.noise_units();
     Ok(Diagnosis {
         base_error: base_cmp.total,

@@ -381,7 +381,48 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     }
     out.push_str(&t.render(2));
     let _ = writeln!(out, "  verdict: {}", verdict_text(d));
+    if let Some(w) = d.winner() {
+        let corr = correlations_text(w);
+        if !corr.is_empty() {
+            let _ = writeln!(out, "  correlations of the fitted parameters: {corr}");
+        }
+    }
+    if d.windows.1 < d.windows.0 {
+        let _ = writeln!(
+            out,
+            "  (candidates were fitted on {} of the {} windows; the best one again on all)",
+            d.windows.1, d.windows.0
+        );
+    }
     out
+}
+
+/// "a/b +0.12, a/c −0.40": the correlations of a candidate's fitted parameters, or "" for
+/// fewer than two.
+pub fn correlations_text(c: &Candidate) -> String {
+    let names: Vec<&str> = c
+        .params
+        .iter()
+        .zip(&c.held)
+        .filter(|(_, h)| !**h)
+        .map(|((k, _), _)| k.as_str())
+        .collect();
+    let n = names.len();
+    if n < 2 || c.correlation.len() != n * n {
+        return String::new();
+    }
+    let mut parts = Vec::new();
+    for i in 0..n {
+        for k in i + 1..n {
+            parts.push(format!(
+                "{}/{} {}",
+                names[i],
+                names[k],
+                signed(c.correlation[i * n + k], 2)
+            ));
+        }
+    }
+    parts.join(", ")
 }
 
 /// The verdict in a sentence.

@@ -32,9 +32,22 @@ struct Findings {
 impl Findings {
     fn of(model: &Model, data: &FlightData, prep: &Prepared) -> Self {
         let comparison = compare_prepared(model, prep);
+        // The growth law needs the model on its own: starts fitted over the first quarter of
+        // each window, the drift measured over the rest.
+        let cfg = prep.config();
+        let fit_span = 0.25 * cfg.window_s;
+        let drift_prep = Prepared::new(
+            data,
+            CompareConfig {
+                start_span_s: Some(fit_span),
+                ..cfg
+            },
+        );
+        let drift = compare_prepared(model, &drift_prep);
+        let noise_m2: f64 = prep.noise.pos_axes.iter().map(|s| s * s).sum();
         Self {
             conditions: conditions(data, &comparison, model.origin.altitude_m),
-            growth: growth_exponent(data, &comparison),
+            growth: growth_exponent(data, &drift, fit_span, noise_m2),
             comparison,
         }
     }
@@ -47,12 +60,7 @@ impl Findings {
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let data = crate::flight::data::read(&args.flight)?;
     let base = args.model.choice().build(&args.flight, &data)?;
-    let cfg = CompareConfig {
-        window_s: args
-            .window
-            .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
-        ..CompareConfig::default()
-    };
+    let cfg = args.windows.config(base.vehicle.kind());
     let prep = Prepared::new(&data, cfg);
     if prep.windows.is_empty() {
         anyhow::bail!(
@@ -228,6 +236,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         ]);
     }
     print!("{}", t.render(2));
+    let final_units = last.comparison.noise_units();
+    let at_floor = final_units <= DiagnoseConfig::default().at_floor;
+    if at_floor {
+        println!(
+            "\nthe error is at the noise floor ({} × the noise): nothing left to find with these \
+             data (correlations with flight conditions would be chance)",
+            fixed(final_units, 2)
+        );
+        return Ok(());
+    }
     println!("\n{}", title("error correlates with"));
     let mut t = Table::new(["condition", "r", ""]);
     for c in last.conditions.iter().take(4) {
@@ -247,13 +265,6 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "\nwithin a window, {} (exponent {})",
             explain_growth(k),
             fixed(k, 1)
-        );
-    }
-    let final_units = last.comparison.noise_units();
-    if final_units <= DiagnoseConfig::default().at_floor {
-        println!(
-            "the error is at the noise floor ({} × the noise): nothing left to find with this data",
-            fixed(final_units, 2)
         );
     }
     Ok(())

@@ -2,7 +2,7 @@
 
 use serde_json::json;
 
-use crate::analysis::compare::{CompareConfig, Prepared};
+use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{self, add_fitted, DiagnoseConfig};
 use crate::analysis::report::{
     candidate_json, diagnosis_json, diagnosis_text, fixed, model_label, Table,
@@ -17,12 +17,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     let data = crate::flight::data::read(&args.flight)?;
     let mut base = args.model.choice().build(&args.flight, &data)?;
     let cfg = DiagnoseConfig {
-        compare: CompareConfig {
-            window_s: args
-                .window
-                .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
-            ..DiagnoseConfig::default().compare
-        },
+        compare: args.windows.config(base.vehicle.kind()),
         ..DiagnoseConfig::default()
     };
     if !args.model.add.is_empty() {

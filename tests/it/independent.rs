@@ -189,3 +189,53 @@ fn clean_independent_flights_give_none() {
         assert_eq!(dg.verdict, Verdict::None, "{text}");
     }
 }
+
+#[test]
+#[ignore]
+fn explore_hour() {
+    use wireflight::flight::autopilot::Manoeuvre;
+    use wireflight::flight::effects::Origin;
+    use wireflight::flight::simulate::{simulate, SimSpec};
+    use wireflight::flight::spec::{EffectSpec, ModelSpec};
+    use wireflight::flight::VehicleKind;
+    let base = ModelSpec::baseline(VehicleKind::FixedWing);
+    let mut truth = base.clone();
+    truth
+        .effects
+        .push(EffectSpec::parse("wind:north_mps=4,east_mps=-3").unwrap());
+    let truth = truth.build(Origin::default()).unwrap();
+    let secs: f64 = std::env::var("SECS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(3600.0);
+    let spec = SimSpec {
+        rate_hz: 100.0,
+        noise: wireflight::flight::simulate::Noise {
+            pos_m: 0.5,
+            att_deg: 0.3,
+            vel_mps: 0.1,
+            rate_dps: 0.5,
+        },
+        ..SimSpec::new(Manoeuvre::FlightTest, secs)
+    };
+    let data = simulate(&truth, &spec).unwrap();
+    let model = base.build(Origin::default()).unwrap();
+    let f0 = wireflight::analysis::compare::predict::flights();
+    let t = std::time::Instant::now();
+    let c = compare(&model, &data, CompareConfig::default());
+    eprintln!(
+        "compare {:.2} s, {} flights, {} windows",
+        t.elapsed().as_secs_f64(),
+        wireflight::analysis::compare::predict::flights() - f0,
+        c.windows.len()
+    );
+    let f0 = wireflight::analysis::compare::predict::flights();
+    let t = std::time::Instant::now();
+    let d = diagnose(&model, &data, &[], &DiagnoseConfig::default()).unwrap();
+    eprintln!(
+        "diagnose {:.2} s, {} flights",
+        t.elapsed().as_secs_f64(),
+        wireflight::analysis::compare::predict::flights() - f0
+    );
+    eprint!("{}", wireflight::analysis::report::diagnosis_text(&d));
+}

@@ -554,6 +554,69 @@ fn compare_windows(
     (assemble(model, prep, outcomes), fits)
 }
 
+/// Compare several models in one pass over the windows, each window's start fitted for the
+/// first model (from `starts`, or the warm start) and then for each other model from the
+/// first one's; `then(k, window, fit)` runs on every model's start fit (Jacobian included)
+/// while it exists, so nothing per window outlives its pass. Returns each model's comparison
+/// with what `then` returned per window.
+pub fn compare_many<T: Send>(
+    models: &[&Model],
+    prep: &Prepared,
+    starts: Option<&[State]>,
+    then: impl Fn(usize, (usize, usize), &StartFit) -> T + Sync,
+) -> Vec<(Comparison, Vec<T>)> {
+    let Some(first) = models.first() else {
+        return Vec::new();
+    };
+    // Surfaces at each window start, per model (its actuator lag, if any).
+    let surfaces: Vec<Vec<DVec3>> = models
+        .iter()
+        .map(|m| {
+            let mut tracker = SurfaceTracker::new(m, prep.data);
+            prep.windows.iter().map(|w| tracker.at(w.0)).collect()
+        })
+        .collect();
+    let per_window: Vec<Vec<(WindowOutcome, T)>> = prep
+        .windows
+        .par_iter()
+        .enumerate()
+        .map(|(i, &w)| {
+            let mut x = match starts.and_then(|s| s.get(i)) {
+                Some(x) => *x,
+                None => prep.warm_start(first, w, surfaces[0][i]),
+            };
+            let mut out = Vec::with_capacity(models.len());
+            for (k, m) in models.iter().enumerate() {
+                x.set_surfaces(surfaces[k][i]);
+                let mut o = compare_window(m, prep, w, x, true);
+                let fit = o.fit.take();
+                if k == 0 {
+                    x = o.result.start;
+                }
+                let extra = match &fit {
+                    Some(f) => then(k, w, f),
+                    None => then(k, w, &StartFit::unfitted(o.result.start)),
+                };
+                out.push((o, extra));
+            }
+            out
+        })
+        .collect();
+    let mut by_model: Vec<(Vec<WindowOutcome>, Vec<T>)> =
+        models.iter().map(|_| (Vec::new(), Vec::new())).collect();
+    for window in per_window {
+        for (k, (o, t)) in window.into_iter().enumerate() {
+            by_model[k].0.push(o);
+            by_model[k].1.push(t);
+        }
+    }
+    models
+        .iter()
+        .zip(by_model)
+        .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
+        .collect()
+}
+
 fn assemble(model: &Model, prep: &Prepared, outcomes: Vec<WindowOutcome>) -> Comparison {
     let m = prep.measured.for_vehicle(model);
     let mut prediction = Prediction::default();

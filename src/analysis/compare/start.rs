@@ -31,8 +31,9 @@ const STEPS: [f64; 4] = [1e-4, 1e-4, 1e-6, 1e-6];
 /// Stop when the next step promises to lower the misfit (χ², in units of the noise variance)
 /// by less than this: far below anything a significance test could see.
 pub const ABS_TOL: f64 = 1e-3;
-/// ... or by less than this fraction of it (noise-free data, whose χ² is tiny).
-pub const REL_TOL: f64 = 1e-9;
+/// ... or by less than this fraction of it: a model far from the data (χ² of 10⁵ in a window)
+/// need not have its start polished to a thousandth of a noise unit.
+pub const REL_TOL: f64 = 1e-6;
 
 /// Number of start parameters of a vehicle.
 pub fn param_count(model: &Model) -> usize {
@@ -324,6 +325,19 @@ pub struct StartFit {
     pub residuals: Vec<f64>,
     /// Number of start parameters (columns).
     pub params: usize,
+}
+
+impl StartFit {
+    /// A start taken as it is (no fit, no Jacobian).
+    pub fn unfitted(state: State) -> Self {
+        Self {
+            state,
+            iterations: 0,
+            jacobian: Vec::new(),
+            residuals: Vec::new(),
+            params: 0,
+        }
+    }
 }
 
 /// Remove from each column of `cols` (column-major, `m` rows) its least-squares fit by the
