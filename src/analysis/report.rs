@@ -294,18 +294,21 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
 
 /// The measured noise in one line.
 pub fn noise_text(n: &NoiseEstimate) -> String {
-    let mut parts = vec![format!("position {} m", fixed(n.pos_m, 3))];
+    let mut parts = vec![format!("position {} m", fmt_number(n.pos_m))];
     if n.vel_mps > 0.0 {
-        parts.push(format!("velocity {} m/s", fixed(n.vel_mps, 3)));
+        parts.push(format!("velocity {} m/s", fmt_number(n.vel_mps)));
     }
     if n.att_rad > 0.0 {
-        parts.push(format!("attitude {}°", fixed(n.att_rad.to_degrees(), 3)));
+        parts.push(format!("attitude {}°", fmt_number(n.att_rad.to_degrees())));
     }
     if n.rate_radps > 0.0 {
-        parts.push(format!("rates {}°/s", fixed(n.rate_radps.to_degrees(), 3)));
+        parts.push(format!(
+            "rates {}°/s",
+            fmt_number(n.rate_radps.to_degrees())
+        ));
     }
     if n.airspeed_mps > 0.0 {
-        parts.push(format!("airspeed {} m/s", fixed(n.airspeed_mps, 3)));
+        parts.push(format!("airspeed {} m/s", fmt_number(n.airspeed_mps)));
     }
     format!("measurement noise (1σ per axis): {}", parts.join(", "))
 }

@@ -243,7 +243,7 @@ def csv_text(rows, info, args, noise) -> str:
         f"{tr['throttle']:.4f}); {wind_txt}; dt 1/400 s, AB2 rotational integrators; "
         f"{noise_txt}; made by tools/jsbsim/fly.py",
         "# vehicle: fixed-wing",
-        f"# aircraft: {args.aircraft}",
+        f"# aircraft: {aircraft_meta(args)}",
         f"# latitude_deg: {o['lat']:.8f}",
         f"# longitude_deg: {o['lon']:.8f}",
         f"# altitude_m: {o['alt']:.3f}",
@@ -292,6 +292,18 @@ def triple(text: str):
     return tuple(parts)
 
 
+def aircraft_meta(args):
+    """The `# aircraft:` value: as given, or the repository's c172p.toml relative to the
+    folder of the output file (wireflight resolves metadata paths from the data file's
+    folder)."""
+    if args.aircraft:
+        return args.aircraft
+    repo = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    toml = os.path.join(repo, "assets", "aircraft", "c172p.toml")
+    out_dir = os.path.dirname(os.path.abspath(args.out or "."))
+    return os.path.relpath(toml, out_dir)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  epilog=__doc__.split("\n\n", 1)[1],
@@ -316,9 +328,10 @@ def main(argv=None) -> int:
     ap.add_argument("--noise-angle", type=float, help="attitude noise, deg")
     ap.add_argument("--noise-vel", type=float, help="velocity and airspeed noise, m/s")
     ap.add_argument("--noise-rate", type=float, help="body-rate noise, deg/s")
-    ap.add_argument("--aircraft", default="assets/aircraft/c172p.toml",
-                    help="value of the `# aircraft:` metadata (default "
-                         "assets/aircraft/c172p.toml, relative to the repository root)")
+    ap.add_argument("--aircraft", default=None,
+                    help="value of the `# aircraft:` metadata (default: the path of "
+                         "assets/aircraft/c172p.toml relative to the output file's folder, "
+                         "which is where wireflight resolves it from)")
     args = ap.parse_args(argv)
 
     base = (0.05, 0.05, 0.05, 0.2) if args.noise else (0.0, 0.0, 0.0, 0.0)

@@ -69,7 +69,6 @@ pub fn fly_window(
     max_dt: f64,
     out: &mut Vec<Predicted>,
 ) {
-    FLIGHTS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     out.clear();
     let mut x = *x0;
     for i in start..end {
