@@ -108,19 +108,26 @@ pub fn fmt_opt(v: Option<f64>, unit: &str) -> String {
         .unwrap_or_else(|| "—".into())
 }
 
-/// `k=v±σ ...` of a candidate's parameters (held ones marked), or "" without parameters.
+/// `k=v±σ ...` of a candidate's parameters (held ones marked, the change from the set in %
+/// for aircraft numbers), or "" without parameters.
 pub fn fmt_params(c: &Candidate) -> String {
+    let changes = c.changes_percent();
     c.params
         .iter()
         .zip(&c.uncertainty)
         .zip(&c.held)
         .map(|(((k, v), u), held)| {
+            let change = changes
+                .iter()
+                .find(|(key, _)| key == k)
+                .map(|(_, pct)| format!(" ({}% from the set)", signed(*pct, 1)))
+                .unwrap_or_default();
             if *held {
                 format!("{k}={} (held)", fmt_number(*v))
             } else if u.is_finite() {
-                format!("{k}={}±{}", fmt_number(*v), fmt_number(*u))
+                format!("{k}={}±{}{change}", fmt_number(*v), fmt_number(*u))
             } else {
-                format!("{k}={} (not determined)", fmt_number(*v))
+                format!("{k}={} (not determined){change}", fmt_number(*v))
             }
         })
         .collect::<Vec<_>>()
@@ -254,9 +261,15 @@ pub fn candidate_json(c: &Candidate) -> Value {
         .filter(|(_, h)| **h)
         .map(|((k, _), _)| k)
         .collect();
+    let change: Map<String, Value> = c
+        .changes_percent()
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), json!(v)))
+        .collect();
     json!({
         "effect": c.effect,
         "params": params,
+        "change_percent": change,
         "uncertainty": unc,
         "uncertainty_level": "1 sigma",
         "held": held,
@@ -285,6 +298,11 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
         "windows": d.windows.0,
         "windows_screened": d.windows.1,
         "ranking": d.ranking.iter().map(candidate_json).collect::<Vec<_>>(),
+        "evidence": d.evidence,
+        "alternatives": d.alternatives,
+        "aircraft_scores": d.aircraft_scores.iter().take(10).map(|s| json!({
+            "key": s.key.name, "term": s.key.term, "reduction_chi2": s.reduction,
+        })).collect::<Vec<_>>(),
     })
 }
 
@@ -384,6 +402,17 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     }
     out.push_str(&t.render(2));
     let _ = writeln!(out, "  verdict: {}", verdict_text(d));
+    if !d.alternatives.is_empty() {
+        let _ = writeln!(
+            out,
+            "  as good an explanation: {} — these data cannot tell them apart; a flight that \
+             varies what they differ in would",
+            d.alternatives.join(", ")
+        );
+    }
+    for e in &d.evidence {
+        let _ = writeln!(out, "  evidence: {e}");
+    }
     if let Some(w) = d.winner() {
         let corr = correlations_text(w);
         if !corr.is_empty() {

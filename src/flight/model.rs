@@ -184,6 +184,30 @@ impl Model {
         Ok(())
     }
 
+    /// The value of a parameter of the aircraft's set (`c_m_alpha`, `mass_kg`, …; see
+    /// [`crate::flight::params::keys`]); `None` for a point mass or an unknown key.
+    pub fn aircraft(&self, key: &str) -> Option<f64> {
+        match &self.vehicle {
+            Vehicle::FixedWing(p) => super::params::keys::get(p, key),
+            Vehicle::PointMass => None,
+        }
+    }
+
+    /// Set a parameter of the aircraft's set (checked; the inertia constants follow).
+    ///
+    /// # Errors
+    /// A point mass, an unknown key, a value out of range or a non-physical set.
+    pub fn set_aircraft(&mut self, key: &str, value: f64) -> Result<(), String> {
+        match &mut self.vehicle {
+            Vehicle::FixedWing(p) => {
+                super::params::keys::set(p, key, value)?;
+                self.gammas = Gammas::new(&p.mass);
+                Ok(())
+            }
+            Vehicle::PointMass => Err(format!("a point mass has no aircraft parameter `{key}`")),
+        }
+    }
+
     /// What the defaults of an effect added to this model depend on.
     pub fn effect_context(&self) -> EffectContext {
         EffectContext {

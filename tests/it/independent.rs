@@ -189,3 +189,67 @@ fn clean_independent_flights_give_none() {
         assert_eq!(dg.verdict, Verdict::None, "{text}");
     }
 }
+
+/// A refsim flight test whose aircraft differs from the set in one number.
+fn wrong_number(key: &str, factor: f64, seed: u64) -> FlightData {
+    let mut o = flight_test(Effects::none(), seed);
+    let p = &mut o.params;
+    let slot = match key {
+        "c_m_alpha" => &mut p.c_m_alpha,
+        "c_ell_p" => &mut p.c_ell_p,
+        "c_n_beta" => &mut p.c_n_beta,
+        "c_d_p" => &mut p.c_d_p,
+        "mass_kg" => &mut p.mass_kg,
+        other => panic!("no such key in this test: {other}"),
+    };
+    *slot *= factor;
+    flight(&o)
+}
+
+#[test]
+fn a_wrong_coefficient_is_named_with_its_value_never_a_catalogue_effect() {
+    let aerosonde = wireflight::flight::params::FixedWingParams::aerosonde();
+    for (key, factor) in [
+        ("c_m_alpha", 0.8),
+        ("c_ell_p", 1.25),
+        ("c_n_beta", 0.7),
+        ("c_d_p", 1.5),
+    ] {
+        let d = wrong_number(key, factor, 41);
+        let dg = diagnose(&baseline(&d), &d, &[], &DiagnoseConfig::default()).unwrap();
+        let text = report(&dg);
+        eprintln!("{key} × {factor}:\n{text}");
+        let truth = wireflight::flight::params::keys::get(&aerosonde, key).unwrap() * factor;
+        assert_eq!(
+            dg.verdict,
+            Verdict::Effect(format!("aircraft:{key}")),
+            "{text}"
+        );
+        let w = dg.winner().unwrap();
+        let fitted = w.params[0].1;
+        assert!(
+            (fitted / truth - 1.0).abs() <= 0.05,
+            "{key}: fitted {fitted}, truth {truth}"
+        );
+        // Applying the named correction brings the error to the noise floor.
+        assert!(w.noise_units_after <= 1.1, "{text}");
+        assert!(w.error_after <= 1.1 * dg.noise_floor, "{text}");
+    }
+}
+
+#[test]
+fn a_wrong_mass_is_named_or_unexplained_never_a_catalogue_effect() {
+    let d = wrong_number("mass_kg", 0.9, 42);
+    let dg = diagnose(&baseline(&d), &d, &[], &DiagnoseConfig::default()).unwrap();
+    let text = report(&dg);
+    eprintln!("{text}");
+    let catalogue = wireflight::flight::effects::catalogue_names();
+    match &dg.verdict {
+        Verdict::Effect(name) => {
+            assert!(!catalogue.contains(&name.as_str()), "{text}");
+            assert!(name.starts_with("aircraft:"), "{text}");
+        }
+        Verdict::Unexplained => {}
+        Verdict::None => panic!("a 10% heavier model is not at the noise floor\n{text}"),
+    }
+}

@@ -17,7 +17,7 @@ use anyhow::{bail, Context};
 use crate::analysis::compare::{
     compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
 };
-use crate::analysis::diagnose::{diagnose, DiagnoseConfig, Diagnosis, Verdict};
+use crate::analysis::diagnose::{diagnose, Correction, DiagnoseConfig, Diagnosis, Verdict};
 use crate::flight::data::FlightData;
 use crate::flight::effects::{Effect, Param, CATALOGUE};
 use crate::flight::model::Model;
@@ -388,7 +388,9 @@ impl Compare {
                 for c in d.ranking {
                     if let Some(r) = self.rows.iter_mut().find(|r| r.name == c.effect) {
                         refresh |= r.on && !r.in_base && r.waits_for_fit();
-                        r.fitted = Some(c.fitted_effect);
+                        if let Correction::Effect(e) = c.correction {
+                            r.fitted = Some(e);
+                        }
                         r.fitted_error = Some(c.error_after);
                     }
                 }

@@ -1,173 +1,26 @@
-//! Which physical effect is missing? Try every applicable catalogue effect (and any user
-//! effect given), fit its parameters together with every window's start state, rank by how
-//! much of the misfit it removes, test whether that is more than fitting noise would give,
-//! and say honestly when nothing explains what is left.
+//! Fitting one candidate correction — an effect's parameters, or numbers of the aircraft's
+//! parameter set — on the misfit profiled over every window's start state, and scoring it
+//! against the model without it.
 //!
-//! * **Fitting** (output error with estimated start states): Levenberg–Marquardt on the
-//!   effect's free parameters, each window's start re-fitted at every trial (warm-started), so
-//!   the misfit is the profile over the starts. The parameter Jacobian is the variable
-//!   projection one: the change of each window's residuals with a parameter, less what a start
-//!   change could absorb ([`project_out`]). Parameters given by the user, and those known from
-//!   the metadata (latitudes, [`ParamSpec::from_origin`]), are held. Each parameter stays in its
-//!   range.
-//! * **Uncertainty**: the covariance (JᵀJ)⁻¹ of the projected Jacobian of noise-weighted
-//!   residuals, scaled by the misfit per residual when it exceeds 1 and by the residuals'
-//!   autocorrelation (AR(1): (1+ρ)/(1−ρ)); 1σ, with the correlation matrix. All windows count.
-//! * **Significance**: the likelihood-ratio statistic N·ln(χ²₀/χ²₁) over the effectively
-//!   independent residuals N (ν·(1−ρ)/(1+ρ): white residuals count fully, a smooth misfit
-//!   hardly) against the χ² quantile for the number of fitted parameters at the family-wise
-//!   level α split over all candidates (Bonferroni); and the effect must remove at least a
-//!   fifth of the misfit above the noise.
-//! * **Verdict**: the significant candidate that leaves the least misfit, if it brings the
-//!   error to the noise (≤ `at_floor` noise units); a significant candidate that leaves the
-//!   error above the noise is only *partial*, and the verdict is then `unexplained`. Without a
-//!   significant candidate: `none` when the error is at the noise, `unexplained` when it is not.
-//!   [`iterate`] adds the winner and repeats.
-//!
-//! Long flights are screened on a subset of windows (`screen_windows`), and the best
-//! candidates then re-fitted on all of them.
-
-use std::fmt;
-
-use rayon::prelude::*;
+//! The profile is linearised around the baseline's fitted starts (variable projection: the
+//! residual change a parameter causes, less what a start change could absorb), Levenberg–
+//! Marquardt runs on that, and the starts are then fitted exactly at the result (repeated
+//! when the linearisation was off). The covariance comes from the projected Jacobian.
 
 use glam::DVec3;
+use rayon::prelude::*;
 
-use super::compare::start::{params_of, project_out, state_of, Scratch, StartFit};
-use super::compare::{
-    compare_from, compare_many, compare_with_fits, noise_floor, CompareConfig, Comparison, Prepared,
+use super::{AircraftChange, Candidate, Correction, DiagnoseConfig};
+use crate::analysis::compare::start::{params_of, project_out, state_of, Scratch, StartFit};
+use crate::analysis::compare::{
+    compare_from, compare_many, compare_with_fits, Comparison, Prepared,
 };
-use crate::flight::data::FlightData;
-use crate::flight::effects::{Effect, ParamSpec, CATALOGUE};
+use crate::flight::effects::{Effect, ParamSpec};
 use crate::flight::model::{Model, State};
-use crate::flight::spec::EffectSpec;
 use crate::numeric::{chi2_quantile, invert, solve_in_place};
 
-/// Settings of a diagnosis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct DiagnoseConfig {
-    /// Comparison settings used for fitting and scoring.
-    pub compare: CompareConfig,
-    /// Levenberg–Marquardt iterations per candidate.
-    pub max_iterations: usize,
-    /// Family-wise significance level of the likelihood-ratio tests.
-    pub alpha: f64,
-    /// Fit candidates on at most this many windows, evenly spread (0: all), then re-fit the
-    /// best on all of them.
-    pub screen_windows: usize,
-    /// Misfit, in units of the measurement noise, that counts as "at the noise floor".
-    pub at_floor: f64,
-}
-
-impl Default for DiagnoseConfig {
-    fn default() -> Self {
-        Self {
-            compare: CompareConfig::default(),
-            max_iterations: 10,
-            alpha: 0.01,
-            screen_windows: 24,
-            at_floor: 1.25,
-        }
-    }
-}
-
-/// One tried effect.
-#[derive(Clone, Debug)]
-pub struct Candidate {
-    /// Effect name.
-    pub effect: String,
-    /// Parameters after fitting (fitted and held), name → value.
-    pub params: Vec<(String, f64)>,
-    /// Whether each parameter was held (given, or known from the metadata) rather than fitted.
-    pub held: Vec<bool>,
-    /// 1σ of each fitted parameter (NaN for held ones, and where the data do not determine
-    /// it).
-    pub uncertainty: Vec<f64>,
-    /// Correlation matrix of the fitted parameters (row-major, `fitted`×`fitted`).
-    pub correlation: Vec<f64>,
-    /// Number of fitted parameters.
-    pub fitted: usize,
-    /// Total error without the effect (see the comparison's module docs).
-    pub error_before: f64,
-    /// Total error with the fitted effect.
-    pub error_after: f64,
-    /// Fraction of the total error removed, (before − after)/before.
-    pub error_reduction: f64,
-    /// Misfit in noise units without the effect.
-    pub noise_units_before: f64,
-    /// Misfit in noise units with the fitted effect.
-    pub noise_units_after: f64,
-    /// Fraction of the misfit *above the noise* removed (noise units).
-    pub excess_removed: f64,
-    /// Likelihood-ratio statistic N·ln(χ²₀/χ²₁).
-    pub lr_statistic: f64,
-    /// The χ² quantile it had to beat.
-    pub lr_critical: f64,
-    /// Passed the significance test and the materiality threshold.
-    pub significant: bool,
-    /// Significant, but the error stays above the noise floor with it: part of the answer at
-    /// most.
-    pub partial: bool,
-    /// Windows the fit used.
-    pub windows: usize,
-    /// The fitted effect, ready to add to the model.
-    pub fitted_effect: Box<dyn Effect>,
-}
-
-/// What the diagnosis concludes.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Verdict {
-    /// This effect is missing, and adding it brings the error to the noise.
-    Effect(String),
-    /// The error is at the noise floor: nothing is missing that these data could show.
-    None,
-    /// The error is above the noise floor and no candidate brings it there.
-    Unexplained,
-}
-
-impl fmt::Display for Verdict {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            Verdict::Effect(name) => f.write_str(name),
-            Verdict::None => f.write_str("none"),
-            Verdict::Unexplained => f.write_str("unexplained"),
-        }
-    }
-}
-
-/// Result of a diagnosis.
-#[derive(Clone, Debug)]
-pub struct Diagnosis {
-    /// Total error of the model as given.
-    pub base_error: f64,
-    /// Total error a right model would leave (measurement noise alone).
-    pub noise_floor: f64,
-    /// Misfit of the model as given, in noise units (1 = at the floor).
-    pub noise_units: f64,
-    /// The comparison of the model as given (all windows).
-    pub base: Comparison,
-    /// Candidates, least misfit left first.
-    pub ranking: Vec<Candidate>,
-    /// The conclusion.
-    pub verdict: Verdict,
-    /// Windows of the whole comparison, and of the screening (equal when not screened).
-    pub windows: (usize, usize),
-    /// The measurement noise of the data.
-    pub base_noise: crate::analysis::compare::NoiseEstimate,
-}
-
-impl Diagnosis {
-    /// The winning candidate, when the verdict is an effect.
-    pub fn winner(&self) -> Option<&Candidate> {
-        match &self.verdict {
-            Verdict::Effect(v) => self.ranking.iter().find(|c| &c.effect == v),
-            _ => None,
-        }
-    }
-}
-
 /// The effect named `name` in `model`.
-fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
+pub(super) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
     model
         .effects
         .iter()
@@ -175,40 +28,62 @@ fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
         .map(|e| e.as_ref())
 }
 
-/// A parameter being fitted: its spec and its index among the effect's values.
-#[derive(Clone, Copy)]
-struct Free {
-    spec: &'static ParamSpec,
-    scale: f64,
+/// Whose number a fitted parameter is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Owner {
+    /// A parameter of the effect of that name.
+    Effect(&'static str),
+    /// A number of the aircraft's parameter set.
+    Aircraft,
 }
 
-fn set_values(model: &mut Model, name: &str, free: &[Free], theta: &[f64]) {
-    if let Some(e) = model.effect_mut(name) {
-        for (f, v) in free.iter().zip(theta) {
-            let _ = e.set_param(f.spec.name, v.clamp(f.spec.range.0, f.spec.range.1));
-        }
+/// A parameter being fitted: its name, range and typical size, and whose it is.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Free {
+    pub name: &'static str,
+    pub range: (f64, f64),
+    pub scale: f64,
+    pub owner: Owner,
+}
+
+/// Set the free parameters to `theta`, each kept inside its range.
+pub(super) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
+    for (f, v) in free.iter().zip(theta) {
+        let v = v.clamp(f.range.0, f.range.1);
+        let _ = match f.owner {
+            Owner::Effect(name) => model
+                .effect_mut(name)
+                .map_or(Ok(()), |e| e.set_param(f.name, v)),
+            Owner::Aircraft => model.set_aircraft(f.name, v),
+        };
     }
 }
 
-fn values(model: &Model, name: &str, free: &[Free]) -> Vec<f64> {
-    let e = effect(model, name);
+/// The current values of the free parameters.
+pub(super) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
     free.iter()
-        .map(|f| e.and_then(|e| e.param(f.spec.name)).unwrap_or(0.0))
+        .map(|f| {
+            match f.owner {
+                Owner::Effect(name) => effect(model, name).and_then(|e| e.param(f.name)),
+                Owner::Aircraft => model.aircraft(f.name),
+            }
+            .unwrap_or(0.0)
+        })
         .collect()
 }
 
 /// One window's start state and the linearisation of its residuals around it: what a change
 /// of the start can absorb (the columns of `jac`), projected out of every residual change.
-struct Linearised {
+pub(super) struct Linearised {
     q: Vec<f64>,
     surfaces: DVec3,
-    jac: Vec<f64>,
+    pub(super) jac: Vec<f64>,
     gram: Vec<f64>,
-    params: usize,
+    pub(super) params: usize,
 }
 
 impl Linearised {
-    fn of(model: &Model, fit: &StartFit) -> Self {
+    pub(super) fn of(model: &Model, fit: &StartFit) -> Self {
         let m = fit.residuals.len();
         let np = fit.params;
         let mut gram = vec![0.0; np * np];
@@ -296,13 +171,13 @@ fn linear_profile(model: &Model, prep: &Prepared, lin: &[Linearised]) -> (f64, V
 const PARAM_STEP: f64 = 0.01;
 
 /// The model with each free parameter in turn moved by one difference step.
-fn perturbed_models(model: &Model, name: &str, free: &[Free], theta: &[f64]) -> Vec<Model> {
+pub(super) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> Vec<Model> {
     (0..free.len())
         .map(|j| {
             let mut m = model.clone();
             let mut t = theta.to_vec();
             t[j] += PARAM_STEP * free[j].scale;
-            set_values(&mut m, name, free, &t);
+            set_values(&mut m, free, &t);
             m
         })
         .collect()
@@ -361,14 +236,13 @@ fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {
 /// (see [`window_normal`]).
 fn normal_equations(
     model: &Model,
-    name: &str,
     free: &[Free],
     theta: &[f64],
     prep: &Prepared,
     lin: &[Linearised],
 ) -> (Vec<f64>, Vec<f64>) {
     let np = free.len();
-    let perturbed = perturbed_models(model, name, free, theta);
+    let perturbed = perturbed_models(model, free, theta);
     let parts: Vec<(Vec<f64>, Vec<f64>)> = prep
         .windows
         .par_iter()
@@ -406,7 +280,6 @@ fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
 #[allow(clippy::too_many_arguments)]
 fn fit_linearised(
     model: &mut Model,
-    name: &str,
     free: &[Free],
     theta: &mut Vec<f64>,
     prep: &Prepared,
@@ -417,7 +290,7 @@ fn fit_linearised(
     let (mut chi2, mut dq) = linear_profile(model, prep, lin);
     let mut lambda = 1e-3;
     for _ in 0..iterations {
-        let (a0, g) = normal_equations(model, name, free, theta, prep, lin);
+        let (a0, g) = normal_equations(model, free, theta, prep, lin);
         let mut accepted = None;
         for _ in 0..8 {
             let mut a = a0.clone();
@@ -433,10 +306,10 @@ fn fit_linearised(
                 .iter()
                 .zip(&step)
                 .zip(free)
-                .map(|((t, s), f)| (t + s * f.scale).clamp(f.spec.range.0, f.spec.range.1))
+                .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
                 .collect();
             let mut m = model.clone();
-            set_values(&mut m, name, free, &trial);
+            set_values(&mut m, free, &trial);
             let (c, dq_trial) = linear_profile(&m, prep, lin);
             if c.is_finite() && c < chi2 {
                 accepted = Some((trial, m, c, dq_trial));
@@ -473,7 +346,6 @@ const FIT_TOL: f64 = 0.01;
 /// values, and the parameter covariance.
 fn fit(
     model: &mut Model,
-    name: &str,
     free: &[Free],
     prep: &Prepared,
     baseline: &Baseline,
@@ -489,13 +361,13 @@ fn fit(
         .iter()
         .map(|f| f.residuals.iter().map(|r| r * r).sum::<f64>())
         .sum();
-    let mut theta = values(model, name, free);
+    let mut theta = values(model, free);
     let mut lin: Vec<Linearised> = fits.iter().map(|f| Linearised::of(model, f)).collect();
-    let mut linear = fit_linearised(model, name, free, &mut theta, prep, &mut lin, iterations);
+    let mut linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
     if !(chi2_base - linear > FIT_TOL.max(1e-6 * chi2_base)) {
         // The effect explains nothing the starts could not: its best values change the misfit
         // by less than a hundredth of a noise unit, so the comparison is the baseline's.
-        let (a, _) = normal_equations(model, name, free, &theta, prep, &lin);
+        let (a, _) = normal_equations(model, free, &theta, prep, &lin);
         let cov = covariance(&a, free, &baseline.comparison);
         return (baseline.comparison.clone(), cov);
     }
@@ -512,12 +384,12 @@ fn fit(
         if settled {
             break;
         }
-        linear = fit_linearised(model, name, free, &mut theta, prep, &mut lin, iterations);
+        linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
     }
     let Some((cmp, _)) = exact else {
         unreachable!("the loop runs at least once");
     };
-    let (a, _) = normal_equations(model, name, free, &theta, prep, &lin);
+    let (a, _) = normal_equations(model, free, &theta, prep, &lin);
     let cov = covariance(&a, free, &cmp);
     (cmp, cov)
 }
@@ -527,7 +399,7 @@ fn fit(
 pub struct Baseline {
     /// The comparison.
     pub comparison: Comparison,
-    fits: Vec<StartFit>,
+    pub(super) fits: Vec<StartFit>,
 }
 
 impl Baseline {
@@ -540,7 +412,7 @@ impl Baseline {
 
 /// The free parameters of the effect `name` in `model`: all but those `fixed` and those known
 /// from the data's metadata. With `reset`, each is first set to its fitting start value.
-fn free_params(
+pub(super) fn effect_free(
     model: &mut Model,
     name: &str,
     fixed: &[String],
@@ -565,16 +437,85 @@ fn free_params(
                 e.set_param(p.name, start)?;
             }
             free.push(Free {
-                spec: p,
+                name: p.name,
+                range: p.range,
                 scale: p.scale_at(e.param(p.name).unwrap_or(0.0)),
+                owner: Owner::Effect(info.name),
             });
         }
     }
     Ok(free)
 }
 
+/// Smallest typical size of an aircraft number that is zero in the set (a coefficient of 0:
+/// a change of 0.01 is already a large one for most).
+const AIRCRAFT_MIN_SCALE: f64 = 0.01;
+
+/// The aircraft numbers `keys` of `model` as free parameters, each scaled by a tenth of its
+/// value.
+pub(super) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<Free>, String> {
+    keys.iter()
+        .map(|&k| {
+            let key = crate::flight::params::keys::find(k)
+                .ok_or_else(|| format!("unknown aircraft parameter `{k}`"))?;
+            let v = model
+                .aircraft(k)
+                .ok_or_else(|| format!("a point mass has no aircraft parameter `{k}`"))?;
+            Ok(Free {
+                name: key.name,
+                range: key.range,
+                scale: (0.1 * v.abs()).max(AIRCRAFT_MIN_SCALE),
+                owner: Owner::Aircraft,
+            })
+        })
+        .collect()
+}
+
+/// What is tried: an effect added to the model, or numbers of the aircraft's set.
+#[derive(Clone, Debug)]
+pub(super) enum Trial {
+    Effect(String),
+    Aircraft(Vec<&'static str>),
+}
+
+impl Trial {
+    pub(super) fn label(&self) -> String {
+        match self {
+            Trial::Effect(name) => name.clone(),
+            Trial::Aircraft(keys) => format!("aircraft:{}", keys.join(",")),
+        }
+    }
+}
+
+/// Fit a trial (already in `model`, its free parameters `free`) and score it against the
+/// baseline.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn fit_trial(
+    base: &Model,
+    mut model: Model,
+    trial: &Trial,
+    free: &[Free],
+    prep: &Prepared,
+    before: &Baseline,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> Result<Candidate, String> {
+    let (after, cov) = fit(&mut model, free, prep, before, cfg.max_iterations);
+    make_candidate(
+        base,
+        &model,
+        trial,
+        free,
+        &before.comparison,
+        &after,
+        cov,
+        cfg,
+        candidates,
+    )
+}
+
 /// Try one effect on top of `base`: fit it and score it against the baseline. `fixed` lists
-/// parameters not to fit; `candidates` is how many effects are being tried (for the
+/// parameters not to fit; `candidates` is how many corrections are being tried (for the
 /// significance level).
 ///
 /// # Errors
@@ -591,15 +532,40 @@ pub fn try_effect(
     let name = effect.name().to_string();
     let mut model = base.clone();
     model.add_effect(effect)?;
-    let free = free_params(&mut model, &name, fixed, prep, true)?;
-    let (after, cov) = fit(&mut model, &name, &free, prep, before, cfg.max_iterations);
-    make_candidate(
-        &model,
-        &name,
+    let free = effect_free(&mut model, &name, fixed, prep, true)?;
+    fit_trial(
+        base,
+        model,
+        &Trial::Effect(name),
         &free,
-        &before.comparison,
-        &after,
-        cov,
+        prep,
+        before,
+        cfg,
+        candidates,
+    )
+}
+
+/// Try new values of numbers of the aircraft's parameter set (fitted jointly), scored against
+/// the baseline.
+///
+/// # Errors
+/// A point mass, or an unknown key.
+pub fn try_aircraft(
+    base: &Model,
+    keys: &[&'static str],
+    prep: &Prepared,
+    before: &Baseline,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> Result<Candidate, String> {
+    let free = aircraft_free(base, keys)?;
+    fit_trial(
+        base,
+        base.clone(),
+        &Trial::Aircraft(keys.to_vec()),
+        &free,
+        prep,
+        before,
         cfg,
         candidates,
     )
@@ -612,7 +578,7 @@ pub fn try_effect(
 /// step on all windows — the all-window estimate, whose covariance is the all-window one —
 /// while its errors are those at the subset values (the two differ by a few of the subset's
 /// σ, which changes the misfit by a few units in hundreds of thousands).
-fn full_pass(
+pub(super) fn full_pass(
     base: &Model,
     top: &[Candidate],
     full: &Prepared,
@@ -621,7 +587,7 @@ fn full_pass(
 ) -> (Comparison, Vec<Candidate>) {
     struct Fitting {
         model: Model,
-        name: String,
+        trial: Trial,
         free: Vec<Free>,
         theta: Vec<f64>,
         perturbed: Vec<Model>,
@@ -630,20 +596,31 @@ fn full_pass(
         .iter()
         .filter_map(|c| {
             let mut model = base.clone();
-            model.add_effect(c.fitted_effect.clone()).ok()?;
-            let held: Vec<String> = c
-                .params
-                .iter()
-                .zip(&c.held)
-                .filter(|(_, h)| **h)
-                .map(|((k, _), _)| k.clone())
-                .collect();
-            let free = free_params(&mut model, &c.effect, &held, full, false).ok()?;
-            let theta = values(&model, &c.effect, &free);
-            let perturbed = perturbed_models(&model, &c.effect, &free, &theta);
+            c.correction.apply(&mut model).ok()?;
+            let (trial, free) = match &c.correction {
+                Correction::Effect(e) => {
+                    let held: Vec<String> = c
+                        .params
+                        .iter()
+                        .zip(&c.held)
+                        .filter(|(_, h)| **h)
+                        .map(|((k, _), _)| k.clone())
+                        .collect();
+                    let name = e.name().to_string();
+                    let free = effect_free(&mut model, &name, &held, full, false).ok()?;
+                    (Trial::Effect(name), free)
+                }
+                Correction::Aircraft(changes) => {
+                    let keys: Vec<&'static str> = changes.iter().map(|c| c.key).collect();
+                    let free = aircraft_free(&model, &keys).ok()?;
+                    (Trial::Aircraft(keys), free)
+                }
+            };
+            let theta = values(&model, &free);
+            let perturbed = perturbed_models(&model, &free, &theta);
             Some(Fitting {
-                name: c.effect.clone(),
                 model,
+                trial,
                 free,
                 theta,
                 perturbed,
@@ -685,13 +662,13 @@ fn full_pass(
                 .iter()
                 .zip(&step)
                 .zip(&f.free)
-                .map(|((t, s), p)| (t + s * p.scale).clamp(p.spec.range.0, p.spec.range.1))
+                .map(|((t, s), p)| (t + s * p.scale).clamp(p.range.0, p.range.1))
                 .collect();
-            set_values(&mut model, &f.name, &f.free, &theta);
+            set_values(&mut model, &f.free, &theta);
         }
         let cov = (np > 0).then(|| covariance(&a, &f.free, &after)).flatten();
         if let Ok(c) = make_candidate(
-            &model, &f.name, &f.free, &base_cmp, &after, cov, cfg, candidates,
+            base, &model, &f.trial, &f.free, &base_cmp, &after, cov, cfg, candidates,
         ) {
             out.push(c);
         }
@@ -702,8 +679,9 @@ fn full_pass(
 /// Build the candidate's record from its fit.
 #[allow(clippy::too_many_arguments)]
 fn make_candidate(
+    base: &Model,
     model: &Model,
-    name: &str,
+    trial: &Trial,
     free: &[Free],
     before: &Comparison,
     after: &Comparison,
@@ -711,25 +689,40 @@ fn make_candidate(
     cfg: &DiagnoseConfig,
     candidates: usize,
 ) -> Result<Candidate, String> {
-    let fitted_effect = effect_box(model, name)?;
     let np = free.len();
     let sigma = |k: usize| cov.as_ref().map_or(f64::NAN, |c| c[k * np + k].sqrt());
     let mut params = Vec::new();
     let mut held = Vec::new();
     let mut uncertainty = Vec::new();
-    for p in fitted_effect.params() {
-        params.push((p.name.to_string(), p.value));
-        match free.iter().position(|f| f.spec.name == p.name) {
-            Some(k) => {
+    let correction = match trial {
+        Trial::Effect(name) => {
+            let e = effect(model, name)
+                .map(|e| e.clone_box())
+                .ok_or_else(|| format!("effect `{name}` was not added"))?;
+            for p in e.params() {
+                params.push((p.name.to_string(), p.value));
+                let k = free.iter().position(|f| f.name == p.name);
+                held.push(k.is_none());
+                uncertainty.push(k.map_or(f64::NAN, sigma));
+            }
+            Correction::Effect(e)
+        }
+        Trial::Aircraft(keys) => {
+            let mut changes = Vec::new();
+            for (k, key) in keys.iter().enumerate() {
+                let value = model.aircraft(key).unwrap_or(f64::NAN);
+                params.push((key.to_string(), value));
                 held.push(false);
                 uncertainty.push(sigma(k));
+                changes.push(AircraftChange {
+                    key,
+                    was: base.aircraft(key).unwrap_or(f64::NAN),
+                    value,
+                });
             }
-            None => {
-                held.push(true);
-                uncertainty.push(f64::NAN);
-            }
+            Correction::Aircraft(changes)
         }
-    }
+    };
     let correlation = match &cov {
         Some(c) => (0..np * np)
             .map(|ik| {
@@ -754,7 +747,7 @@ fn make_candidate(
     let lr_critical = chi2_quantile(1.0 - level, np.max(1) as f64);
     let significant = lr > lr_critical && after.chi2 < before.chi2 && excess_removed >= 0.2;
     Ok(Candidate {
-        effect: name.to_string(),
+        effect: trial.label(),
         params,
         held,
         uncertainty,
@@ -775,179 +768,6 @@ fn make_candidate(
         significant,
         partial: significant && nu_a > cfg.at_floor,
         windows: after.windows.len(),
-        fitted_effect,
+        correction,
     })
-}
-
-fn effect_box(model: &Model, name: &str) -> Result<Box<dyn Effect>, String> {
-    model
-        .effects
-        .iter()
-        .find(|e| e.name() == name)
-        .cloned()
-        .ok_or_else(|| format!("effect `{name}` was not added"))
-}
-
-/// Add effects to `model` as `--add` does: each spec's given parameters are held, the rest
-/// fitted (on `prep`). Returns the fitted candidates, in order.
-///
-/// # Errors
-/// Unknown effects or parameters, values out of range, an effect already in the model.
-pub fn add_fitted(
-    model: &mut Model,
-    prep: &Prepared,
-    adds: &[EffectSpec],
-    cfg: &DiagnoseConfig,
-) -> Result<Vec<Candidate>, String> {
-    let mut out = Vec::new();
-    for spec in adds {
-        let effect = spec.build(&model.effect_context())?;
-        let before = Baseline::of(model, prep);
-        let cand = try_effect(model, effect, &spec.given(), prep, &before, cfg, 1)?;
-        model.add_effect(cand.fitted_effect.clone())?;
-        out.push(cand);
-    }
-    Ok(out)
-}
-
-/// The candidates of a diagnosis: every catalogue effect that applies and is not in the model
-/// yet, plus the user's.
-fn candidate_effects(base: &Model, extra: &[Box<dyn Effect>]) -> Vec<Box<dyn Effect>> {
-    let ctx = base.effect_context();
-    let kind = base.vehicle.kind();
-    CATALOGUE
-        .iter()
-        .map(|info| info.build(&ctx))
-        .chain(extra.iter().cloned())
-        .filter(|e| e.applies_to(kind) && !base.has_effect(e.name()))
-        .collect()
-}
-
-fn rank(ranking: &mut [Candidate]) {
-    ranking.sort_by(|a, b| {
-        a.noise_units_after
-            .total_cmp(&b.noise_units_after)
-            .then(a.fitted.cmp(&b.fitted))
-    });
-}
-
-fn verdict(ranking: &[Candidate], noise_units: f64, at_floor: f64) -> Verdict {
-    match ranking.iter().find(|c| c.significant) {
-        Some(c) if !c.partial => Verdict::Effect(c.effect.clone()),
-        Some(_) => Verdict::Unexplained,
-        None if noise_units <= at_floor => Verdict::None,
-        None => Verdict::Unexplained,
-    }
-}
-
-/// Diagnose: try every catalogue effect that applies to the vehicle and is not in the model
-/// yet, plus `extra` user effects; rank; decide (module docs).
-///
-/// # Errors
-/// A flight too short for one comparison window.
-pub fn diagnose(
-    base: &Model,
-    data: &FlightData,
-    extra: &[Box<dyn Effect>],
-    cfg: &DiagnoseConfig,
-) -> Result<Diagnosis, String> {
-    let full = Prepared::new(data, cfg.compare);
-    if full.windows.is_empty() {
-        return Err(format!(
-            "the flight ({} samples, {:.2} s) is too short for one {:.1} s comparison window",
-            data.len(),
-            data.duration(),
-            cfg.compare.window_s
-        ));
-    }
-    let screened = cfg.screen_windows > 0 && full.windows.len() > cfg.screen_windows;
-    let screen = screened.then(|| {
-        Prepared::new(
-            data,
-            CompareConfig {
-                max_windows: cfg.screen_windows,
-                ..cfg.compare
-            },
-        )
-    });
-    let prep = screen.as_ref().unwrap_or(&full);
-    let baseline = Baseline::of(base, prep);
-    let effects = candidate_effects(base, extra);
-    let k = effects.len();
-    let mut ranking: Vec<Candidate> = effects
-        .into_iter()
-        .filter_map(|e| try_effect(base, e, &[], prep, &baseline, cfg, k).ok())
-        .collect();
-    rank(&mut ranking);
-    let base_cmp = if screened {
-        // The best on the subset, on every window (when it is significant there: otherwise
-        // there is nothing to sharpen).
-        let top = usize::from(ranking.first().is_some_and(|c| c.significant));
-        let (base_cmp, refitted) = full_pass(base, &ranking[..top], &full, cfg, k);
-        for c in refitted {
-            if let Some(slot) = ranking.iter_mut().find(|r| r.effect == c.effect) {
-                *slot = c;
-            }
-        }
-        rank(&mut ranking);
-        base_cmp
-    } else {
-        baseline.comparison
-    };
-    let noise_units = base_cmp.noise_units();
-    Ok(Diagnosis {
-        base_error: base_cmp.total,
-        noise_floor: noise_floor(base, &full),
-        noise_units,
-        verdict: verdict(&ranking, noise_units, cfg.at_floor),
-        ranking,
-        windows: (full.windows.len(), prep.windows.len()),
-        base_noise: full.noise,
-        base: base_cmp,
-    })
-}
-
-/// One rung of the `--iterate` ladder.
-#[derive(Clone, Debug)]
-pub struct Rung {
-    /// Effects in the model at this rung.
-    pub effects: Vec<String>,
-    /// Total error of that model.
-    pub error: f64,
-    /// The diagnosis made at this rung.
-    pub diagnosis: Diagnosis,
-}
-
-/// Diagnose, add the winner (with its fitted parameters), repeat until the verdict is not an
-/// effect (at most `max_rungs` effects added). Returns the ladder and the final model.
-///
-/// # Errors
-/// As [`diagnose`].
-pub fn iterate(
-    base: &Model,
-    data: &FlightData,
-    extra: &[Box<dyn Effect>],
-    cfg: &DiagnoseConfig,
-    max_rungs: usize,
-) -> Result<(Vec<Rung>, Model), String> {
-    let mut model = base.clone();
-    let mut ladder = Vec::new();
-    for _ in 0..=max_rungs {
-        let diagnosis = diagnose(&model, data, extra, cfg)?;
-        let winner = diagnosis.winner().map(|c| c.fitted_effect.clone());
-        ladder.push(Rung {
-            effects: model.effect_names(),
-            error: diagnosis.base_error,
-            diagnosis,
-        });
-        match winner {
-            Some(e) if ladder.len() <= max_rungs => {
-                if model.add_effect(e).is_err() {
-                    break;
-                }
-            }
-            _ => break,
-        }
-    }
-    Ok((ladder, model))
 }
