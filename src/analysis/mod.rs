@@ -4,5 +4,6 @@
 pub mod compare;
 pub mod conditions;
 pub mod diagnose;
+pub mod identify;
 pub mod plots;
 pub mod report;

@@ -6,6 +6,7 @@
 pub mod cli;
 pub mod compare;
 pub mod diagnose;
+pub mod identify;
 pub mod render;
 pub mod simulate;
 pub mod view;
@@ -32,6 +33,7 @@ where
         Command::Simulate(args) => simulate::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
+        Command::Identify(args) => identify::run(&args),
         Command::View(args) => view::run(&args),
     }
 }

@@ -20,7 +20,7 @@ use crate::flight::model::{Model, State};
 use crate::numeric::{chi2_quantile, invert, solve_in_place};
 
 /// The effect named `name` in `model`.
-pub(super) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
+pub(crate) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
     model
         .effects
         .iter()
@@ -30,7 +30,7 @@ pub(super) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect>
 
 /// Whose number a fitted parameter is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Owner {
+pub(crate) enum Owner {
     /// A parameter of the effect of that name.
     Effect(&'static str),
     /// A number of the aircraft's parameter set.
@@ -39,7 +39,7 @@ pub(super) enum Owner {
 
 /// A parameter being fitted: its name, range and typical size, and whose it is.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Free {
+pub(crate) struct Free {
     pub name: &'static str,
     pub range: (f64, f64),
     pub scale: f64,
@@ -47,7 +47,7 @@ pub(super) struct Free {
 }
 
 /// Set the free parameters to `theta`, each kept inside its range.
-pub(super) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
+pub(crate) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
     for (f, v) in free.iter().zip(theta) {
         let v = v.clamp(f.range.0, f.range.1);
         let _ = match f.owner {
@@ -60,7 +60,7 @@ pub(super) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
 }
 
 /// The current values of the free parameters.
-pub(super) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
+pub(crate) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
     free.iter()
         .map(|f| {
             match f.owner {
@@ -74,16 +74,16 @@ pub(super) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
 
 /// One window's start state and the linearisation of its residuals around it: what a change
 /// of the start can absorb (the columns of `jac`), projected out of every residual change.
-pub(super) struct Linearised {
-    q: Vec<f64>,
+pub(crate) struct Linearised {
+    pub(crate) q: Vec<f64>,
     surfaces: DVec3,
-    pub(super) jac: Vec<f64>,
+    pub(crate) jac: Vec<f64>,
     gram: Vec<f64>,
-    pub(super) params: usize,
+    pub(crate) params: usize,
 }
 
 impl Linearised {
-    pub(super) fn of(model: &Model, fit: &StartFit) -> Self {
+    pub(crate) fn of(model: &Model, fit: &StartFit) -> Self {
         let m = fit.residuals.len();
         let np = fit.params;
         let mut gram = vec![0.0; np * np];
@@ -109,7 +109,7 @@ impl Linearised {
         }
     }
 
-    fn state(&self, model: &Model) -> State {
+    pub(crate) fn state(&self, model: &Model) -> State {
         state_of(model, &self.q, self.surfaces)
     }
 
@@ -144,7 +144,7 @@ impl Linearised {
 
 /// The profiled misfit in the linearisation: the projected residuals of every window at the
 /// model's parameters, their χ², and each window's start change.
-fn linear_profile(model: &Model, prep: &Prepared, lin: &[Linearised]) -> (f64, Vec<Vec<f64>>) {
+pub(crate) fn linear_profile(model: &Model, prep: &Prepared, lin: &[Linearised]) -> (f64, Vec<Vec<f64>>) {
     let parts: Vec<(f64, Vec<f64>)> = prep
         .windows
         .par_iter()
@@ -171,7 +171,7 @@ fn linear_profile(model: &Model, prep: &Prepared, lin: &[Linearised]) -> (f64, V
 const PARAM_STEP: f64 = 0.01;
 
 /// The model with each free parameter in turn moved by one difference step.
-pub(super) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> Vec<Model> {
+pub(crate) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> Vec<Model> {
     (0..free.len())
         .map(|j| {
             let mut m = model.clone();
@@ -234,7 +234,7 @@ fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {
 
 /// Normal equations of the profiled misfit in the scaled free parameters, summed over windows
 /// (see [`window_normal`]).
-fn normal_equations(
+pub(crate) fn normal_equations(
     model: &Model,
     free: &[Free],
     theta: &[f64],
@@ -339,7 +339,7 @@ fn fit_linearised(
 }
 
 /// Stop fitting parameters when an iteration lowers χ² (in noise units) by less than this.
-const FIT_TOL: f64 = 0.01;
+pub(crate) const FIT_TOL: f64 = 0.01;
 
 /// Fit the free parameters of the effect `name` (already in `model`) (module docs), starting
 /// from the start fits `fits` of the model without it. Returns the comparison at the fitted
@@ -364,7 +364,8 @@ fn fit(
     let mut theta = values(model, free);
     let mut lin: Vec<Linearised> = fits.iter().map(|f| Linearised::of(model, f)).collect();
     let mut linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
-    if !(chi2_base - linear > FIT_TOL.max(1e-6 * chi2_base)) {
+    let gain = chi2_base - linear;
+    if gain.is_nan() || gain <= FIT_TOL.max(1e-6 * chi2_base) {
         // The effect explains nothing the starts could not: its best values change the misfit
         // by less than a hundredth of a noise unit, so the comparison is the baseline's.
         let (a, _) = normal_equations(model, free, &theta, prep, &lin);
@@ -399,7 +400,7 @@ fn fit(
 pub struct Baseline {
     /// The comparison.
     pub comparison: Comparison,
-    pub(super) fits: Vec<StartFit>,
+    pub(crate) fits: Vec<StartFit>,
 }
 
 impl Baseline {
@@ -412,7 +413,7 @@ impl Baseline {
 
 /// The free parameters of the effect `name` in `model`: all but those `fixed` and those known
 /// from the data's metadata. With `reset`, each is first set to its fitting start value.
-pub(super) fn effect_free(
+pub(crate) fn effect_free(
     model: &mut Model,
     name: &str,
     fixed: &[String],
@@ -453,7 +454,7 @@ const AIRCRAFT_MIN_SCALE: f64 = 0.01;
 
 /// The aircraft numbers `keys` of `model` as free parameters, each scaled by a tenth of its
 /// value.
-pub(super) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<Free>, String> {
+pub(crate) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<Free>, String> {
     keys.iter()
         .map(|&k| {
             let key = crate::flight::params::keys::find(k)
@@ -473,13 +474,13 @@ pub(super) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<
 
 /// What is tried: an effect added to the model, or numbers of the aircraft's set.
 #[derive(Clone, Debug)]
-pub(super) enum Trial {
+pub(crate) enum Trial {
     Effect(String),
     Aircraft(Vec<&'static str>),
 }
 
 impl Trial {
-    pub(super) fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         match self {
             Trial::Effect(name) => name.clone(),
             Trial::Aircraft(keys) => format!("aircraft:{}", keys.join(",")),
@@ -490,7 +491,7 @@ impl Trial {
 /// Fit a trial (already in `model`, its free parameters `free`) and score it against the
 /// baseline.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn fit_trial(
+pub(crate) fn fit_trial(
     base: &Model,
     mut model: Model,
     trial: &Trial,
@@ -578,7 +579,7 @@ pub fn try_aircraft(
 /// step on all windows — the all-window estimate, whose covariance is the all-window one —
 /// while its errors are those at the subset values (the two differ by a few of the subset's
 /// σ, which changes the misfit by a few units in hundreds of thousands).
-pub(super) fn full_pass(
+pub(crate) fn full_pass(
     base: &Model,
     top: &[Candidate],
     full: &Prepared,

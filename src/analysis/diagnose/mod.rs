@@ -33,7 +33,7 @@
 //! Long flights are screened on a subset of windows (`screen_windows`), and the best
 //! candidates then re-fitted on all of them.
 
-mod fit;
+pub(crate) mod fit;
 pub mod screen;
 
 use std::fmt;
