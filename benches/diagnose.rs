@@ -70,8 +70,12 @@ fn one_hour(c: &mut Criterion) {
     // identify: two 45 s flight tests of an aircraft whose c_m_alpha and c_ell_p are off,
     // every aerodynamic coefficient free (31 numbers).
     let mut wrong = ModelSpec::baseline(VehicleKind::FixedWing);
-    wrong.effects.push(EffectSpec::parse("aircraft:c_m_alpha=-3.3").unwrap());
-    wrong.effects.push(EffectSpec::parse("aircraft:c_ell_p=-0.4").unwrap());
+    wrong
+        .effects
+        .push(EffectSpec::parse("aircraft:c_m_alpha=-3.3").unwrap());
+    wrong
+        .effects
+        .push(EffectSpec::parse("aircraft:c_ell_p=-0.4").unwrap());
     let wrong = wrong.build(Origin::default()).unwrap();
     let flights: Vec<_> = [1, 2]
         .map(|seed| {
@@ -96,7 +100,10 @@ fn one_hour(c: &mut Criterion) {
     group.sample_size(10);
     group.throughput(Throughput::Elements(samples as u64));
     for (label, patterns) in [
-        ("2 numbers", vec!["c_m_alpha".to_string(), "c_ell_p".to_string()]),
+        (
+            "2 numbers",
+            vec!["c_m_alpha".to_string(), "c_ell_p".to_string()],
+        ),
         ("31 aerodynamic coefficients", Vec::new()),
     ] {
         let keys = free_keys(&patterns).unwrap();

@@ -6,4 +6,5 @@ pub mod conditions;
 pub mod diagnose;
 pub mod identify;
 pub mod plots;
+pub(crate) mod profile;
 pub mod report;

@@ -70,7 +70,11 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
         let Vehicle::FixedWing(p) = &id.model.vehicle else {
             unreachable!("checked above: a fixed wing");
         };
-        let names: Vec<String> = args.flight.iter().map(|p| p.display().to_string()).collect();
+        let names: Vec<String> = args
+            .flight
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
         let comment = format!(
             "Identified by `wireflight identify` from {} (numbers fitted: {}; the others as in the \
              starting set).",
@@ -163,7 +167,14 @@ fn identification_text(
             "the set"
         }
     );
-    let mut t = Table::new(["parameter", "set", "identified", "±", "change", "determined"]);
+    let mut t = Table::new([
+        "parameter",
+        "set",
+        "identified",
+        "±",
+        "change",
+        "determined",
+    ]);
     for e in &id.estimates {
         t.row([
             e.key.name.to_string(),

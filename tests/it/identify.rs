@@ -103,7 +103,10 @@ fn five_wrong_coefficients_are_recovered_together_and_the_held_out_error_falls_t
         );
         assert!(e.identified(), "{}\n{text}", e.key.name);
     }
-    assert!(before > 3.0, "the set is clearly wrong on the held-out flight\n{text}");
+    assert!(
+        before > 3.0,
+        "the set is clearly wrong on the held-out flight\n{text}"
+    );
     assert!(after <= 1.5, "{text}");
 }
 
@@ -113,8 +116,12 @@ fn five_wrong_coefficients_are_recovered_together_and_the_held_out_error_falls_t
 fn numbers_the_data_cannot_see_stay_put_and_are_reported_unidentified() {
     let d = flight(Schedule::level(45.0), 71);
     let base = set_model(&d);
-    let free = free_keys(&["c_m_alpha".into(), "c_n_delta_r".into(), "c_y_delta_r".into()])
-        .unwrap();
+    let free = free_keys(&[
+        "c_m_alpha".into(),
+        "c_n_delta_r".into(),
+        "c_y_delta_r".into(),
+    ])
+    .unwrap();
     let id = identify(&base, &[d], &free, &IdentifyConfig::default()).unwrap();
     for e in &id.estimates {
         eprintln!(
@@ -124,7 +131,12 @@ fn numbers_the_data_cannot_see_stay_put_and_are_reported_unidentified() {
     }
     for name in ["c_n_delta_r", "c_y_delta_r"] {
         let e = id.estimates.iter().find(|e| e.key.name == name).unwrap();
-        assert!(!e.identified(), "{name}: ± {} of prior {}", e.sigma, e.prior_sigma);
+        assert!(
+            !e.identified(),
+            "{name}: ± {} of prior {}",
+            e.sigma,
+            e.prior_sigma
+        );
         assert!(
             (e.value - e.start).abs() <= 0.5 * e.prior_sigma,
             "{name} moved {} → {}",
@@ -139,7 +151,9 @@ fn unknown_free_patterns_are_refused_with_the_pattern_named() {
     let err = free_keys(&["c_q_*".into()]).unwrap_err();
     assert!(err.contains("c_q_*"), "{err}");
     let all = free_keys(&[]).unwrap();
-    assert!(all.iter().all(|k| k.table == "longitudinal" || k.table == "lateral"));
+    assert!(all
+        .iter()
+        .all(|k| k.table == "longitudinal" || k.table == "lateral"));
     let m = free_keys(&["c_m_*".into(), "c_m_alpha".into()]).unwrap();
     assert_eq!(
         m.iter().map(|k| k.name).collect::<Vec<_>>(),
@@ -166,16 +180,39 @@ fn identify_command_writes_a_parameter_set_that_compare_takes() {
     let path = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
     for (name, seed) in [("a.csv", "1"), ("b.csv", "2")] {
         let o = wireflight(&[
-            "simulate", "--manoeuvre", "flight-test", "--duration", "30",
-            "--hidden", "aircraft:c_m_alpha=-3.3", "--noise-pos", "0.05", "--noise-att",
-            "0.05", "--noise-vel", "0.05", "--noise-rate", "0.2", "--seed", seed, "--out",
+            "simulate",
+            "--manoeuvre",
+            "flight-test",
+            "--duration",
+            "30",
+            "--hidden",
+            "aircraft:c_m_alpha=-3.3",
+            "--noise-pos",
+            "0.05",
+            "--noise-att",
+            "0.05",
+            "--noise-vel",
+            "0.05",
+            "--noise-rate",
+            "0.2",
+            "--seed",
+            seed,
+            "--out",
             &path(name),
         ]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     }
     let o = wireflight(&[
-        "identify", "--flight", &path("a.csv"), "--free", "c_m_alpha,c_m_0", "--validate",
-        &path("b.csv"), "--out", &path("id.toml"), "--json",
+        "identify",
+        "--flight",
+        &path("a.csv"),
+        "--free",
+        "c_m_alpha,c_m_0",
+        "--validate",
+        &path("b.csv"),
+        "--out",
+        &path("id.toml"),
+        "--json",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -188,9 +225,17 @@ fn identify_command_writes_a_parameter_set_that_compare_takes() {
     assert!(val["noise_units_before"].as_f64().unwrap() > 3.0, "{v:#}");
     assert!(val["noise_units_after"].as_f64().unwrap() < 1.5, "{v:#}");
     let toml = std::fs::read_to_string(path("id.toml")).unwrap();
-    assert!(toml.starts_with("# Identified by `wireflight identify`"), "{toml}");
+    assert!(
+        toml.starts_with("# Identified by `wireflight identify`"),
+        "{toml}"
+    );
     let o = wireflight(&[
-        "compare", "--flight", &path("b.csv"), "--aircraft", &path("id.toml"), "--json",
+        "compare",
+        "--flight",
+        &path("b.csv"),
+        "--aircraft",
+        &path("id.toml"),
+        "--json",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let c: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
@@ -211,7 +256,13 @@ fn identify_command_refuses_bad_requests_clearly() {
     let csv = dir.path().join("p.csv");
     let csv = csv.to_str().unwrap();
     let o = wireflight(&[
-        "simulate", "--vehicle", "point-mass", "--duration", "20", "--out", csv,
+        "simulate",
+        "--vehicle",
+        "point-mass",
+        "--duration",
+        "20",
+        "--out",
+        csv,
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let o = wireflight(&["identify", "--flight", csv]);
@@ -219,11 +270,18 @@ fn identify_command_refuses_bad_requests_clearly() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("point mass"), "{err}");
     let o = wireflight(&[
-        "identify", "--flight", "tests/data/jsbsim-c172p-doublets.csv", "--free", "c_zz_*",
+        "identify",
+        "--flight",
+        "tests/data/jsbsim-c172p-doublets.csv",
+        "--free",
+        "c_zz_*",
     ]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("`c_zz_*` matches no aircraft parameter"), "{err}");
+    assert!(
+        err.contains("`c_zz_*` matches no aircraft parameter"),
+        "{err}"
+    );
     let o = wireflight(&["identify", "--flight", "no-such.csv"]);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("no-such.csv"));
@@ -235,8 +293,10 @@ fn identify_command_refuses_bad_requests_clearly() {
 #[test]
 fn jsbsim_c172p_identified_set_cuts_the_held_out_error() {
     let read = |n: &str| {
-        data::read(std::path::Path::new(&format!("tests/data/jsbsim-c172p-{n}.csv")))
-            .expect("the JSBSim flights are in tests/data")
+        data::read(std::path::Path::new(&format!(
+            "tests/data/jsbsim-c172p-{n}.csv"
+        )))
+        .expect("the JSBSim flights are in tests/data")
     };
     let flights = vec![read("doublets"), read("steps")];
     let held_out = read("validation");
@@ -246,8 +306,13 @@ fn jsbsim_c172p_identified_set_cuts_the_held_out_error() {
             &flights[0],
         )
         .expect("the c172p set loads");
-    let id = identify(&base, &flights, &free_keys(&[]).unwrap(), &IdentifyConfig::default())
-        .expect("identifies");
+    let id = identify(
+        &base,
+        &flights,
+        &free_keys(&[]).unwrap(),
+        &IdentifyConfig::default(),
+    )
+    .expect("identifies");
     let cfg = CompareConfig::default();
     let before = compare(&base, &held_out, cfg);
     let after = compare(&id.model, &held_out, cfg);
@@ -260,8 +325,20 @@ fn jsbsim_c172p_identified_set_cuts_the_held_out_error() {
         before.channels.rate_dps.unwrap_or(f64::NAN),
         after.channels.rate_dps.unwrap_or(f64::NAN),
     );
-    assert!(after.total < 0.45 * before.total, "{} → {}", before.total, after.total);
+    assert!(
+        after.total < 0.45 * before.total,
+        "{} → {}",
+        before.total,
+        after.total
+    );
     // The roll axis carried most of the error (the engine's torque, absorbed by c_ell_0).
-    let c_ell_0 = id.estimates.iter().find(|e| e.key.name == "c_ell_0").unwrap();
-    assert!(c_ell_0.identified() && c_ell_0.value < c_ell_0.start, "{c_ell_0:?}");
+    let c_ell_0 = id
+        .estimates
+        .iter()
+        .find(|e| e.key.name == "c_ell_0")
+        .unwrap();
+    assert!(
+        c_ell_0.identified() && c_ell_0.value < c_ell_0.start,
+        "{c_ell_0:?}"
+    );
 }

@@ -33,7 +33,7 @@
 //! Long flights are screened on a subset of windows (`screen_windows`), and the best
 //! candidates then re-fitted on all of them.
 
-pub(crate) mod fit;
+mod fit;
 pub mod screen;
 
 use std::fmt;
