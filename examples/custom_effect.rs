@@ -97,8 +97,15 @@ fn main() -> anyhow::Result<()> {
         "diagnosis of a flight through a hidden thermal: {}",
         d.verdict
     );
-    if let Some(w) = d.winner() {
-        println!("  fitted: {:?}", w.params);
+    for c in d
+        .ranking
+        .iter()
+        .filter(|c| c.effect == "thermal" || c.effect.starts_with("aircraft:c_m_q"))
+    {
+        println!(
+            "  {:<22} error {:.4} → {:.4} ({:.2} × noise) {:?}",
+            c.effect, c.error_before, c.error_after, c.noise_units_after, c.params
+        );
     }
     Ok(())
 }

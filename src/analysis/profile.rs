@@ -282,3 +282,18 @@ pub(crate) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<
 
 /// Stop fitting parameters when an iteration lowers χ² (in noise units) by less than this.
 pub(crate) const FIT_TOL: f64 = 0.01;
+
+/// The least Levenberg–Marquardt damping weight of a parameter: a millionth of the largest
+/// diagonal of the normal matrix (1 when it is all zero), so a parameter without sensitivity
+/// at the current values stays put instead of making the damped system singular.
+pub(crate) fn damping_floor(a: &[f64], np: usize) -> f64 {
+    let max = (0..np)
+        .map(|k| a[k * np + k])
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, f64::max);
+    if max > 0.0 {
+        1e-6 * max
+    } else {
+        1.0
+    }
+}

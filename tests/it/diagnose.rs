@@ -390,3 +390,64 @@ fn clean_point_mass_data_give_no_verdict() {
         assert_eq!(d.verdict, Verdict::None, "{text}");
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// A user effect (as in examples/custom_effect.rs)
+// ---------------------------------------------------------------------------------------------
+
+mod thermal {
+    use glam::DVec3;
+    use wireflight::flight::effects::{Applies, Effect, EffectContext, EffectInfo, ParamSpec};
+
+    /// A Gaussian column of rising air at (300 m N, 0 m E).
+    pub static THERMAL: EffectInfo = EffectInfo {
+        name: "thermal",
+        summary: "a Gaussian column of rising air",
+        applies: Applies::FixedWing,
+        params: &[
+            ParamSpec::new("updraft_mps", "m/s", (-20.0, 20.0), 1.0),
+            ParamSpec::new("radius_m", "m", (5.0, 2000.0), 20.0),
+        ],
+        make: |_: &EffectContext| Box::new(Thermal([0.0, 80.0])),
+    };
+
+    #[derive(Clone, Debug)]
+    pub struct Thermal(pub [f64; 2]);
+
+    impl Effect for Thermal {
+        fn info(&self) -> &'static EffectInfo {
+            &THERMAL
+        }
+        fn values(&self) -> &[f64] {
+            &self.0
+        }
+        fn values_mut(&mut self) -> &mut [f64] {
+            &mut self.0
+        }
+        fn wind_at(&self, p: DVec3, _t: f64) -> DVec3 {
+            let [w, r] = self.0;
+            let d2 = (p.x - 300.0).powi(2) + p.y.powi(2);
+            DVec3::new(0.0, 0.0, -w * (-d2 / (r * r)).exp())
+        }
+    }
+}
+
+/// A user effect's candidate starts where one parameter has no influence (the thermal's radius
+/// while its updraft is 0): the fit must still move the other and then both, not stop at a
+/// singular step (it did, and the thermal was ranked below a 20-fold wrong c_m_q).
+#[test]
+fn a_user_effect_with_a_parameter_invisible_at_its_start_is_fitted() {
+    let base = Case::flight_test(&[], 1).baseline();
+    let mut truth = base.clone();
+    truth
+        .add_effect(Box::new(thermal::Thermal([3.0, 80.0])))
+        .unwrap();
+    let data = simulate(&truth, &SimSpec::new(Manoeuvre::Level, 30.0)).unwrap();
+    let candidate = thermal::THERMAL.build(&base.effect_context());
+    let d = diagnose(&base, &data, &[candidate], &DiagnoseConfig::default()).unwrap();
+    let text = report("hidden thermal", &d);
+    assert_eq!(d.verdict, Verdict::Effect("thermal".into()), "{text}");
+    let w = d.winner().unwrap();
+    assert_param(w, "updraft_mps", 3.0, 0.01);
+    assert_param(w, "radius_m", 80.0, 0.01);
+}

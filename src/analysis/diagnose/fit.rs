@@ -13,8 +13,8 @@ use crate::analysis::compare::{
     compare_from, compare_many, compare_with_fits, Comparison, Prepared,
 };
 use crate::analysis::profile::{
-    add_into, aircraft_free, effect, linear_profile, normal_equations, perturbed_models,
-    set_values, values, window_normal, Free, Linearised, Owner, FIT_TOL,
+    add_into, aircraft_free, damping_floor, effect, linear_profile, normal_equations,
+    perturbed_models, set_values, values, window_normal, Free, Linearised, Owner, FIT_TOL,
 };
 use crate::flight::effects::{Effect, ParamSpec};
 use crate::flight::model::{Model, State};
@@ -55,11 +55,14 @@ fn fit_linearised(
     let mut lambda = 1e-3;
     for _ in 0..iterations {
         let (a0, g) = normal_equations(model, free, theta, prep, lin);
+        // Damping of a parameter the misfit does not see yet (a thermal's radius while its
+        // updraft is 0) must not be zero, or it would keep the whole step singular.
+        let floor = damping_floor(&a0, np);
         let mut accepted = None;
         for _ in 0..8 {
             let mut a = a0.clone();
             for k in 0..np {
-                a[k * np + k] += lambda * a0[k * np + k].max(1e-30);
+                a[k * np + k] += lambda * a0[k * np + k].max(floor);
             }
             let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
             if solve_in_place(&mut a, &mut step, np).is_none() {

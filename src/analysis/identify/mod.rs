@@ -25,7 +25,8 @@
 
 use super::compare::{compare_with_fits, CompareConfig, Comparison, Prepared};
 use super::profile::{
-    aircraft_free, linear_profile, normal_equations, set_values, values, Free, Linearised, FIT_TOL,
+    aircraft_free, damping_floor, linear_profile, normal_equations, set_values, values, Free,
+    Linearised, FIT_TOL,
 };
 use crate::flight::data::FlightData;
 use crate::flight::model::{Model, State};
@@ -431,11 +432,14 @@ fn lm(
             a0[k * np + k] += s2 * prior.weight[k];
             g[k] += s2 * prior.weight[k] * (theta[k] - prior.centre[k]) / free[k].scale;
         }
+        // Damping of a parameter the misfit does not see yet (a thermal's radius while its
+        // updraft is 0) must not be zero, or it would keep the whole step singular.
+        let floor = damping_floor(&a0, np);
         let mut accepted = None;
         for _ in 0..10 {
             let mut a = a0.clone();
             for k in 0..np {
-                a[k * np + k] += lambda * a0[k * np + k].max(1e-30);
+                a[k * np + k] += lambda * a0[k * np + k].max(floor);
             }
             let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
             if solve_in_place(&mut a, &mut step, np).is_none() {
