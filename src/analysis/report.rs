@@ -462,8 +462,13 @@ pub fn verdict_text(d: &Diagnosis) -> String {
     match (&d.verdict, d.winner()) {
         (Verdict::Effect(name), Some(w)) => {
             let params = fmt_params(w);
+            let what = if name.starts_with("aircraft:") {
+                "is wrong in the set"
+            } else {
+                "is missing"
+            };
             format!(
-                "`{name}` is missing{}; with it the error falls {} → {} ({} × the noise)",
+                "`{name}` {what}{}; with it the error falls {} → {} ({} × the noise)",
                 if params.is_empty() {
                     String::new()
                 } else {

@@ -442,6 +442,10 @@ impl Compare {
             Fit::Done {
                 verdict: Verdict::Effect(v),
                 ..
+            } if v.starts_with("aircraft:") => format!("diagnosis: `{v}` is wrong in the set"),
+            Fit::Done {
+                verdict: Verdict::Effect(v),
+                ..
             } => format!("diagnosis: `{v}` is missing"),
             Fit::Done {
                 verdict: Verdict::None,
