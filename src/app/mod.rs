@@ -6,6 +6,7 @@
 pub mod cli;
 pub mod compare;
 pub mod diagnose;
+pub mod euler;
 pub mod render;
 pub mod simulate;
 pub mod view;
@@ -33,6 +34,7 @@ where
         Command::Compare(args) => compare::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Euler(args) => euler::run(&args),
     }
 }
 
