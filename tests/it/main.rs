@@ -11,6 +11,8 @@ mod cli;
 mod clip;
 mod diagnose;
 mod euler;
+mod euler_cli;
+mod euler_pictures;
 mod euler_sequences;
 mod flight_data;
 mod flight_model;
