@@ -380,6 +380,7 @@ Examples:
   wireflight view --flight windy.csv --compare --add wind  # wind ticked from the start
   wireflight view --script assets/scripts/loop.txt --frames 600 --screenshot loop.png
   xvfb-run -a wireflight view --script assets/scripts/climb-turn.txt --frames 120 --screenshot s.png
+  wireflight view --gimbal zyx --gimbal-angles 60,90,0      # the rings at gimbal lock
 
 Keys (flying):
   Up / Down        nose down / nose up (stick forward / back), 45°/s
@@ -400,6 +401,10 @@ Compare (--flight F --compare):
   then the catalogue defaults, e.g. zero wind, stand in) and shown beside the checkboxes.
 Keys (always):
   C                cycle cameras: chase → cockpit → orbit → free
+  G                Euler-angle panel: pick any of the 24 conventions; its gimbal rings
+                   (three rings nested in sequence order, coloured like the angles) around
+                   the aircraft and three sliders, which show the attitude's angles or,
+                   once moved, set it
   Space            pause / resume
   R                reset (flight, trail and cameras back to the start)
   H or F1          help overlay on / off
@@ -496,6 +501,18 @@ pub struct ViewArgs {
     /// The line clipper to start with (a key cycles them).
     #[arg(long, default_value = "blinn", value_name = "NAME")]
     pub clipper: Clipper,
+    /// Open the Euler-angle panel (G) for this convention: gimbal rings around the aircraft,
+    /// sliders for the three angles [default: zyx].
+    #[arg(long, value_name = "SEQ[,extrinsic]", num_args = 0..=1, default_missing_value = "zyx", value_parser = parse_convention)]
+    pub gimbal: Option<Convention>,
+    /// With --gimbal: start with the sliders at these angles (degrees), setting the attitude
+    /// (the flight starts paused there).
+    #[arg(long, value_name = "A,B,C", allow_hyphen_values = true, value_parser = parse_angles, requires = "gimbal")]
+    pub gimbal_angles: Option<[f64; 3]>,
+}
+
+fn parse_convention(s: &str) -> Result<Convention, String> {
+    s.parse().map_err(|e| format!("{e}"))
 }
 
 const EULER_EXAMPLES: &str = "\

@@ -24,3 +24,4 @@ mod mk82;
 mod overlay;
 mod plots;
 mod view;
+mod view_gimbal;
