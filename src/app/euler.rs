@@ -4,6 +4,8 @@
 //! Thin: the numbers come from [`crate::euler`], the pictures from [`crate::scene::euler`],
 //! the files go through [`crate::fsio::write_dir_atomic`].
 
+use std::fmt::Write as _;
+
 use anyhow::{bail, Context};
 use glam::{DMat3, DQuat};
 use serde_json::{json, Value};
@@ -223,8 +225,7 @@ fn print_numbers(args: &EulerArgs, given: &Given, solution: Solution) -> anyhow:
             Given::Quat(q) => json!({ "quaternion": q }),
         };
         out["input"] = input;
-        println!("{}", serde_json::to_string_pretty(&out)?);
-        return Ok(());
+        return emit(&(serde_json::to_string_pretty(&out)? + "\n"));
     }
     let angles = if args.radians {
         shown.angles.map(|x| format!("{:.6}", clean(x))).join(", ") + " rad"
@@ -251,27 +252,40 @@ fn print_numbers(args: &EulerArgs, given: &Given, solution: Solution) -> anyhow:
         clean(q.y),
         clean(q.z)
     );
+    let mut text = String::new();
     match args.to {
-        Some(EulerTarget::Matrix) => println!("{}", matrix()),
-        Some(EulerTarget::Quat) => println!("{quat}"),
+        Some(EulerTarget::Matrix) => writeln!(text, "{}", matrix())?,
+        Some(EulerTarget::Quat) => writeln!(text, "{quat}")?,
         Some(EulerTarget::Angles(_)) => {
-            println!("{}: {angles}", describe(shown.convention));
+            writeln!(text, "{}: {angles}", describe(shown.convention))?;
         }
         None => {
-            println!("{}: {angles}", describe(shown.convention));
-            println!("matrix (body -> world, rows):\n{}", matrix());
-            println!("quaternion [w, x, y, z]: {quat}");
+            writeln!(text, "{}: {angles}", describe(shown.convention))?;
+            writeln!(text, "matrix (body -> world, rows):\n{}", matrix())?;
+            writeln!(text, "quaternion [w, x, y, z]: {quat}")?;
         }
     }
     if lock.is_locked() {
-        println!(
+        writeln!(
+            text,
             "note: gimbal lock: the middle angle is at {} ({} end of its range); the first and \
              third axes coincide, only one combination of those angles is determined",
             crate::scene::euler::degrees_label(shown.angles[1]),
             lock_name(lock)
-        );
+        )?;
     }
-    Ok(())
+    emit(&text)
+}
+
+/// Write `text` to stdout. A reader that went away (`| head`) is not an error of ours: the
+/// rest is dropped quietly instead of panicking as `println!` would.
+fn emit(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        result => result.context("cannot write to stdout"),
+    }
 }
 
 /// `intrinsic z-y-x (Tait–Bryan, R = Rz·Ry·Rx)`.
@@ -331,10 +345,12 @@ fn write_pictures(args: &EulerArgs, pictures: &[Picture], notes: &[String]) -> a
     }
     files.push((MANIFEST.to_string(), manifest.into_bytes()));
     write_dir_atomic(dir, &files, MANIFEST).context("--out")?;
+    let mut text = String::new();
     for note in notes {
-        println!("{note}");
+        writeln!(text, "{note}")?;
     }
-    println!(
+    writeln!(
+        text,
         "wrote {} pictures ({}) and {MANIFEST} to {}",
         pictures.len(),
         pictures
@@ -343,8 +359,8 @@ fn write_pictures(args: &EulerArgs, pictures: &[Picture], notes: &[String]) -> a
             .collect::<Vec<_>>()
             .join(", "),
         dir.display()
-    );
-    Ok(())
+    )?;
+    emit(&text)
 }
 
 fn steps(args: &EulerArgs, e: &EulerAngles) -> anyhow::Result<()> {
