@@ -142,13 +142,15 @@ fn solve(given: &Given, convention: Convention) -> anyhow::Result<Solution> {
                 .context("--from-matrix: not a rotation matrix")
         }
         Given::Quat([w, x, y, z]) => {
-            let q = DQuat::from_xyzw(*x, *y, *z, *w);
-            let len = q.length();
-            if !(len > 1e-12 && len.is_finite()) {
+            // The library normalises by the largest component, so any scale works, 1e-200 and
+            // 1e300 included; only all zeros is no rotation.
+            if [w, x, y, z].iter().all(|c| **c == 0.0) {
                 bail!(
-                    "--from-quat: the quaternion has length {len}; a rotation needs a non-zero one"
+                    "--from-quat: all four components are 0; a rotation needs a non-zero \
+                     quaternion"
                 );
             }
+            let q = DQuat::from_xyzw(*x, *y, *z, *w);
             Ok(EulerAngles::from_quat(convention, q))
         }
     }

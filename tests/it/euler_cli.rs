@@ -361,7 +361,8 @@ fn bad_input_fails_cleanly() {
         (&["--from-matrix", "1,0,0,0,1,0,0,0,2"], "not orthonormal"),
         (&["--from-matrix", "1,0,0,0,1,0,0,0,-1"], "reflection"),
         (&["--from-matrix", "1,0,0"], "expected 9"),
-        (&["--from-quat", "0,0,0,0"], "length 0"),
+        (&["--from-quat", "0,0,0,0"], "non-zero quaternion"),
+        (&["--from-quat", "0,-0,0,0"], "non-zero quaternion"),
         (&["--from-quat", "1,0,0"], "expected 4"),
         (&["--from-quat", "NaN,0,0,1"], "not a finite number"),
         (
@@ -438,4 +439,9 @@ fn negative_angles_are_values() {
     assert_eq!(numbers(&v["angles_deg"]), [-30.0, -20.0, -10.0]);
     let v = euler_json(&["--from-quat", "-1,0,0,0"]);
     assert_eq!(numbers(&v["quaternion"]), [1.0, 0.0, 0.0, 0.0]);
+    // Any scale is one rotation, even where |q|² under- or overflows: yaw 90°.
+    for q in ["1e-200,0,0,1e-200", "1e300,0,0,1e300"] {
+        let v = euler_json(&["--from-quat", q]);
+        assert_near(&numbers(&v["angles_deg"]), &[90.0, 0.0, 0.0], 1e-12, q);
+    }
 }
