@@ -2,24 +2,9 @@
 //! (plain arrays, no glam, no library code), `--to` conversions, `--from-matrix` and
 //! `--from-quat`, negative numbers, and bad input (exit status 2, the option named, no panic).
 
-use std::process::{Command, Output};
-
 use serde_json::Value;
 
-fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::cli::{stderr, stdout, wireflight};
 
 /// Run `wireflight euler ARGS --json` and parse the answer.
 fn euler_json(args: &[&str]) -> Value {

@@ -8,7 +8,6 @@
 //! euler_pictures::` and look at every `tests/images/golden/euler_*.png` before committing.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
 use wireflight::euler::{rotation_between, EulerAngles};
 use wireflight::mesh::plane::builtin_plane;
@@ -19,6 +18,7 @@ use wireflight::scene::euler::{
 };
 use wireflight::scene::palette;
 
+use crate::cli::wireflight;
 use crate::golden::check_image;
 
 const VIEW: Viewport = Viewport {
@@ -272,13 +272,6 @@ fn steps_end_at_the_attitude_and_order_matters() {
 // ---------------------------------------------------------------------------------------------
 // The command
 // ---------------------------------------------------------------------------------------------
-
-fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
 
 fn listing(dir: &Path) -> Vec<String> {
     let mut v: Vec<String> = std::fs::read_dir(dir)
