@@ -6,6 +6,7 @@
 pub mod cli;
 pub mod compare;
 pub mod diagnose;
+pub mod euler;
 pub mod identify;
 pub mod render;
 pub mod simulate;
@@ -35,6 +36,7 @@ where
         Command::Diagnose(args) => diagnose::run(&args),
         Command::Identify(args) => identify::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Euler(args) => euler::run(&args),
     }
 }
 

@@ -73,14 +73,23 @@
 //!   γ+π); proper Euler: (α+π, −β, γ+π)); only the principal one is returned, so compare
 //!   rotations, not angles, unless the input was already principal.
 //!
+//! # What the angles do
+//!
+//! [`EulerAngles::steps`] splits a rotation into its three elementary rotations in the order
+//! they turn the body; [`EulerAngles::lock_coupling`] and [`EulerAngles::lock_twin`] say what
+//! is left at gimbal lock; [`lerp`], [`slerp`] and [`compare_paths`] set interpolating the
+//! angles against interpolating the rotation (the `wireflight euler` pictures).
+//!
 //! Pure math: no I/O.
 
 mod convert;
 mod sequence;
+mod stages;
 mod zyx;
 
 pub use convert::{EulerAngles, Lock, NotRotation, Solution, LOCK_TOLERANCE};
 pub use sequence::{Axis, Convention, Frame, ParseConventionError, Sequence};
+pub use stages::{compare_paths, lerp, rotation_between, slerp, LockedPair, PathComparison, Step};
 pub use zyx::{
     ned_from_viewer, rot_x, rot_y, rot_z, viewer_from_ned, EulerZyx, Gimbal, GIMBAL_LOCK_COS,
 };

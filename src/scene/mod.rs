@@ -9,14 +9,19 @@
 //! * [`replay::ReplayScene`]: offscreen replay frames of a recorded flight (and comparison
 //!   frames with the error strip);
 //! * [`track`]: flights in the viewer's frame (poses between samples, the model's track);
+//! * [`euler`]: pictures of Euler angles (elementary rotations, gimbal rings, gimbal lock,
+//!   interpolation) and the [`euler::sheet`] that lays panels out in a grid;
+//! * [`text`]: captions as line segments (a small stroke font);
 //! * [`palette`]: the colours.
 //!
 //! Pure: no I/O. Drawing the scenes is [`crate::render`]'s job, writing them
 //! [`crate::output`]'s.
 
 pub mod builder;
+pub mod euler;
 pub mod palette;
 pub mod replay;
+pub mod text;
 pub mod track;
 
 use crate::camera::{CameraPreset, Projection, Subject};

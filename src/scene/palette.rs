@@ -26,3 +26,27 @@ pub const STRUCTURE: Rgba = [255, 150, 60, 255];
 pub const HILL: Rgba = [170, 120, 255, 255];
 /// The horizon ring.
 pub const HORIZON: Rgba = [110, 200, 255, 255];
+/// The rotation of an Euler convention's first angle: its axis, path and gimbal ring.
+pub const EULER_FIRST: Rgba = [255, 110, 90, 255];
+/// The rotation of the second angle.
+pub const EULER_SECOND: Rgba = [255, 215, 70, 255];
+/// The rotation of the third angle.
+pub const EULER_THIRD: Rgba = [90, 170, 255, 255];
+/// [`EULER_FIRST`], dimmed (the other path of a comparison).
+pub const EULER_FIRST_DIM: Rgba = [120, 60, 55, 255];
+/// [`EULER_THIRD`], dimmed.
+pub const EULER_THIRD_DIM: Rgba = [45, 80, 120, 255];
+/// The aircraft before a rotation (Euler pictures).
+pub const GHOST: Rgba = [40, 100, 60, 255];
+/// World X axis at the origin (Euler pictures).
+pub const WORLD_X: Rgba = [150, 60, 60, 255];
+/// World Y axis.
+pub const WORLD_Y: Rgba = [60, 140, 70, 255];
+/// World Z axis.
+pub const WORLD_Z: Rgba = [70, 90, 170, 255];
+/// Captions.
+pub const CAPTION: Rgba = [225, 225, 225, 255];
+/// Second caption lines.
+pub const CAPTION_DIM: Rgba = [150, 155, 165, 255];
+/// Lines between the panels of a sheet.
+pub const SEPARATOR: Rgba = [60, 66, 84, 255];

@@ -9,18 +9,18 @@ use wireflight::pipeline::Viewport;
 use wireflight::render::Image;
 use wireflight::scene::{frame, ViewSpec};
 
-fn wireflight(args: &[&str]) -> Output {
+pub(crate) fn wireflight(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wireflight"))
         .args(args)
         .output()
         .expect("run wireflight")
 }
 
-fn stdout(o: &Output) -> String {
+pub(crate) fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
-fn stderr(o: &Output) -> String {
+pub(crate) fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 

@@ -30,14 +30,20 @@ fn spec(yaw: f64, pitch: f64, roll: f64, camera: CameraPreset) -> ViewSpec {
 /// Render on the CPU and compare with (or, when blessing, write) the golden image.
 fn check(name: &str, spec: ViewSpec) -> ClipStats {
     let (scene, stats) = frame(&builtin_plane(), &spec);
-    let image = cpu::render(&scene);
+    check_image(name, &cpu::render(&scene));
+    stats
+}
+
+/// Compare `image` with the golden image `tests/images/golden/{name}.png`, pixel for pixel (or,
+/// when blessing, write it there).
+pub(crate) fn check_image(name: &str, image: &Image) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/images/golden")
         .join(format!("{name}.png"));
     if std::env::var_os("WIREFLIGHT_BLESS").is_some() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, image.encode_png().unwrap()).unwrap();
-        return stats;
+        return;
     }
     let bytes = std::fs::read(&path).unwrap_or_else(|e| {
         panic!(
@@ -47,7 +53,7 @@ fn check(name: &str, spec: ViewSpec) -> ClipStats {
     });
     let golden = Image::decode_png(&bytes).unwrap();
     assert_eq!((image.width, image.height), (golden.width, golden.height));
-    if image != golden {
+    if *image != golden {
         let diff = image
             .pixels
             .chunks_exact(4)
@@ -62,7 +68,6 @@ fn check(name: &str, spec: ViewSpec) -> ClipStats {
             out.display()
         );
     }
-    stats
 }
 
 fn lit_pixels(image: &Image) -> usize {

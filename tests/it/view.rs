@@ -25,10 +25,10 @@ use wireflight::render::{Image, Rgba};
 use wireflight::scene::builder::Part;
 use wireflight::scene::palette::{self, MODEL_AIRCRAFT, MODEL_TRAIL};
 
-const WINDOW_TIMEOUT: Duration = Duration::from_secs(300);
+pub(crate) const WINDOW_TIMEOUT: Duration = Duration::from_secs(300);
 
 /// Whether a display is there to open windows on; `None` (after saying why) to skip.
-fn display() -> Option<String> {
+pub(crate) fn display() -> Option<String> {
     let required = std::env::var("WIREFLIGHT_REQUIRE_DISPLAY").is_ok_and(|v| v == "1");
     match std::env::var("DISPLAY") {
         Ok(d) if !d.is_empty() => Some(d),
@@ -44,7 +44,7 @@ fn display() -> Option<String> {
 }
 
 /// Run `wireflight` with a time limit.
-fn run_with_timeout(args: &[&str], limit: Duration) -> Output {
+pub(crate) fn run_with_timeout(args: &[&str], limit: Duration) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_wireflight"))
         .args(args)
         .stdin(Stdio::null())

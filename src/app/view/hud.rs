@@ -1,15 +1,16 @@
 //! The window's head-up display (egui): attitude, speed, clipper counts and frame timing;
 //! the help overlay; and, in `--compare` mode, the comparison panel with its effect
-//! checkboxes and the error-over-time plot. Also the frame [`Meter`] the HUD and the closing
-//! report read.
+//! checkboxes and the error-over-time plot; the Euler-angle panel (a convention, sliders for its
+//! three angles). Also the frame [`Meter`] the HUD and the closing report read.
 
 use std::time::{Duration, Instant};
 
 use super::compare::{Compare, Fit};
+use super::gimbal::EulerPanel;
 use super::session::{self, Session};
 use super::KEY_HELP;
 use crate::clip::ClipStats;
-use crate::euler::Gimbal;
+use crate::euler::{Convention, Frame, Gimbal, Sequence};
 
 /// Frame timing and clipper counts for the HUD and the closing report.
 #[derive(Default)]
@@ -469,4 +470,113 @@ fn error_plot(ui: &mut egui::Ui, c: &Compare, t: Option<f64>) {
         font,
         Color32::from_gray(160),
     );
+}
+
+/// What the user changed in the Euler-angle panel this frame.
+#[derive(Debug, Default)]
+pub(super) struct EulerChanges {
+    pub(super) convention: Option<Convention>,
+    pub(super) degrees: Option<[f64; 3]>,
+    pub(super) drive: Option<bool>,
+}
+
+impl EulerChanges {
+    pub(super) fn any(&self) -> bool {
+        self.convention.is_some() || self.degrees.is_some() || self.drive.is_some()
+    }
+}
+
+/// The Euler-angle panel: the sequence and frame, the three angles as sliders coloured like
+/// their gimbal rings, whether they drive the attitude, and the gimbal-lock state.
+pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChanges {
+    use egui::{Color32, RichText};
+    let mut changes = EulerChanges::default();
+    let convention = panel.convention();
+    let frame = egui::Frame::NONE
+        .fill(Color32::from_black_alpha(190))
+        .inner_margin(8.0)
+        .corner_radius(4.0);
+    egui::Window::new("Euler angles (G)")
+        .id(egui::Id::unique("wireflight-euler"))
+        .frame(frame)
+        .anchor(egui::Align2::RIGHT_BOTTOM, [-8.0, -8.0])
+        .resizable(false)
+        .collapsible(true)
+        .show(ctx, |ui| {
+            ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
+            ui.horizontal(|ui| {
+                let mut sequence = convention.sequence;
+                egui::ComboBox::from_id_salt("wireflight-euler-sequence")
+                    .selected_text(format!("{sequence:#}"))
+                    .show_ui(ui, |ui| {
+                        for s in Sequence::ALL {
+                            let kind = if s.is_tait_bryan() {
+                                "Tait–Bryan"
+                            } else {
+                                "proper Euler"
+                            };
+                            ui.selectable_value(&mut sequence, s, format!("{s:#}  {kind}"));
+                        }
+                    });
+                let mut extrinsic = convention.frame == Frame::Extrinsic;
+                ui.checkbox(&mut extrinsic, "extrinsic (fixed axes)");
+                let frame = if extrinsic {
+                    Frame::Extrinsic
+                } else {
+                    Frame::Intrinsic
+                };
+                let chosen = Convention::new(sequence, frame);
+                if chosen != convention {
+                    changes.convention = Some(chosen);
+                }
+            });
+            let [a, b, c] = convention.sequence.axes().map(|x| x.name());
+            let product = match convention.frame {
+                Frame::Intrinsic => {
+                    format!("R = R{a}(A)·R{b}(B)·R{c}(C), axes turning with the body")
+                }
+                Frame::Extrinsic => format!("R = R{c}(C)·R{b}(B)·R{a}(A), fixed axes, A first"),
+            };
+            ui.monospace(product);
+            let euler = panel.euler();
+            let mut degrees = panel.degrees();
+            let mut moved = false;
+            for (k, (lo, hi)) in panel.ranges().into_iter().enumerate() {
+                ui.horizontal(|ui| {
+                    swatch(ui, rgba(crate::scene::euler::slot_color(k)));
+                    ui.monospace(format!(
+                        "{} {:<3}",
+                        ["A", "B", "C"][k],
+                        crate::scene::euler::axis_label(&euler, k)
+                    ));
+                    let slider = egui::Slider::new(&mut degrees[k], lo..=hi)
+                        .suffix("°")
+                        .fixed_decimals(1);
+                    if ui.add(slider).changed() {
+                        moved = true;
+                    }
+                });
+            }
+            if moved {
+                changes.degrees = Some(degrees);
+            }
+            let mut drive = panel.drive;
+            let label = "the sliders set the attitude (else they show it)";
+            if ui.checkbox(&mut drive, label).changed() {
+                changes.drive = Some(drive);
+            }
+            if panel.lock().is_locked() {
+                ui.label(
+                    RichText::new(
+                        "GIMBAL LOCK: the middle ring lies in the outer ring's plane; A and C \
+                         turn the aircraft about one axis",
+                    )
+                    .color(Color32::from_rgb(255, 80, 80))
+                    .strong(),
+                );
+            } else {
+                ui.label("rings, outer to inner: the intrinsic reading's first, second, third");
+            }
+        });
+    changes
 }

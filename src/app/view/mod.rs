@@ -11,11 +11,14 @@
 //! * [`script`]: timed control inputs for deterministic runs.
 //! * [`compare`]: `--compare`, the flight model beside the recording, effects ticked on and
 //!   off, recomputed in the background.
+//! * [`gimbal`]: the Euler-angle panel: a convention's angles, its gimbal rings around the
+//!   aircraft, sliders that set the attitude.
 //! * [`session`]: all of it together, driven by time steps and held keys.
 
 pub mod cameras;
 pub mod compare;
 pub mod flight;
+pub mod gimbal;
 mod hud;
 pub mod script;
 pub mod session;
@@ -41,7 +44,9 @@ use crate::render::{OutputFormat, Rasterizer};
 use cameras::CameraMode;
 use compare::Compare;
 use flight::Start;
-use hud::{compare_summary, draw_compare, draw_help, draw_hud, HudData, Meter};
+use hud::{
+    compare_summary, draw_compare, draw_euler, draw_help, draw_hud, EulerChanges, HudData, Meter,
+};
 use session::{Held, Session, Source, SEEK_S};
 use surface::{HudFrame, Presented, WindowRenderer};
 
@@ -63,6 +68,7 @@ pub const KEY_HELP: &[(&str, &str)] = &[
     ("Q / E", "yaw left / right"),
     ("+ / -", "throttle up / down"),
     ("C", "cycle camera: chase, cockpit, orbit, free"),
+    ("G", "Euler angles: gimbal rings and sliders"),
     ("Space", "pause / resume (replay: play / pause)"),
     ("R", "reset"),
     ("H or F1", "this help"),
@@ -118,6 +124,13 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         }
     };
     session.set_clipper(args.clipper);
+    if let Some(convention) = args.gimbal {
+        session.euler = gimbal::EulerPanel::new(convention);
+        session.toggle_euler();
+        if let Some(degrees) = args.gimbal_angles {
+            session.set_euler_degrees(degrees);
+        }
+    }
     let event_loop = EventLoop::new().map_err(|e| {
         anyhow!(
             "cannot open a window: {e} (no display? set DISPLAY or WAYLAND_DISPLAY, or run under xvfb-run)"
@@ -291,6 +304,7 @@ impl App {
             KeyCode::ArrowRight if replay => self.session.seek(SEEK_S),
             _ if repeat => {}
             KeyCode::KeyC => self.session.cycle_camera(),
+            KeyCode::KeyG => self.session.toggle_euler(),
             KeyCode::Space => self.session.toggle_pause(),
             KeyCode::KeyR => self.session.reset(),
             KeyCode::KeyH | KeyCode::F1 => self.show_help = !self.show_help,
@@ -361,10 +375,14 @@ impl App {
         };
         let mut show_help = self.show_help;
         let mut toggles = Vec::new();
+        let mut euler = EulerChanges::default();
         let output = self.egui_ctx.run_pass(raw_input, |ctx| {
             draw_hud(ctx, &hud);
             if let Some(c) = hud.session.compare() {
                 toggles = draw_compare(ctx, c, hud.session.readout());
+            }
+            if hud.session.euler.shown {
+                euler = draw_euler(ctx, &hud.session.euler);
             }
             if show_help {
                 draw_help(ctx, &mut show_help);
@@ -375,6 +393,19 @@ impl App {
             for (i, on) in toggles {
                 c.set(i, on);
             }
+        }
+        if euler.any() {
+            // The scene was built before the panel ran: show the change in the next frame.
+            gfx.window.request_redraw();
+        }
+        if let Some(c) = euler.convention {
+            self.session.set_euler_convention(c);
+        }
+        if let Some(d) = euler.degrees {
+            self.session.set_euler_degrees(d);
+        }
+        if let Some(drive) = euler.drive {
+            self.session.set_euler_drive(drive);
         }
         gfx.egui
             .handle_platform_output(&gfx.window, output.platform_output);

@@ -5,14 +5,15 @@
 //!
 //! Pure: no I/O.
 
-use glam::{DQuat, DVec3, Vec3};
+use glam::{DMat3, DQuat, DVec3, Vec3};
 
 use super::cameras::{CameraMode, CameraRig, Target};
 use super::compare::Compare;
 use super::flight::{Controls, Kinematic, Start};
+use super::gimbal::EulerPanel;
 use super::script::{Player, Script};
 use crate::clip::{ClipStats, Clipper};
-use crate::euler::{viewer_from_ned, EulerZyx, Gimbal};
+use crate::euler::{viewer_from_ned, Convention, EulerZyx, Gimbal};
 use crate::flight::data::FlightData;
 use crate::mesh::world::{World, WorldSpec};
 use crate::mesh::EdgeMesh;
@@ -181,6 +182,9 @@ pub struct Session {
     trail_clock: f64,
     initial_camera: CameraMode,
     compare: Option<Box<Compare>>,
+    /// The Euler-angle panel: a convention's angles of the attitude, its gimbal rings, and
+    /// sliders that can set the attitude.
+    pub euler: EulerPanel,
 }
 
 impl Session {
@@ -239,6 +243,7 @@ impl Session {
             trail_clock: 0.0,
             initial_camera: camera,
             compare: None,
+            euler: EulerPanel::default(),
         };
         s.reset();
         s
@@ -394,6 +399,15 @@ impl Session {
                 }
             }
         }
+        // The sliders hold the attitude while they drive it; otherwise they show its angles.
+        if let Some(attitude) = self.driven() {
+            if let Source::Fly { flight, .. } = &mut self.source {
+                flight.orientation = DQuat::from_mat3(&attitude).normalize();
+            }
+        } else if self.euler.shown {
+            let attitude = self.attitude_matrix();
+            self.euler.follow(attitude);
+        }
         let target = self.target();
         self.rig.follow(&target, dt);
         let speed = if held.fast { 4.0 } else { 1.0 };
@@ -405,17 +419,72 @@ impl Session {
         );
     }
 
+    /// The attitude the Euler sliders impose, when they are shown and drive it.
+    fn driven(&self) -> Option<DMat3> {
+        (self.euler.shown && self.euler.drive).then(|| self.euler.attitude())
+    }
+
     fn pose(&self) -> (DVec3, EulerZyx) {
-        match &self.source {
+        let (position, attitude) = match &self.source {
             Source::Fly { flight, .. } => (flight.position, flight.attitude().0),
             Source::Replay(r) => r.pose(),
+        };
+        match self.driven() {
+            Some(m) => (position, EulerZyx::from_matrix(m).0),
+            None => (position, attitude),
         }
     }
 
     fn orientation(&self) -> DQuat {
+        if let Some(m) = self.driven() {
+            return DQuat::from_mat3(&m).normalize();
+        }
         match &self.source {
             Source::Fly { flight, .. } => flight.orientation,
             Source::Replay(r) => DQuat::from_mat3(&r.pose().1.to_matrix()).normalize(),
+        }
+    }
+
+    /// The aircraft's body → world rotation as shown.
+    pub fn attitude_matrix(&self) -> DMat3 {
+        DMat3::from_quat(self.orientation())
+    }
+
+    /// Show or hide the Euler-angle panel and the gimbal rings.
+    pub fn toggle_euler(&mut self) {
+        self.euler.shown = !self.euler.shown;
+        if self.euler.shown && !self.euler.drive {
+            let attitude = self.attitude_matrix();
+            self.euler.follow(attitude);
+        }
+    }
+
+    /// Choose the panel's convention; the attitude stays, the angles are its decomposition.
+    pub fn set_euler_convention(&mut self, convention: Convention) {
+        let attitude = self.attitude_matrix();
+        self.euler.set_convention(convention, attitude);
+    }
+
+    /// Set the panel's angles (degrees): they now drive the attitude, and a flight pauses so
+    /// that the aircraft stays where it can be looked at (Space flies on, in that attitude).
+    pub fn set_euler_degrees(&mut self, degrees: [f64; 3]) {
+        self.euler.shown = true;
+        self.euler.set_degrees(degrees);
+        if matches!(self.source, Source::Fly { .. }) {
+            self.paused = true;
+        }
+        if let (Some(attitude), Source::Fly { flight, .. }) = (self.driven(), &mut self.source) {
+            flight.orientation = DQuat::from_mat3(&attitude).normalize();
+        }
+    }
+
+    /// Let the sliders drive the attitude, or let go of it (the aircraft keeps the attitude
+    /// it has and the sliders follow it again).
+    pub fn set_euler_drive(&mut self, drive: bool) {
+        self.euler.drive = drive;
+        if !drive {
+            let attitude = self.attitude_matrix();
+            self.euler.follow(attitude);
         }
     }
 
@@ -445,7 +514,7 @@ impl Session {
             (Some(c), Source::Replay(_)) => Some(model_frame(&c.now.track, t)),
             _ => None,
         };
-        self.builder.build(&FrameSpec {
+        let mut stats = self.builder.build(&FrameSpec {
             camera: &camera,
             viewport,
             aircraft_position: position.as_vec3(),
@@ -453,7 +522,18 @@ impl Session {
             ground_z,
             trail,
             model,
-        })
+        });
+        if self.euler.shown {
+            let radius = self.builder.aircraft().bounding_sphere().1;
+            stats.merge(&self.euler.draw_rings(
+                self.builder.scene_mut(),
+                &camera,
+                viewport,
+                position,
+                radius,
+            ));
+        }
+        stats
     }
 
     /// The last frame built.

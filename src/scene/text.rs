@@ -1,0 +1,148 @@
+//! Captions as line segments: a small stroke font, so that labels go through every backend
+//! (CPU, GPU, SVG) like the wireframes do and the CPU images stay bit-exact.
+//!
+//! Glyphs sit on a grid 4 units wide and 6 tall (capital height), y up from the baseline, and
+//! advance 6 units. Letters are drawn as capitals; characters without a glyph leave a space.
+//! Pure: no I/O.
+
+use glam::Vec2;
+
+use crate::render::Segment2;
+
+/// Grid units from one glyph's origin to the next.
+pub const ADVANCE: f32 = 6.0;
+/// Capital height, grid units.
+pub const CAP_HEIGHT: f32 = 6.0;
+
+/// The strokes of a glyph: polylines, each a string of points as digit pairs `xy` on the grid.
+fn glyph(c: char) -> &'static [&'static str] {
+    match c.to_ascii_uppercase() {
+        'A' => &["002640", "1333"],
+        'B' => &["00063645443303", "3342413000"],
+        'C' => &["4536160501103041"],
+        'D' => &["00062644422000"],
+        'E' => &["46060040", "0333"],
+        'F' => &["460600", "0333"],
+        'G' => &["45361605011030414323"],
+        'H' => &["0006", "4640", "0343"],
+        'I' => &["1636", "2620", "1030"],
+        'J' => &["4641301001"],
+        'K' => &["0006", "4602", "1340"],
+        'L' => &["060040"],
+        'M' => &["0006244640"],
+        'N' => &["00064046"],
+        'O' => &["100105163645413010"],
+        'P' => &["00063645443303"],
+        'Q' => &["100105163645413010", "2240"],
+        'R' => &["00063645443303", "2340"],
+        'S' => &["453616050413334241301001"],
+        'T' => &["0646", "2620"],
+        'U' => &["060110304146"],
+        'V' => &["062046"],
+        'W' => &["0610234046"],
+        'X' => &["0046", "0640"],
+        'Y' => &["0623", "4623", "2320"],
+        'Z' => &["06460040"],
+        '0' => &["100105163645413010", "0145"],
+        '1' => &["152620", "1030"],
+        '2' => &["05163645440040"],
+        '3' => &["0516364544334241301001", "1333"],
+        '4' => &["30360242"],
+        '5' => &["4606033342413000"],
+        '6' => &["4536160501103041423303"],
+        '7' => &["064610"],
+        '8' => &["13040516364544331302011030414233"],
+        '9' => &["0110304145361605041343"],
+        '-' => &["1333"],
+        '+' => &["1333", "2224"],
+        '=' => &["0242", "0444"],
+        '.' => &["2021"],
+        ',' => &["2110"],
+        ':' => &["2122", "2425"],
+        '°' => &["1526352415"],
+        '\'' => &["2614"],
+        '(' => &["36252130"],
+        ')' => &["16252110"],
+        '/' => &["0046"],
+        '>' => &["153311"],
+        '<' => &["351331"],
+        _ => &[],
+    }
+}
+
+fn digit(b: u8) -> f32 {
+    f32::from(b.wrapping_sub(b'0'))
+}
+
+/// Width of `text` in pixels at `scale` pixels per grid unit (the last glyph's spacing left
+/// out).
+pub fn width(text: &str, scale: f32) -> f32 {
+    let n = text.chars().count() as f32;
+    if n == 0.0 {
+        0.0
+    } else {
+        (n * ADVANCE - 2.0) * scale
+    }
+}
+
+/// Append the strokes of `text` to `out`, the first glyph's bottom-left corner at `origin`
+/// (pixels, y down), `scale` pixels per grid unit. Points are put on pixel centres so that the
+/// strokes are crisp on the CPU rasterizer.
+pub fn draw(text: &str, origin: Vec2, scale: f32, out: &mut Vec<Segment2>) {
+    let base = Vec2::new(origin.x.floor() + 0.5, origin.y.floor() + 0.5);
+    let scale = scale.max(1.0).round();
+    for (i, c) in text.chars().enumerate() {
+        let x0 = base.x + i as f32 * ADVANCE * scale;
+        for stroke in glyph(c) {
+            let points: Vec<Vec2> = stroke
+                .as_bytes()
+                .chunks_exact(2)
+                .map(|p| Vec2::new(x0 + digit(p[0]) * scale, base.y - digit(p[1]) * scale))
+                .collect();
+            for pair in points.windows(2) {
+                out.push(Segment2 {
+                    a: pair[0],
+                    b: pair[1],
+                });
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_glyph_stays_on_its_grid() {
+        let chars = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-+=.,:°'()/<>";
+        for c in chars.chars() {
+            let strokes = glyph(c);
+            assert!(!strokes.is_empty(), "{c}");
+            for s in strokes {
+                assert!(s.len() >= 4 && s.len() % 2 == 0, "{c}: {s}");
+                for p in s.as_bytes().chunks_exact(2) {
+                    assert!(digit(p[0]) <= 4.0 && digit(p[1]) <= 6.0, "{c}: {s}");
+                }
+            }
+        }
+        assert_eq!(glyph('q'), glyph('Q'));
+        assert!(glyph('#').is_empty());
+    }
+
+    #[test]
+    fn text_is_placed_left_to_right_above_the_baseline() {
+        let mut out = Vec::new();
+        draw("L1", Vec2::new(10.0, 50.0), 2.0, &mut out);
+        // L: two strokes; 1: two polylines of 2 + 1 strokes.
+        assert_eq!(out.len(), 2 + 3);
+        for s in &out {
+            for p in [s.a, s.b] {
+                assert!(p.x >= 10.0 && p.x <= 10.5 + width("L1", 2.0), "{p}");
+                assert!(p.y <= 50.5 && p.y >= 50.5 - CAP_HEIGHT * 2.0, "{p}");
+            }
+        }
+        assert_eq!(width("", 2.0), 0.0);
+        assert_eq!(width("AB", 2.0), 20.0);
+    }
+}
