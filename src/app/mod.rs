@@ -4,6 +4,7 @@
 //! name; the process then exits with status 2.
 
 pub mod cli;
+pub mod clip;
 pub mod compare;
 pub mod diagnose;
 pub mod render;
@@ -33,6 +34,7 @@ where
         Command::Compare(args) => compare::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Clip(args) => clip::run(&args),
     }
 }
 

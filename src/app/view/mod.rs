@@ -63,6 +63,10 @@ pub const KEY_HELP: &[(&str, &str)] = &[
     ("Q / E", "yaw left / right"),
     ("+ / -", "throttle up / down"),
     ("C", "cycle camera: chase, cockpit, orbit, free"),
+    (
+        "K",
+        "cycle line clipper: blinn, cohen-sutherland, liang-barsky, cyrus-beck, sutherland-hodgman",
+    ),
     ("Space", "pause / resume (replay: play / pause)"),
     ("R", "reset"),
     ("H or F1", "this help"),
@@ -291,6 +295,11 @@ impl App {
             KeyCode::ArrowRight if replay => self.session.seek(SEEK_S),
             _ if repeat => {}
             KeyCode::KeyC => self.session.cycle_camera(),
+            KeyCode::KeyK => {
+                let next = self.session.clipper().next();
+                self.session.set_clipper(next);
+                self.note = Some((format!("clipper: {next}"), Instant::now()));
+            }
             KeyCode::Space => self.session.toggle_pause(),
             KeyCode::KeyR => self.session.reset(),
             KeyCode::KeyH | KeyCode::F1 => self.show_help = !self.show_help,
