@@ -245,10 +245,10 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             0.0
         };
         println!(
-            "accepted {}, rejected {}, clipped {} (of which nothing left: {}), non-finite {}; \
+            "accepted {}, rejected {}, clipped {} ({} of them to nothing), non-finite {}; \
              {per_edge:.1} ns per edge",
             stats.trivially_accepted,
-            stats.trivially_rejected + stats.clipped_away,
+            stats.trivially_rejected,
             stats.clipped + stats.clipped_away,
             stats.clipped_away,
             stats.non_finite

@@ -71,7 +71,7 @@ fn stage<V: Copy>(
                 (s, p, s_bc, p_bc)
             };
             let t = bi / (bi - bo);
-            debug_assert!((0.0..1.0).contains(&t), "crossing at t = {t}");
+            debug_assert!((0.0..=1.0).contains(&t), "crossing at t = {t}");
             emit(lerp(&i, &o, t))?;
         }
         if p_in {
@@ -180,12 +180,12 @@ pub fn clip_polygon_2d(
 /// ```
 /// use glam::Vec4;
 /// use wireflight::clip::{sutherland_hodgman, ClipVolume, DepthRange};
-/// // A triangle reaching behind the eye is cut at the near plane z = 0.
+/// // A triangle reaching through the near plane is cut at z = 0.
 /// let tri = [Vec4::new(0.0, 0.0, 0.5, 1.0), Vec4::new(0.5, 0.0, -0.5, 1.0), Vec4::new(0.0, 0.5, -0.5, 1.0)];
 /// let (mut out, mut scratch) = ([Vec4::ZERO; 18], [Vec4::ZERO; 18]);
 /// let v = ClipVolume::new(DepthRange::ZeroToOne);
 /// let n = sutherland_hodgman::clip_polygon_homogeneous(&tri, &v, &mut out, &mut scratch).unwrap();
-/// assert_eq!(n, 4);
+/// assert_eq!(n, 3); // the inside corner and the two crossings of z = 0
 /// assert!(out[..n].iter().all(|p| p.z >= 0.0 && p.w > 0.0));
 /// ```
 pub fn clip_polygon_homogeneous(
