@@ -47,6 +47,7 @@ const SPREAD: [u8; 8] = [0, 1, 4, 5, 16, 17, 20, 21];
 /// assert_eq!(code & batch::OUTCODE_BITS, outcode(&boundary_coords(p, DepthRange::ZeroToOne)));
 /// ```
 #[inline]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(w > 0)`: NaN is not in front either
 pub fn vertex_code(p: Vec4, depth: DepthRange) -> u8 {
     let w = p.w;
     let near = match depth {
@@ -203,6 +204,7 @@ pub const LANES: usize = 8;
 /// Vertex codes of eight points given as coordinate lanes: straight-line code the compiler
 /// vectorises.
 #[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(w > 0)`: NaN is not in front either
 fn lane_codes<const ZERO_TO_ONE: bool>(
     x: &[f32; LANES],
     y: &[f32; LANES],
@@ -231,7 +233,7 @@ fn lane_codes<const ZERO_TO_ONE: bool>(
 }
 
 #[inline(always)]
-fn lanes<'s>(v: &'s [f32], start: usize) -> &'s [f32; LANES] {
+fn lanes(v: &[f32], start: usize) -> &[f32; LANES] {
     v[start..start + LANES]
         .try_into()
         .expect("a slice of LANES elements")

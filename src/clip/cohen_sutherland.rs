@@ -165,7 +165,7 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
         let this_code = if code_p != 0 { code_p } else { code_q };
         let i = this_code.trailing_zeros() as usize;
         let den = bc[i] - bc_other[i];
-        if !(den < 0.0) {
+        if den >= 0.0 || den.is_nan() {
             // The other end was chopped onto this plane and rounding left it a hair outside
             // too: what remains touches the volume at most in that point.
             return ClipOutcome::ClippedAway;

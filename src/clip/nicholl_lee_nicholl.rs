@@ -104,10 +104,10 @@ impl Bounds {
     }
 
     fn code(&self, p: DVec2) -> u8 {
-        u8::from(p.x < self.l) * plane::LEFT
-            | u8::from(p.x > self.r) * plane::RIGHT
-            | u8::from(p.y < self.b) * plane::BOTTOM
-            | u8::from(p.y > self.t) * plane::TOP
+        (u8::from(p.x < self.l) * plane::LEFT)
+            | (u8::from(p.x > self.r) * plane::RIGHT)
+            | (u8::from(p.y < self.b) * plane::BOTTOM)
+            | (u8::from(p.y > self.t) * plane::TOP)
     }
 }
 

@@ -109,7 +109,7 @@ fn all_stages<V: Copy>(
             )?
         };
     }
-    if planes % 2 == 0 {
+    if planes.is_multiple_of(2) {
         out[..len].copy_from_slice(&scratch[..len]);
     }
     Ok(len)
@@ -255,9 +255,9 @@ fn two_gon<P: Copy + PartialEq>(
         let n = n.unwrap_or(0);
         // Merge equal neighbours (cyclically): the shared crossings are bit-identical.
         len = 0;
-        for i in 0..n {
-            if len == 0 || next[i] != buf[len - 1] {
-                buf[len] = next[i];
+        for &v in &next[..n] {
+            if len == 0 || v != buf[len - 1] {
+                buf[len] = v;
                 len += 1;
             }
         }

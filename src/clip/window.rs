@@ -89,10 +89,10 @@ impl Window2 {
     /// ```
     #[inline]
     pub fn outcode(&self, p: Vec2) -> u8 {
-        u8::from(p.x < self.xmin) * plane::LEFT
-            | u8::from(p.x > self.xmax) * plane::RIGHT
-            | u8::from(p.y < self.ymin) * plane::BOTTOM
-            | u8::from(p.y > self.ymax) * plane::TOP
+        (u8::from(p.x < self.xmin) * plane::LEFT)
+            | (u8::from(p.x > self.xmax) * plane::RIGHT)
+            | (u8::from(p.y < self.ymin) * plane::BOTTOM)
+            | (u8::from(p.y > self.ymax) * plane::TOP)
     }
 
     /// Whether `p` is in the window (edges included).

@@ -199,7 +199,7 @@ pub fn check_homogeneous(
     }
     if let Some((p, q)) = segment {
         for (e, orig, orig64) in [(p, a, &a64), (q, c, &c64)] {
-            if !e.is_finite() || !(e.w > 0.0) {
+            if !e.is_finite() || e.w <= 0.0 {
                 return fail(format!("endpoint {e:?}: not finite or w ≤ 0"));
             }
             let ndc = (e.x / e.w, e.y / e.w);
