@@ -20,7 +20,8 @@
 use glam::Vec4;
 
 use super::{
-    boundary_coords, boundary_coords_of, outcode, ClipOutcome, ClipVolume, DepthRange, PLANE_COUNT,
+    boundary_coords, boundary_coords_of, outcode, settle, ClipOutcome, ClipVolume, DepthRange,
+    PLANE_COUNT,
 };
 
 /// Clip the edge `a`→`c` (homogeneous clip coordinates) against the view volume.
@@ -95,12 +96,12 @@ pub fn clip_crossing(a: Vec4, c: Vec4, a_code: u8, c_code: u8, depth: DepthRange
 
     let d = c64 - a64;
     let a_out = if a_code != 0 {
-        (a64 + t_in * d).as_vec4()
+        settle((a64 + t_in * d).as_vec4(), a64, c64, t_in, depth)
     } else {
         a
     };
     let c_out = if c_code != 0 {
-        (a64 + t_out * d).as_vec4()
+        settle((a64 + t_out * d).as_vec4(), a64, c64, t_out, depth)
     } else {
         c
     };
@@ -173,12 +174,12 @@ pub fn clip_edge_in(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
     }
     let d = c64 - a64;
     let a_out = if a_code != 0 {
-        (a64 + t_in * d).as_vec4()
+        settle((a64 + t_in * d).as_vec4(), a64, c64, t_in, volume.depth)
     } else {
         a
     };
     let c_out = if c_code != 0 {
-        (a64 + t_out * d).as_vec4()
+        settle((a64 + t_out * d).as_vec4(), a64, c64, t_out, volume.depth)
     } else {
         c
     };

@@ -24,7 +24,8 @@ use glam::{DVec2, Vec2, Vec4};
 
 use super::window::finish_2d;
 use super::{
-    ClipOutcome, ClipOutcome2, ClipVolume, Window2, EDGE_COUNT, MAX_USER_PLANES, PLANE_COUNT,
+    lerp_from_nearer, settle, ClipOutcome, ClipOutcome2, ClipVolume, Window2, EDGE_COUNT,
+    MAX_USER_PLANES, PLANE_COUNT,
 };
 
 fn code_2d(w: &Window2, p: DVec2) -> u8 {
@@ -172,7 +173,7 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
         }
         let t = (bc[i] / den).min(1.0);
         debug_assert!((0.0..=1.0).contains(&t), "t = {t}");
-        *point += t * (other - *point);
+        *point = lerp_from_nearer(*point, other, t);
         *bc = volume.boundary_coords(*point);
         *done |= 1 << i;
         code_p = code(&bc_p, done_p);
@@ -181,8 +182,18 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
             return ClipOutcome::ClippedAway;
         }
         if code_p | code_q == 0 {
-            let a2 = if done_p == 0 { a } else { p.as_vec4() };
-            let c2 = if done_q == 0 { c } else { q.as_vec4() };
+            // Chopped ends get the guard against cancellation that Blinn's get (the chops
+            // are from the nearer end already, so it can only clamp).
+            let a2 = if done_p == 0 {
+                a
+            } else {
+                settle(p.as_vec4(), p, p, 0.0, volume.depth)
+            };
+            let c2 = if done_q == 0 {
+                c
+            } else {
+                settle(q.as_vec4(), q, q, 0.0, volume.depth)
+            };
             return if a2.w > 0.0 && c2.w > 0.0 {
                 ClipOutcome::Clipped(a2, c2)
             } else {

@@ -18,7 +18,7 @@
 
 use glam::{DVec2, Vec2, Vec3, Vec4};
 
-use super::{ClipOutcome, ClipOutcome2, ClipVolume};
+use super::{settle, ClipOutcome, ClipOutcome2, ClipVolume};
 
 /// The Cyrus-Beck interval of `P₀ + t·D` against half-spaces given by their value at `P₀`
 /// and their rate along `D`: `Ok((t₀, t₁))` with `t₀ ≤ t₁`, or the drop.
@@ -73,19 +73,16 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
         Err(out) => return out,
         Ok(t) => t,
     };
-    let a2 = if t0 == 0.0 {
-        a
-    } else {
-        (p0 + t0 * d).as_vec4()
-    };
-    let c2 = if t1 == 1.0 {
-        c
-    } else {
-        (p0 + t1 * d).as_vec4()
-    };
+    let at = |t: f64| settle((p0 + t * d).as_vec4(), p0, p1, t, volume.depth);
+    let a2 = if t0 == 0.0 { a } else { at(t0) };
+    let c2 = if t1 == 1.0 { c } else { at(t1) };
+    // t rounds to 0 or 1 for an end outside by less than its last bit: only the exact test
+    // says accepted (the edge is then returned as clipped, unchanged).
+    let inside =
+        |p: glam::DVec4| (0..volume.plane_count()).all(|i| volume.boundary_coord(i, p) >= 0.0);
     if !(a2.w > 0.0 && c2.w > 0.0) {
         ClipOutcome::ClippedAway
-    } else if t0 == 0.0 && t1 == 1.0 {
+    } else if t0 == 0.0 && t1 == 1.0 && inside(p0) && inside(p1) {
         ClipOutcome::Accepted(a, c)
     } else {
         ClipOutcome::Clipped(a2, c2)
@@ -113,9 +110,12 @@ pub fn clip_polyhedron(a: Vec3, c: Vec3, planes: &[Vec4]) -> ClipOutcome<Vec3> {
         let n = pl.as_dvec4();
         (n.dot(p0), n.dot(d))
     });
+    let inside = |p: glam::DVec4| planes.iter().all(|pl| pl.as_dvec4().dot(p) >= 0.0);
     match interval(boundaries) {
         Err(out) => out,
-        Ok((t0, t1)) if t0 == 0.0 && t1 == 1.0 => ClipOutcome::Accepted(a, c),
+        Ok((t0, t1)) if t0 == 0.0 && t1 == 1.0 && inside(p0) && inside(p1) => {
+            ClipOutcome::Accepted(a, c)
+        }
         Ok((t0, t1)) => ClipOutcome::Clipped(
             if t0 == 0.0 {
                 a
@@ -215,9 +215,17 @@ pub fn clip_polygon(a: Vec2, c: Vec2, polygon: &ConvexPolygon<'_>) -> ClipOutcom
         // The seed's d_q = (Q − P₀)·n, t = d_q/d₁: our value is (P₀ − Q)·n = −d_q.
         ((p0 - q).dot(n), d.dot(n))
     });
+    let inside = |p: DVec2| {
+        (0..polygon.vertices.len()).all(|i| {
+            let (q, n) = polygon.edge(i);
+            (p - q).dot(n) >= 0.0
+        })
+    };
     match interval(boundaries) {
         Err(out) => out,
-        Ok((t0, t1)) if t0 == 0.0 && t1 == 1.0 => ClipOutcome::Accepted(a, c),
+        Ok((t0, t1)) if t0 == 0.0 && t1 == 1.0 && inside(p0) && inside(p1) => {
+            ClipOutcome::Accepted(a, c)
+        }
         Ok((t0, t1)) => ClipOutcome::Clipped(
             if t0 == 0.0 {
                 a

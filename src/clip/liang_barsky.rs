@@ -18,7 +18,7 @@
 use glam::{DVec3, Vec2, Vec3, Vec4};
 
 use super::window::finish_2d;
-use super::{ClipOutcome, ClipOutcome2, ClipVolume, Window2};
+use super::{settle, ClipOutcome, ClipOutcome2, ClipVolume, Window2};
 
 /// The candidate interval after the boundaries `(p_k, q_k)`: `Ok((t_in, t_out))`, or the
 /// outcome of an early drop.
@@ -77,7 +77,15 @@ pub fn clip_2d(a: Vec2, c: Vec2, window: &Window2) -> ClipOutcome2 {
     let p = [-d.x, d.x, -d.y, d.y];
     match interval(p.into_iter().zip(q)) {
         Err(out) => out,
-        Ok((t_in, t_out)) if t_in == 0.0 && t_out == 1.0 => ClipOutcome::Accepted(a, c),
+        // t rounds to 0 or 1 for an end outside by less than its last bit: only the exact
+        // test says accepted.
+        Ok((t_in, t_out)) if t_in == 0.0 && t_out == 1.0 => {
+            if window.outcode(a) | window.outcode(c) == 0 {
+                ClipOutcome::Accepted(a, c)
+            } else {
+                ClipOutcome::Clipped(window.clamp(a), window.clamp(c))
+            }
+        }
         Ok((t_in, t_out)) => {
             let (s, e) = finish_2d(window, p0 + t_in * d, p0 + t_out * d);
             ClipOutcome::Clipped(
@@ -114,27 +122,16 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
         Ok(t) => t,
     };
     let d = p1 - p0;
-    let (a2, c2) = if (t_in, t_out) == (0.0, 1.0) {
-        (a, c)
-    } else {
-        (
-            if t_in == 0.0 {
-                a
-            } else {
-                (p0 + t_in * d).as_vec4()
-            },
-            if t_out == 1.0 {
-                c
-            } else {
-                (p0 + t_out * d).as_vec4()
-            },
-        )
-    };
+    let at = |t: f64| settle((p0 + t * d).as_vec4(), p0, p1, t, volume.depth);
+    let a2 = if t_in == 0.0 { a } else { at(t_in) };
+    let c2 = if t_out == 1.0 { c } else { at(t_out) };
+    let inside = |bc: &[f64]| bc[..n].iter().all(|&b| b >= 0.0);
     if !(a2.w > 0.0 && c2.w > 0.0) {
         ClipOutcome::ClippedAway // only the eye (0, 0, 0, 0) is inside with w = 0
-    } else if (t_in, t_out) == (0.0, 1.0) {
+    } else if t_in == 0.0 && t_out == 1.0 && inside(&bc_a) && inside(&bc_c) {
         ClipOutcome::Accepted(a, c)
     } else {
+        // (With t at 0 and 1 but an end outside by less than t's last bit: the edge itself.)
         ClipOutcome::Clipped(a2, c2)
     }
 }
@@ -170,11 +167,13 @@ pub fn clip_box(a: Vec3, c: Vec3, min: Vec3, max: Vec3) -> ClipOutcome<Vec3> {
     let clamp = |v: DVec3| v.clamp(lo, hi).as_vec3();
     match interval(p.into_iter().zip(q)) {
         Err(out) => out,
-        Ok((t_in, t_out)) if t_in == 0.0 && t_out == 1.0 => ClipOutcome::Accepted(a, c),
+        Ok((t_in, t_out)) if t_in == 0.0 && t_out == 1.0 && clamp(p0) == a && clamp(p1) == c => {
+            ClipOutcome::Accepted(a, c)
+        }
         Ok((t_in, t_out)) => ClipOutcome::Clipped(
-            if t_in == 0.0 { a } else { clamp(p0 + t_in * d) },
+            clamp(p0 + t_in * d),
             if t_out == 1.0 {
-                c
+                clamp(p1)
             } else {
                 clamp(p0 + t_out * d)
             },

@@ -140,6 +140,54 @@ pub fn is_inside(p: Vec4, depth: DepthRange, rel_tol: f32) -> bool {
     boundary_coords(p, depth).iter().all(|&b| b >= -slack)
 }
 
+/// Largest violation of a plane, relative to the point's own largest coordinate, that a
+/// computed endpoint may show before [`settle`] recomputes it (0.1%: far beyond rounding
+/// in any ordinary edge, so it changes nothing there).
+pub const SETTLE_REL: f64 = 1e-3;
+
+/// `a + t·(c − a)` computed from the nearer end, so that it is exact at t = 0 and t = 1 even
+/// when one end is enormous next to the other.
+#[inline]
+pub fn lerp_from_nearer(a: glam::DVec4, c: glam::DVec4, t: f64) -> glam::DVec4 {
+    if t <= 0.5 {
+        a + t * (c - a)
+    } else {
+        c + (1.0 - t) * (a - c)
+    }
+}
+
+/// The guard on a computed endpoint `p` (at parameter `t` of `a`→`c`): returned unchanged
+/// when it is inside the six view planes to within [`SETTLE_REL`] of its own size, which is
+/// every ordinary case. Otherwise rounding has ruined it: when the far end is enormous (say
+/// w = −1e37 against an inside point with w = 1.5), `a + t·(c − a)` cancels to a point whose
+/// own coordinates are garbage, e.g. x = −1 with w = 5e−40, which would divide to −∞ while
+/// being well inside the tolerance *of the edge*. It is then recomputed from the nearer end
+/// and clamped into the six planes (moving it by no more than its error), so that every
+/// returned point with w > 0 divides to a point within the square. w ≤ 0 is left for the
+/// caller to drop.
+#[inline]
+pub fn settle(p: Vec4, a: glam::DVec4, c: glam::DVec4, t: f64, depth: DepthRange) -> Vec4 {
+    let within = |q: Vec4| {
+        let slack = SETTLE_REL * f64::from(q.abs().max_element());
+        boundary_coords_of(q.as_dvec4().to_array(), depth)
+            .iter()
+            .all(|&b| b >= -slack)
+    };
+    if within(p) || !(p.w > 0.0) {
+        return p;
+    }
+    let q = lerp_from_nearer(a, c, t).as_vec4();
+    if within(q) || !(q.w > 0.0) {
+        return q;
+    }
+    let w = q.w;
+    let near = match depth {
+        DepthRange::ZeroToOne => 0.0,
+        DepthRange::NegOneToOne => -w,
+    };
+    Vec4::new(q.x.clamp(-w, w), q.y.clamp(-w, w), q.z.clamp(near, w), w)
+}
+
 /// What happened to one edge. `P` is the point type: [`Vec4`] in clip space (the default),
 /// [`Vec2`] for the 2D window ([`ClipOutcome2`]), `Vec3` for 3D polyhedra.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -25,7 +25,7 @@
 
 use glam::{DVec2, DVec4, Vec2, Vec4};
 
-use super::{ClipOutcome, ClipOutcome2, ClipVolume, Window2, EDGE_COUNT};
+use super::{settle, ClipOutcome, ClipOutcome2, ClipVolume, Window2, EDGE_COUNT};
 
 /// Why a polygon could not be clipped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
@@ -345,8 +345,11 @@ pub fn clip_edge_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutco
         TwoGon::Empty(true) => return ClipOutcome::ClippedAway,
         TwoGon::Segment(lo, hi, crossed) => (lo, hi, crossed),
     };
-    let a2 = if lo.1 == 0.0 { a } else { lo.0.as_vec4() };
-    let c2 = if hi.1 == 1.0 { c } else { hi.0.as_vec4() };
+    // The guard against cancellation, recomputing from t (carried as an attribute) if need be.
+    let (a64, c64) = (a.as_dvec4(), c.as_dvec4());
+    let end = |v: (DVec4, f64)| settle(v.0.as_vec4(), a64, c64, v.1, volume.depth);
+    let a2 = if lo.1 == 0.0 { a } else { end(lo) };
+    let c2 = if hi.1 == 1.0 { c } else { end(hi) };
     if !(a2.w > 0.0 && c2.w > 0.0) {
         ClipOutcome::ClippedAway
     } else if !crossed {

@@ -26,6 +26,10 @@ use wireflight::clip::{
 /// coordinate): a few `f32` ulps.
 pub const REL_TOL: f64 = 1e-6;
 
+/// Absolute floor of every tolerance: eight of the smallest `f32` steps (subnormal numbers
+/// have no more precision than that, whatever the scale).
+pub const ABS_TOL: f64 = 8.0 * 1.401_298_464_324_817e-45;
+
 /// The homogeneous algorithms, by name.
 pub const HOMOGENEOUS: [&str; 5] = [
     "blinn",
@@ -178,8 +182,10 @@ pub fn check_homogeneous(
     let (a64, c64) = (a.to_array().map(f64::from), c.to_array().map(f64::from));
     let scale = scale4(a, c);
     // Tolerance on a boundary coordinate: the plane's size times the scale.
-    let bc_tol = |p: &[f64; 4]| REL_TOL * scale * p.iter().map(|x| x.abs()).sum::<f64>().max(1.0);
-    let tol = REL_TOL * scale;
+    let bc_tol = |p: &[f64; 4]| {
+        (REL_TOL * scale + ABS_TOL) * p.iter().map(|x| x.abs()).sum::<f64>().max(1.0)
+    };
+    let tol = REL_TOL * scale + ABS_TOL;
     let inside_exact = |p: &[f64; 4]| planes.iter().all(|pl| dot(pl, p) >= 0.0);
     let margin = |p: &[f64; 4]| {
         planes
@@ -316,7 +322,7 @@ pub fn check_planar(
         .map(|v| f64::from(v.abs()))
         .chain(bounds.iter().map(|b| b.abs()))
         .fold(0.0, f64::max);
-    let tol = REL_TOL * scale;
+    let tol = REL_TOL * scale + ABS_TOL;
     let bc = |p: [f64; 2]| {
         [
             p[0] - bounds[0],
