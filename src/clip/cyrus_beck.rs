@@ -74,8 +74,17 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
         Ok(t) => t,
     };
     let at = |t: f64| settle((p0 + t * d).as_vec4(), p0, p1, t, volume.depth);
-    let a2 = if t0 == 0.0 { a } else { at(t0) };
-    let c2 = if t1 == 1.0 { c } else { at(t1) };
+    // At t = 0 or 1 the end is the input's, guarded too (see liang_barsky).
+    let a2 = if t0 == 0.0 {
+        settle(a, p0, p1, 0.0, volume.depth)
+    } else {
+        at(t0)
+    };
+    let c2 = if t1 == 1.0 {
+        settle(c, p0, p1, 1.0, volume.depth)
+    } else {
+        at(t1)
+    };
     // t rounds to 0 or 1 for an end outside by less than its last bit: only the exact test
     // says accepted (the edge is then returned as clipped, unchanged).
     let inside =

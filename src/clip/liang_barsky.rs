@@ -123,8 +123,18 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
     };
     let d = p1 - p0;
     let at = |t: f64| settle((p0 + t * d).as_vec4(), p0, p1, t, volume.depth);
-    let a2 = if t_in == 0.0 { a } else { at(t_in) };
-    let c2 = if t_out == 1.0 { c } else { at(t_out) };
+    // At t = 0 or 1 the end is the input's, guarded too: t can round to 1 for an end
+    // outside by less than t's last bit, which may still be far outside for its own size.
+    let a2 = if t_in == 0.0 {
+        settle(a, p0, p1, 0.0, volume.depth)
+    } else {
+        at(t_in)
+    };
+    let c2 = if t_out == 1.0 {
+        settle(c, p0, p1, 1.0, volume.depth)
+    } else {
+        at(t_out)
+    };
     let inside = |bc: &[f64]| bc[..n].iter().all(|&b| b >= 0.0);
     if !(a2.w > 0.0 && c2.w > 0.0) {
         ClipOutcome::ClippedAway // only the eye (0, 0, 0, 0) is inside with w = 0

@@ -269,10 +269,22 @@ fn two_gon<P: Copy + PartialEq>(
             return TwoGon::Empty(crossed);
         }
     }
+    // Smallest and largest t. A crossing interpolated from a vertex at t = 1 (or 0) can
+    // round to exactly 1 (or 0) although it lies strictly inside the edge: on a tie the
+    // input's own vertex is the end.
+    let original = |v: &Tagged<P>| *v == (a, 0.0) || *v == (c, 1.0);
     let (lo, hi) = buf[..len].iter().fold((buf[0], buf[0]), |(lo, hi), &v| {
         (
-            if v.1 < lo.1 { v } else { lo },
-            if v.1 > hi.1 { v } else { hi },
+            if v.1 < lo.1 || (v.1 == lo.1 && original(&v)) {
+                v
+            } else {
+                lo
+            },
+            if v.1 > hi.1 || (v.1 == hi.1 && original(&v)) {
+                v
+            } else {
+                hi
+            },
         )
     });
     TwoGon::Segment(lo, hi, crossed)
@@ -304,12 +316,12 @@ pub fn clip_edge_2d(a: Vec2, c: Vec2, window: &Window2) -> ClipOutcome2 {
             ClipOutcome::Accepted(a, c)
         }
         TwoGon::Segment(lo, hi, _) => ClipOutcome::Clipped(
-            if lo.1 == 0.0 {
+            if lo == (a.as_dvec2(), 0.0) {
                 a
             } else {
                 window.clamp(lo.0.as_vec2())
             },
-            if hi.1 == 1.0 {
+            if hi == (c.as_dvec2(), 1.0) {
                 c
             } else {
                 window.clamp(hi.0.as_vec2())
@@ -348,8 +360,10 @@ pub fn clip_edge_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutco
     // The guard against cancellation, recomputing from t (carried as an attribute) if need be.
     let (a64, c64) = (a.as_dvec4(), c.as_dvec4());
     let end = |v: (DVec4, f64)| settle(v.0.as_vec4(), a64, c64, v.1, volume.depth);
-    let a2 = if lo.1 == 0.0 { a } else { end(lo) };
-    let c2 = if hi.1 == 1.0 { c } else { end(hi) };
+    // An end is the input's only if it is the input's vertex: t itself, interpolated from the
+    // inside vertex, can round to 0 or 1 at a crossing near an enormous far end.
+    let a2 = if lo == (a64, 0.0) { a } else { end(lo) };
+    let c2 = if hi == (c64, 1.0) { c } else { end(hi) };
     if !(a2.w > 0.0 && c2.w > 0.0) {
         ClipOutcome::ClippedAway
     } else if !crossed {
