@@ -1,6 +1,7 @@
-//! `diagnose` on one hour of 100 Hz data across the whole catalogue (target: < 2 s on one
-//! core), and one `compare` of the same data. The data are simulated in memory (a flight-test
-//! schedule with a hidden wind and realistic noise), so reading the CSV is not timed.
+//! `diagnose` on one hour of 100 Hz data across the whole catalogue, one `compare` of the same
+//! data, and `diagnose` of a 45 s flight test at 50 Hz. The data are simulated in memory (a
+//! flight-test schedule with a hidden wind and realistic noise), so reading the CSV is not
+//! timed.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
@@ -20,22 +21,14 @@ fn one_hour(c: &mut Criterion) {
         .push(EffectSpec::parse("wind:north_mps=4,east_mps=-3").unwrap());
     let truth = truth.build(Origin::default()).unwrap();
     let spec = SimSpec {
-        manoeuvre: Manoeuvre::FlightTest,
-        duration_s: 3600.0,
         rate_hz: 100.0,
-        airspeed_mps: 25.0,
-        launch_speed_mps: 150.0,
-        height_m: 200.0,
         noise: Noise {
             pos_m: 0.5,
             att_deg: 0.3,
             vel_mps: 0.1,
             rate_dps: 0.5,
         },
-        seed: 1,
-        source: "benches/diagnose.rs".into(),
-        aircraft: Some("aerosonde".into()),
-        listed_effects: Vec::new(),
+        ..SimSpec::new(Manoeuvre::FlightTest, 3600.0)
     };
     let data = simulate(&truth, &spec).unwrap();
     let model = base.build(Origin::default()).unwrap();
@@ -49,6 +42,27 @@ fn one_hour(c: &mut Criterion) {
     let prep = Prepared::new(&data, CompareConfig::default());
     group.bench_function("compare (all windows)", |b| {
         b.iter(|| compare_prepared(&model, &prep))
+    });
+    group.finish();
+
+    let short = simulate(
+        &truth,
+        &SimSpec {
+            noise: Noise {
+                pos_m: 0.05,
+                att_deg: 0.05,
+                vel_mps: 0.05,
+                rate_dps: 0.2,
+            },
+            ..SimSpec::new(Manoeuvre::FlightTest, 45.0)
+        },
+    )
+    .unwrap();
+    let mut group = c.benchmark_group("flight_test_45s_50hz");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(short.len() as u64));
+    group.bench_function("diagnose (whole catalogue)", |b| {
+        b.iter(|| diagnose(&model, &short, &[], &DiagnoseConfig::default()))
     });
     group.finish();
 }

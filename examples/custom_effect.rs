@@ -91,9 +91,12 @@ fn main() -> anyhow::Result<()> {
     let flight = simulate(&with_thermal, &SimSpec::new(Manoeuvre::Level, 30.0))
         .map_err(anyhow::Error::msg)?;
     let candidate = THERMAL.build(&base.effect_context());
-    let d = diagnose(&base, &flight, &[candidate], &DiagnoseConfig::default());
-    let verdict = d.verdict.as_deref().unwrap_or("none");
-    println!("diagnosis of a flight through a hidden thermal: {verdict}");
+    let d = diagnose(&base, &flight, &[candidate], &DiagnoseConfig::default())
+        .map_err(anyhow::Error::msg)?;
+    println!(
+        "diagnosis of a flight through a hidden thermal: {}",
+        d.verdict
+    );
     if let Some(w) = d.winner() {
         println!("  fitted: {:?}", w.params);
     }

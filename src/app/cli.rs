@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::analysis::compare::CompareConfig;
 use crate::camera::CameraPreset;
 use crate::clip::Clipper;
 use crate::flight::spec::{EffectSpec, ModelChoice};
@@ -81,6 +82,47 @@ impl ModelArgs {
     }
 }
 
+/// How a flight is cut into comparison windows (shared by compare and diagnose).
+#[derive(Debug, Args)]
+pub struct WindowArgs {
+    /// Window length of the multiple-shooting comparison, s [default: 8 for a fixed wing, 60
+    /// for a point mass].
+    #[arg(long, value_parser = window_length)]
+    pub window: Option<f64>,
+    /// Start the first window this long after the first sample, s.
+    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    pub window_offset: f64,
+    /// Fit each window's start state over its first S seconds only (for a model with a fast
+    /// unstable mode) [default: the whole window].
+    #[arg(long, value_name = "S", value_parser = positive)]
+    pub start_span: Option<f64>,
+}
+
+impl WindowArgs {
+    /// The comparison settings for a vehicle.
+    pub fn config(&self, vehicle: VehicleKind) -> CompareConfig {
+        CompareConfig {
+            window_s: self
+                .window
+                .unwrap_or(CompareConfig::default_window_s(vehicle)),
+            offset_s: self.window_offset,
+            start_span_s: self.start_span,
+            ..CompareConfig::default()
+        }
+    }
+}
+
+/// A window length: at least 0.1 s (a window must hold a few samples of any real log) and at
+/// most a day.
+fn window_length(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if (0.1..=86_400.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("window {v} s is outside 0.1..=86400 s"))
+    }
+}
+
 const COMPARE_EXAMPLES: &str = "\
 Examples:
   wireflight compare --flight windy.csv
@@ -102,10 +144,9 @@ pub struct CompareArgs {
     /// The model.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Window length of the multiple-shooting comparison, s [default: 8 for a fixed wing, 60
-    /// for a point mass].
-    #[arg(long, value_parser = positive)]
-    pub window: Option<f64>,
+    /// How the flight is cut into windows.
+    #[command(flatten)]
+    pub windows: WindowArgs,
     /// Write plots (PNG) into this directory.
     #[arg(long, value_name = "DIR")]
     pub plots: Option<std::path::PathBuf>,
@@ -144,9 +185,9 @@ pub struct DiagnoseArgs {
     /// The model to start from.
     #[command(flatten)]
     pub model: ModelArgs,
-    /// Window length of the comparison, s [default: 8 for a fixed wing, 60 for a point mass].
-    #[arg(long, value_parser = positive)]
-    pub window: Option<f64>,
+    /// How the flight is cut into windows.
+    #[command(flatten)]
+    pub windows: WindowArgs,
     /// Add the winner and diagnose again until nothing significant is left.
     #[arg(long)]
     pub iterate: bool,

@@ -4,19 +4,54 @@
 use serde_json::{json, Value};
 
 use crate::analysis::compare::{
-    compare_prepared, estimate_noise, noise_floor, CompareConfig, Prepared,
+    compare_prepared, noise_floor, CompareConfig, Comparison, Prepared,
 };
 use crate::analysis::conditions::{conditions, explain_growth, growth_exponent, Condition};
 use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
 use crate::analysis::report::{
-    candidate_json, comparison_json, fmt_opt, fmt_params, model_label, windows_json,
+    axes_text, candidate_json, comparison_json, conditions_json, count, fixed, fmt_opt, fmt_params,
+    model_label, noise_json, noise_text, windows_json, Table,
 };
 use crate::app::cli::CompareArgs;
 use crate::clip::Clipper;
+use crate::flight::data::FlightData;
+use crate::flight::model::Model;
 use crate::output::write_frames;
 use crate::render::Rasterizer;
 use crate::scene::replay::ReplayScene;
 use crate::scene::track::ModelTrack;
+
+/// Where and how one model fails: its comparison, the conditions its error follows and how
+/// the error grows inside a window.
+struct Findings {
+    comparison: Comparison,
+    conditions: Vec<Condition>,
+    growth: Option<f64>,
+}
+
+impl Findings {
+    fn of(model: &Model, data: &FlightData, prep: &Prepared) -> Self {
+        let comparison = compare_prepared(model, prep);
+        // The growth law needs the model on its own: starts fitted over the first quarter of
+        // each window, the drift measured over the rest.
+        let cfg = prep.config();
+        let fit_span = 0.25 * cfg.window_s;
+        let drift_prep = Prepared::new(
+            data,
+            CompareConfig {
+                start_span_s: Some(fit_span),
+                ..cfg
+            },
+        );
+        let drift = compare_prepared(model, &drift_prep);
+        let noise_m2: f64 = prep.noise.pos_axes.iter().map(|s| s * s).sum();
+        Self {
+            conditions: conditions(data, &comparison, model.origin.altitude_m),
+            growth: growth_exponent(data, &drift, fit_span, noise_m2),
+            comparison,
+        }
+    }
+}
 
 /// Run `wireflight compare`.
 ///
@@ -25,40 +60,47 @@ use crate::scene::track::ModelTrack;
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let data = crate::flight::data::read(&args.flight)?;
     let base = args.model.choice().build(&args.flight, &data)?;
-    let cfg = CompareConfig {
-        window_s: args
-            .window
-            .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
-        ..CompareConfig::default()
-    };
+    let cfg = args.windows.config(base.vehicle.kind());
     let prep = Prepared::new(&data, cfg);
     if prep.windows.is_empty() {
-        anyhow::bail!("{}: too short to compare", args.flight.display());
+        anyhow::bail!(
+            "{}: too short to compare ({} samples over {:.2} s; a window is {} s)",
+            args.flight.display(),
+            data.len(),
+            data.duration(),
+            cfg.window_s
+        );
     }
-    let before = compare_prepared(&base, &prep);
-    let noise = estimate_noise(&data);
+    let before = Findings::of(&base, &data, &prep);
     let mut after_model = base.clone();
     let fitted = add_fitted(
         &mut after_model,
         &prep,
         &args.model.add_specs()?,
-        &DiagnoseConfig::default(),
+        &DiagnoseConfig {
+            compare: cfg,
+            ..DiagnoseConfig::default()
+        },
     )
     .map_err(anyhow::Error::msg)?;
-    let after = (!fitted.is_empty()).then(|| compare_prepared(&after_model, &prep));
-    let final_model = if after.is_some() { &after_model } else { &base };
-    let floor = noise_floor(final_model, &prep, &noise, 0x5eed);
-    let conds = conditions(&data, &before, base.origin.altitude_m);
-    let growth = growth_exponent(&data, &before);
+    let after = (!fitted.is_empty()).then(|| Findings::of(&after_model, &data, &prep));
+    // What is said about where the model fails describes the model as it ends up.
+    let (final_model, last) = match &after {
+        Some(a) => (&after_model, a),
+        None => (&base, &before),
+    };
+    let floor = noise_floor(final_model, &prep);
     let label = format!("+ {}", args.model.add.join(" + "));
 
     if let Some(dir) = &args.plots {
-        let best: Option<&Condition> = conds.first();
-        let series = best.map(|c| crate::analysis::plots::ConditionSeries {
-            name: c.name.to_string(),
-            unit: c.unit.to_string(),
-            per_window: c.per_window.clone(),
-        });
+        let series = last
+            .conditions
+            .first()
+            .map(|c| crate::analysis::plots::ConditionSeries {
+                name: c.name.to_string(),
+                unit: c.unit.to_string(),
+                per_window: c.per_window.clone(),
+            });
         let info = crate::analysis::plots::PlotInfo {
             data_name: Some(args.flight.display().to_string()),
             model_name: Some(model_label(&base)),
@@ -67,8 +109,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let files = crate::analysis::plots::write_plots_with(
             dir,
             &data,
-            &before,
-            after.as_ref().map(|a| (a, label.as_str())),
+            &before.comparison,
+            after.as_ref().map(|a| (&a.comparison, label.as_str())),
             series.as_ref(),
             &info,
         )?;
@@ -80,17 +122,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
 
     if let Some(dir) = &args.frames_dir {
-        // The overlay needs every sample predicted: compare over all windows (prep may be
-        // the same already).
-        let shown_model = if after.is_some() { &after_model } else { &base };
-        let shown = compare_prepared(shown_model, &prep);
-        let mut track = ModelTrack::from_comparison(&data, &shown)?;
+        let mut track = ModelTrack::from_comparison(&data, &last.comparison)?;
         // One scale for before and after, so the strip shows the error fall.
-        track.strip_scale_m = before
-            .prediction
+        let b = &before.comparison.prediction;
+        track.strip_scale_m = b
             .pos_ned
             .iter()
-            .zip(&before.prediction.index)
+            .zip(&b.index)
             .map(|(p, &i)| (*p - data.pos_ned[i]).length())
             .fold(track.strip_scale_m, f64::max);
         let mesh = crate::mesh::plane::builtin_plane();
@@ -107,7 +145,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             println!(
                 "wrote {frames} overlay frames to {} (measured: green, model {}: magenta)",
                 dir.display(),
-                model_label(shown_model)
+                model_label(final_model)
             );
         }
     }
@@ -116,97 +154,118 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let mut v = json!({
             "data": args.flight.display().to_string(),
             "model": base.effect_names(),
-            "error": comparison_json(&before),
+            "error": comparison_json(&before.comparison),
             "noise_floor": floor,
-            "noise": {"position_m": noise.pos_m, "velocity_mps": noise.vel_mps,
-                      "attitude_deg": noise.att_rad.to_degrees(),
-                      "rate_dps": noise.rate_radps.to_degrees()},
-            "windows": windows_json(&before),
-            "conditions": conds.iter().map(|c| json!({
-                "name": c.name, "unit": c.unit, "correlation": c.correlation})).collect::<Vec<_>>(),
-            "growth_exponent": growth,
+            "noise": noise_json(&prep.noise),
+            "windows": windows_json(&before.comparison),
+            "conditions": conditions_json(&before.conditions),
+            "growth_exponent": before.growth,
         });
         if let Some(a) = &after {
             v["added"] = Value::Array(fitted.iter().map(candidate_json).collect());
-            v["after"] = comparison_json(a);
-            v["after_windows"] = windows_json(a);
+            v["after"] = comparison_json(&a.comparison);
+            v["after_windows"] = windows_json(&a.comparison);
+            v["after_conditions"] = conditions_json(&a.conditions);
+            v["after_growth_exponent"] = json!(a.growth);
         }
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
 
+    let b = &before.comparison;
     println!(
-        "{}: {} samples, {:.1} s, {} windows of {:.0} s; model: {}",
+        "{}: {} samples, {:.1} s, {} of {} s; model: {}",
         args.flight.display(),
         data.len(),
         data.duration(),
-        before.windows.len(),
+        count(b.windows.len(), "window"),
         cfg.window_s,
         model_label(&base)
     );
-    let b = &before.channels;
-    match &after {
-        None => {
-            println!("\n  channel            error");
-            println!("  position     {:>14}", fmt_opt(Some(b.position_m), "m"));
-            println!("  velocity     {:>14}", fmt_opt(b.velocity_mps, "m/s"));
-            println!("  attitude     {:>14}", fmt_opt(b.attitude_deg, "deg"));
-            println!(
-                "  total        {:>14.3}   (noise floor {floor:.3})",
-                before.total
-            );
+    println!("  {}", noise_text(&prep.noise));
+    println!();
+    let a = after.as_ref().map(|a| &a.comparison);
+    let mut t = match a {
+        Some(_) => Table::new(["channel", "error", &format!("→ {label}")]),
+        None => Table::new(["channel", "error"]),
+    };
+    let rows: [(&str, fn(&Comparison) -> Option<f64>, &str); 4] = [
+        ("position", |c| Some(c.channels.position_m), "m"),
+        ("velocity", |c| c.channels.velocity_mps, "m/s"),
+        ("attitude", |c| c.channels.attitude_deg, "°"),
+        ("rates", |c| c.channels.rate_dps, "°/s"),
+    ];
+    for (name, get, unit) in rows {
+        let mut row = vec![name.to_string(), fmt_opt(get(b), unit)];
+        if let Some(a) = a {
+            row.push(fmt_opt(get(a), unit));
         }
-        Some(a) => {
-            let c = &a.channels;
-            println!("\n  channel            before  →  after {label}");
-            println!(
-                "  position     {:>14}  →  {}",
-                fmt_opt(Some(b.position_m), "m"),
-                fmt_opt(Some(c.position_m), "m")
-            );
-            println!(
-                "  velocity     {:>14}  →  {}",
-                fmt_opt(b.velocity_mps, "m/s"),
-                fmt_opt(c.velocity_mps, "m/s")
-            );
-            println!(
-                "  attitude     {:>14}  →  {}",
-                fmt_opt(b.attitude_deg, "deg"),
-                fmt_opt(c.attitude_deg, "deg")
-            );
-            println!(
-                "  total        {:>14.3}  →  {:.3}   (noise floor {floor:.3})",
-                before.total, a.total
-            );
-            for f in &fitted {
-                println!("  fitted {}: {}", f.effect, fmt_params(f));
-            }
-        }
+        t.row(row);
     }
-    println!("\nworst windows:");
-    for w in before.worst_windows().iter().take(3) {
+    let mut total = vec!["total".to_string(), fixed(b.total, 3)];
+    let mut units = vec!["× noise".to_string(), fixed(b.noise_units(), 2)];
+    if let Some(a) = a {
+        total.push(fixed(a.total, 3));
+        units.push(fixed(a.noise_units(), 2));
+    }
+    t.row(total);
+    t.row(units);
+    print!("{}", t.render(2));
+    println!(
+        "  noise floor {} (the total a right model leaves on these data)",
+        fixed(floor, 3)
+    );
+    for f in &fitted {
+        println!("  fitted {}: {}", f.effect, fmt_params(f));
+    }
+    println!("\nwhere (predicted − measured, over all windows):");
+    print!("{}", axes_text(b, a));
+
+    let title = |what: &str| match &after {
+        Some(_) => format!("{what} (model {label}):"),
+        None => format!("{what}:"),
+    };
+    println!("\n{}", title("worst windows"));
+    let mut t = Table::new(["window", "score", "× noise", "dominated by"]);
+    for w in last.comparison.worst_windows().iter().take(3) {
+        t.row([
+            format!("{}–{} s", fixed(w.t0, 1), fixed(w.t1, 1)),
+            fixed(w.score, 3),
+            fixed((w.chi2 / w.residuals.max(1) as f64).sqrt(), 2),
+            w.errors.dominant().to_string(),
+        ]);
+    }
+    print!("{}", t.render(2));
+    let final_units = last.comparison.noise_units();
+    let at_floor = final_units <= DiagnoseConfig::default().at_floor;
+    if at_floor {
         println!(
-            "  {:7.1}–{:7.1} s  score {:8.3}  dominated by {}",
-            w.t0,
-            w.t1,
-            w.score,
-            w.errors.dominant()
+            "\nthe error is at the noise floor ({} × the noise): nothing left to find with these \
+             data (correlations with flight conditions would be chance)",
+            fixed(final_units, 2)
         );
+        return Ok(());
     }
-    println!("\nerror correlates with:");
-    for c in conds.iter().take(3) {
-        println!(
-            "  {:36} r = {}",
+    println!("\n{}", title("error correlates with"));
+    let mut t = Table::new(["condition", "r", ""]);
+    for c in last.conditions.iter().take(4) {
+        t.row([
             format!("{} ({})", c.name, c.unit),
             c.correlation
-                .map_or("n/a".to_string(), |r| format!("{r:+.2}"))
+                .map_or("n/a".to_string(), |r| crate::analysis::report::signed(r, 2)),
+            c.note.clone().unwrap_or_default(),
+        ]);
+    }
+    print!("{}", t.render(2));
+    if last.comparison.windows.len() < 3 {
+        println!("  (correlations need at least 3 windows)");
+    }
+    if let Some(k) = last.growth {
+        println!(
+            "\nwithin a window, {} (exponent {})",
+            explain_growth(k),
+            fixed(k, 1)
         );
-    }
-    if let Some(k) = growth {
-        println!("\nwithin a window, {} (exponent {k:.1})", explain_growth(k));
-    }
-    if before.total < 1.2 * floor && after.is_none() {
-        println!("the error is at the noise floor: nothing left to find with this data");
     }
     Ok(())
 }

@@ -2,9 +2,11 @@
 
 use serde_json::json;
 
-use crate::analysis::compare::{CompareConfig, Prepared};
+use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{self, add_fitted, DiagnoseConfig};
-use crate::analysis::report::{candidate_json, diagnosis_json, diagnosis_text, model_label};
+use crate::analysis::report::{
+    candidate_json, diagnosis_json, diagnosis_text, fixed, model_label, Table,
+};
 use crate::app::cli::DiagnoseArgs;
 
 /// Run `wireflight diagnose`.
@@ -15,12 +17,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     let data = crate::flight::data::read(&args.flight)?;
     let mut base = args.model.choice().build(&args.flight, &data)?;
     let cfg = DiagnoseConfig {
-        compare: CompareConfig {
-            window_s: args
-                .window
-                .unwrap_or(CompareConfig::default_window_s(base.vehicle.kind())),
-            ..DiagnoseConfig::default().compare
-        },
+        compare: args.windows.config(base.vehicle.kind()),
         ..DiagnoseConfig::default()
     };
     if !args.model.add.is_empty() {
@@ -28,18 +25,19 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg).map_err(anyhow::Error::msg)?;
     }
     if args.iterate {
-        let (ladder, _) = diagnose::iterate(&base, &data, &[], &cfg, 5);
+        let (ladder, _) = diagnose::iterate(&base, &data, &[], &cfg, 5)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?;
         let last = &ladder[ladder.len() - 1].diagnosis;
         if args.json {
             let v = json!({
-                "verdict": ladder.first().and_then(|r| r.diagnosis.verdict.clone()),
+                "verdict": ladder.first().map(|r| r.diagnosis.verdict.to_string()),
                 "ranking": ladder[0].diagnosis.ranking.iter().map(candidate_json).collect::<Vec<_>>(),
                 "ladder": ladder.iter().map(|r| json!({
                     "effects": r.effects, "error": r.error,
                     "noise_floor": r.diagnosis.noise_floor,
-                    "verdict": r.diagnosis.verdict,
+                    "verdict": r.diagnosis.verdict.to_string(),
                 })).collect::<Vec<_>>(),
-                "found": ladder.iter().filter_map(|r| r.diagnosis.verdict.clone()).collect::<Vec<_>>(),
+                "found": ladder.iter().filter_map(|r| r.diagnosis.winner().map(|w| w.effect.clone())).collect::<Vec<_>>(),
                 "final": diagnosis_json(last),
             });
             println!("{}", serde_json::to_string_pretty(&v)?);
@@ -59,30 +57,34 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
             println!();
         }
         println!("ladder (error vs effects added):");
+        let mut t = Table::new(["model", "error", "× noise", "noise floor"]);
         for r in &ladder {
-            println!(
-                "  {:40} {:9.3}   (noise floor {:.3})",
+            t.row([
                 if r.effects.is_empty() {
                     "baseline".into()
                 } else {
                     format!("+ {}", r.effects.join(" + "))
                 },
-                r.error,
-                r.diagnosis.noise_floor
-            );
+                fixed(r.error, 3),
+                fixed(r.diagnosis.noise_units, 2),
+                fixed(r.diagnosis.noise_floor, 3),
+            ]);
         }
+        print!("{}", t.render(2));
         return Ok(());
     }
-    let d = diagnose::diagnose(&base, &data, &[], &cfg);
+    let d = diagnose::diagnose(&base, &data, &[], &cfg)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?;
     if args.json {
         println!("{}", serde_json::to_string_pretty(&diagnosis_json(&d))?);
     } else {
         println!(
-            "{}: {} samples, {:.1} s; model {}",
+            "{}: {} samples, {:.1} s; model {}\n  {}",
             args.flight.display(),
             data.len(),
             data.duration(),
-            model_label(&base)
+            model_label(&base),
+            crate::analysis::report::noise_text(&d.base_noise)
         );
         print!("{}", diagnosis_text(&d));
     }

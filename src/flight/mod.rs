@@ -8,6 +8,7 @@
 
 pub mod autopilot;
 pub mod data;
+pub mod derive;
 pub mod effects;
 pub mod model;
 pub mod params;

@@ -184,6 +184,30 @@ impl Model {
         Ok(())
     }
 
+    /// The value of a parameter of the aircraft's set (`c_m_alpha`, `mass_kg`, …; see
+    /// [`crate::flight::params::keys`]); `None` for a point mass or an unknown key.
+    pub fn aircraft(&self, key: &str) -> Option<f64> {
+        match &self.vehicle {
+            Vehicle::FixedWing(p) => super::params::keys::get(p, key),
+            Vehicle::PointMass => None,
+        }
+    }
+
+    /// Set a parameter of the aircraft's set (checked; the inertia constants follow).
+    ///
+    /// # Errors
+    /// A point mass, an unknown key, a value out of range or a non-physical set.
+    pub fn set_aircraft(&mut self, key: &str, value: f64) -> Result<(), String> {
+        match &mut self.vehicle {
+            Vehicle::FixedWing(p) => {
+                super::params::keys::set(p, key, value)?;
+                self.gammas = Gammas::new(&p.mass);
+                Ok(())
+            }
+            Vehicle::PointMass => Err(format!("a point mass has no aircraft parameter `{key}`")),
+        }
+    }
+
     /// What the defaults of an effect added to this model depend on.
     pub fn effect_context(&self) -> EffectContext {
         EffectContext {
@@ -373,27 +397,45 @@ impl Model {
     }
 
     /// One RK4 step of length `dt` with commands held constant; renormalises the quaternion.
+    ///
+    /// Under actuator lag the surfaces are not integrated by RK4: with the command held they
+    /// follow cmd + (s₀ − cmd)·e^(−t/τ) exactly, and every stage uses that value. A short lag
+    /// is stiff (RK4 is unstable for dt > 2.8τ), and the exact solution is what the comparison
+    /// reconstructs from the command history, so both agree for any τ.
     pub fn step(&self, t: f64, x: &State, cmd: &Controls, dt: f64) -> State {
-        let add = |a: &State, b: &State, h: f64| {
+        let lag = self.actuator_tau().map(|tau| {
+            let target = DVec3::new(cmd.elevator, cmd.aileron, cmd.rudder);
+            let s0 = x.surfaces();
+            move |h: f64| target + (s0 - target) * (-h / tau).exp()
+        });
+        let stage = |a: &State, b: &State, h: f64| {
             let mut r = a.0;
             for (ri, bi) in r.iter_mut().zip(b.0.iter()) {
                 *ri += h * bi;
             }
-            State(r)
+            let mut r = State(r);
+            if let Some(s) = &lag {
+                r.set_surfaces(s(h));
+            }
+            r
         };
         let k1 = self.derivative(t, x, cmd);
-        let k2 = self.derivative(t + 0.5 * dt, &add(x, &k1, 0.5 * dt), cmd);
-        let k3 = self.derivative(t + 0.5 * dt, &add(x, &k2, 0.5 * dt), cmd);
-        let k4 = self.derivative(t + dt, &add(x, &k3, dt), cmd);
+        let k2 = self.derivative(t + 0.5 * dt, &stage(x, &k1, 0.5 * dt), cmd);
+        let k3 = self.derivative(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmd);
+        let k4 = self.derivative(t + dt, &stage(x, &k3, dt), cmd);
         let mut out = x.0;
         for i in 0..STATE_LEN {
             out[i] += dt / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);
         }
-        if matches!(self.vehicle, Vehicle::FixedWing(_)) {
-            let q = DQuat::from_xyzw(out[6], out[7], out[8], out[9]).normalize();
-            out[6..10].copy_from_slice(&q.to_array());
+        let mut out = State(out);
+        if let Some(s) = &lag {
+            out.set_surfaces(s(dt));
         }
-        State(out)
+        if matches!(self.vehicle, Vehicle::FixedWing(_)) {
+            let q = out.quat().normalize();
+            out.0[6..10].copy_from_slice(&q.to_array());
+        }
+        out
     }
 
     /// Integrate from `t0` to `t1` with steps of at most `max_dt`, commands held constant.

@@ -26,14 +26,21 @@ use super::model::{Model, Vehicle};
 use super::params::FixedWingParams;
 use super::VehicleKind;
 
-/// One effect with the parameters given explicitly (the rest keep their defaults).
+/// One effect with the parameters given explicitly (the rest keep their defaults) — or, under
+/// the name `aircraft`, numbers of the aircraft's parameter set: `aircraft:c_m_alpha=-3.3`
+/// gives a value, `aircraft:c_m_alpha` names one to fit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EffectSpec {
-    /// Catalogue name.
+    /// Catalogue name, or `aircraft`.
     pub name: String,
     /// Parameters given, name → value.
     pub params: Vec<(String, f64)>,
+    /// Parameters named without a value (`aircraft:KEY`): to be fitted.
+    pub fit: Vec<String>,
 }
+
+/// The name under which `--add`/`--hidden` address the aircraft's own numbers.
+pub const AIRCRAFT: &str = "aircraft";
 
 impl EffectSpec {
     /// Parse `name[:k=v,k=v]`.
@@ -45,17 +52,33 @@ impl EffectSpec {
             Some((n, r)) => (n.trim(), r),
             None => (text.trim(), ""),
         };
-        if find(name).is_none() {
+        let aircraft = name == AIRCRAFT;
+        if !aircraft && find(name).is_none() {
             return Err(format!(
-                "unknown effect `{name}` (known: {})",
+                "unknown effect `{name}` (known: {}, or aircraft:KEY for the aircraft's own \
+                 numbers)",
                 catalogue_names().join(", ")
             ));
         }
         let mut params = Vec::new();
+        let mut fit = Vec::new();
         for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
-            let (k, v) = kv
-                .split_once('=')
-                .ok_or_else(|| format!("`{kv}` in `{text}` is not name=value"))?;
+            let Some((k, v)) = kv.split_once('=') else {
+                if aircraft {
+                    let key = crate::flight::params::keys::find(kv).ok_or_else(|| {
+                        format!("`{kv}` in `{text}` is not an aircraft parameter")
+                    })?;
+                    fit.push(key.name.to_string());
+                    continue;
+                }
+                return Err(format!("`{kv}` in `{text}` is not name=value"));
+            };
+            if aircraft && crate::flight::params::keys::find(k.trim()).is_none() {
+                return Err(format!(
+                    "`{}` in `{text}` is not an aircraft parameter",
+                    k.trim()
+                ));
+            }
             let value: f64 = v
                 .trim()
                 .parse()
@@ -64,10 +87,21 @@ impl EffectSpec {
                 .ok_or_else(|| format!("`{v}` for `{k}` in `{text}` is not a finite number"))?;
             params.push((k.trim().to_string(), value));
         }
+        if aircraft && params.is_empty() && fit.is_empty() {
+            return Err(format!(
+                "`{text}` names no aircraft parameter (aircraft:KEY or aircraft:KEY=VALUE)"
+            ));
+        }
         Ok(Self {
             name: name.to_string(),
             params,
+            fit,
         })
+    }
+
+    /// Whether it addresses the aircraft's own numbers rather than an effect.
+    pub fn is_aircraft(&self) -> bool {
+        self.name == AIRCRAFT
     }
 
     /// The effect with these parameters (the rest at their defaults for `ctx`). The one place
@@ -99,13 +133,14 @@ impl EffectSpec {
 
     /// `name:k=v,...` as given on a command line (inverse of [`parse`](Self::parse)).
     pub fn to_arg(&self) -> String {
-        if self.params.is_empty() {
+        if self.params.is_empty() && self.fit.is_empty() {
             return self.name.clone();
         }
         let kv: Vec<String> = self
             .params
             .iter()
             .map(|(k, v)| format!("{k}={v}"))
+            .chain(self.fit.iter().cloned())
             .collect();
         format!("{}:{}", self.name, kv.join(","))
     }
@@ -261,6 +296,18 @@ impl ModelSpec {
         let mut model = Model::new(vehicle, origin);
         let ctx = model.effect_context();
         for e in &self.effects {
+            if e.is_aircraft() {
+                if let Some(k) = e.fit.first() {
+                    bail!(
+                        "`{}`: a model needs a value for aircraft parameter `{k}`",
+                        e.to_arg()
+                    );
+                }
+                for (k, v) in &e.params {
+                    model.set_aircraft(k, *v).map_err(anyhow::Error::msg)?;
+                }
+                continue;
+            }
             let effect = e.build(&ctx).map_err(anyhow::Error::msg)?;
             model.add_effect(effect).map_err(anyhow::Error::msg)?;
         }

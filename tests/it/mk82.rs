@@ -101,7 +101,7 @@ fn mk82_reads_renders_and_simulates() {
 #[test]
 fn mk82_diagnosis_finds_drag_first() {
     use wireflight::analysis::compare::CompareConfig;
-    use wireflight::analysis::diagnose::{iterate, DiagnoseConfig};
+    use wireflight::analysis::diagnose::{diagnose, DiagnoseConfig, Verdict};
     let d = mk82();
     let origin = Origin {
         latitude_deg: d.meta.latitude_deg.unwrap(),
@@ -111,18 +111,34 @@ fn mk82_diagnosis_finds_drag_first() {
     let baseline = Model::new(Vehicle::PointMass, origin);
     let mut cfg = DiagnoseConfig::default();
     cfg.compare.window_s = CompareConfig::default_window_s(VehicleKind::PointMass);
-    let (ladder, _) = iterate(&baseline, &d, &[], &cfg, 4);
-    for rung in &ladder {
+    let d = diagnose(&baseline, &d, &[], &cfg).unwrap();
+    for c in &d.ranking {
         eprintln!(
-            "Mk-82 model {:?}: error {:.3} (floor {:.3}), verdict {:?}",
-            rung.effects, rung.error, rung.diagnosis.noise_floor, rung.diagnosis.verdict
+            "Mk-82 + {}: error {:.3} → {:.3} ({:.1} × noise), significant {}, partial {}, {:?}",
+            c.effect,
+            c.error_before,
+            c.error_after,
+            c.noise_units_after,
+            c.significant,
+            c.partial,
+            c.params
         );
     }
-    assert_eq!(ladder[0].diagnosis.verdict.as_deref(), Some("drag"));
-    let k = ladder[0].diagnosis.winner().unwrap().params[0].1;
+    eprintln!("verdict {}", d.verdict);
+    let top = &d.ranking[0];
+    assert_eq!(top.effect, "drag");
+    assert!(top.significant);
+    let k = top.params[0].1;
     assert!((5e-5..2e-4).contains(&k), "fitted k = {k}");
-    // Measured: 38.1 → 3.47 (11×) over the whole 43 s flight (the point mass's default
-    // window); the rest is the bomb's lift (see above). With 8 s windows: 7.1 → 1.75.
-    let fall = ladder[0].error / ladder.last().unwrap().error;
-    assert!(fall >= 10.0, "error falls only {fall:.2}×");
+    // Drag removes most of the error, but what is left — the bomb's lift as it pitches over
+    // at the apex — is far above JSBSim's tiny noise: drag is the first part of the answer,
+    // and the verdict says so instead of claiming the flight is explained.
+    let fall = top.error_before / top.error_after;
+    assert!(fall >= 5.0, "error falls only {fall:.2}×");
+    assert!(
+        d.verdict == Verdict::Unexplained && top.partial
+            || d.verdict == Verdict::Effect("drag".into()),
+        "{}",
+        d.verdict
+    );
 }

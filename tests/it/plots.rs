@@ -8,7 +8,7 @@ use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use wireflight::analysis::compare::{
-    compare_prepared, estimate_noise, noise_floor, CompareConfig, Comparison, Prepared,
+    compare_prepared, noise_floor, CompareConfig, Comparison, Prepared,
 };
 use wireflight::analysis::conditions::conditions;
 use wireflight::analysis::plots::{
@@ -75,7 +75,7 @@ fn windy_case() -> Case {
     let base = model(VehicleKind::FixedWing, &[]);
     let before = compare_prepared(&base, &prep);
     let after = compare_prepared(&truth, &prep);
-    let floor = noise_floor(&truth, &prep, &estimate_noise(&data), 1);
+    let floor = noise_floor(&truth, &prep);
     let c = conditions(&data, &before, 0.0).remove(0);
     let series = ConditionSeries {
         name: c.name.to_string(),

@@ -17,7 +17,7 @@ use anyhow::{bail, Context};
 use crate::analysis::compare::{
     compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
 };
-use crate::analysis::diagnose::{diagnose, DiagnoseConfig, Diagnosis};
+use crate::analysis::diagnose::{diagnose, Correction, DiagnoseConfig, Diagnosis, Verdict};
 use crate::flight::data::FlightData;
 use crate::flight::effects::{Effect, Param, CATALOGUE};
 use crate::flight::model::Model;
@@ -99,20 +99,21 @@ pub enum Fit {
     Off,
     /// Running on its worker thread since then.
     Running(Instant),
-    /// Finished: the verdict (the significant missing effect, if any), and how long it took.
+    /// Finished: the verdict, and how long it took.
     Done {
-        /// The most likely missing effect.
-        verdict: Option<String>,
+        /// The conclusion.
+        verdict: Verdict,
         /// Error expected from the noise alone.
         noise_floor: f64,
         /// Seconds it took.
         seconds: f64,
     },
-    /// The worker thread died (a panic in the fit).
-    Failed,
+    /// The diagnosis could not run (the message says why), or its thread died.
+    Failed(String),
 }
 
 type Job = Receiver<anyhow::Result<Outcome>>;
+type FitJob = Receiver<Result<Diagnosis, String>>;
 
 /// The comparison state of a `--compare` session.
 pub struct Compare {
@@ -132,7 +133,7 @@ pub struct Compare {
     job: Option<(Job, Instant)>,
     /// A change came in while a job ran: start another when it ends.
     stale: bool,
-    fit_job: Option<Receiver<Diagnosis>>,
+    fit_job: Option<FitJob>,
 }
 
 impl Compare {
@@ -368,10 +369,15 @@ impl Compare {
             Err(TryRecvError::Empty) => false,
             Err(TryRecvError::Disconnected) => {
                 self.fit_job = None;
-                self.fit = Fit::Failed;
+                self.fit = Fit::Failed("the diagnosis thread died".into());
                 true
             }
-            Ok(d) => {
+            Ok(Err(e)) => {
+                self.fit_job = None;
+                self.fit = Fit::Failed(e);
+                true
+            }
+            Ok(Ok(d)) => {
                 self.fit_job = None;
                 self.fit = Fit::Done {
                     verdict: d.verdict.clone(),
@@ -382,7 +388,9 @@ impl Compare {
                 for c in d.ranking {
                     if let Some(r) = self.rows.iter_mut().find(|r| r.name == c.effect) {
                         refresh |= r.on && !r.in_base && r.waits_for_fit();
-                        r.fitted = Some(c.fitted_effect);
+                        if let Correction::Effect(e) = c.correction {
+                            r.fitted = Some(e);
+                        }
                         r.fitted_error = Some(c.error_after);
                     }
                 }
@@ -429,12 +437,20 @@ impl Compare {
     pub fn verdict_line(&self) -> String {
         match &self.fit {
             Fit::Running(t) => format!("fitting… ({:.1} s)", t.elapsed().as_secs_f64()),
-            Fit::Failed => "diagnosis failed: catalogue defaults".into(),
+            Fit::Failed(why) => format!("diagnosis failed ({why}): catalogue defaults"),
             Fit::Off => "not fitted: catalogue defaults".into(),
             Fit::Done {
-                verdict: Some(v), ..
+                verdict: Verdict::Effect(v),
+                ..
             } => format!("diagnosis: `{v}` is missing"),
-            Fit::Done { verdict: None, .. } => "diagnosis: nothing significant is missing".into(),
+            Fit::Done {
+                verdict: Verdict::None,
+                ..
+            } => "diagnosis: none — the error is at the noise floor".into(),
+            Fit::Done {
+                verdict: Verdict::Unexplained,
+                ..
+            } => "diagnosis: unexplained — no effect brings the error to the noise".into(),
         }
     }
 }

@@ -316,3 +316,4 @@ pub fn mk82() -> wireflight::flight::data::FlightData {
     let path = data_file("jsbsim-mk82.csv");
     wireflight::flight::data::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
+pub mod refsim;

@@ -1,4 +1,4 @@
-//! z-y-x Tait-Bryan angles (yaw ψ, pitch θ, roll φ) and their rotation matrices.
+//! z-y-x Tait-Bryan angles (yaw ψ, pitch θ, roll φ) and their rotation matrices: [`EulerZyx`].
 //!
 //! Convention, stated once (README "Conventions" repeats it):
 //!

@@ -4,6 +4,8 @@
 //! tables `[mass]`, `[geometry]`, `[longitudinal]`, `[lateral]`, `[propulsion]`. Unknown keys
 //! are errors (a misspelt coefficient must not silently become zero).
 
+pub mod keys;
+
 use std::path::Path;
 
 use anyhow::Context;
@@ -119,7 +121,7 @@ pub struct FixedWingParams {
 }
 
 /// The Aerosonde set shipped in `assets/aircraft/aerosonde.toml`.
-const AEROSONDE_TOML: &str = include_str!("../../assets/aircraft/aerosonde.toml");
+const AEROSONDE_TOML: &str = include_str!("../../../assets/aircraft/aerosonde.toml");
 
 impl FixedWingParams {
     /// Parse a parameter set from TOML text; `origin` names the source in errors.

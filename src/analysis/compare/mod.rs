@@ -1,0 +1,814 @@
+//! Model vs measurements by **multiple shooting with estimated start states**.
+//!
+//! The flight is cut into windows of `window_s` seconds. In each, the model flies open loop on
+//! the recorded commands (zero-order hold) from a start state, and its prediction is compared
+//! with the measurements sample by sample. Restarting bounds the growth of unstable modes, so
+//! the metric works for stable and divergent dynamics alike.
+//!
+//! **Start states** are fitted, not read off ([`start`]): warm-started from short quadratic
+//! fits, then chosen by Levenberg–Marquardt to minimise the noise-weighted misfit of the
+//! model's own prediction to every measured channel over the window. A window that starts in
+//! a transient then costs nothing: with the right model the prediction lies on the data, and
+//! what is left is measurement noise. Windows are independent and fitted in parallel.
+//!
+//! **Noise** is measured from the data without the model ([`noise`]): robust fourth-order
+//! differences, so manoeuvres are not counted as noise. Each residual is weighted by its
+//! channel's noise deviation (never less than [`SIGMA_MIN`]), so the weighted misfit per
+//! residual, χ²/ν, is 1 for a right model: [`Comparison::noise_units`] is its root, the error
+//! in units of the noise.
+//!
+//! **Error metric** for people: per window and channel, the RMS of the prediction error —
+//! position (m, length of the error vector), NED velocity (m/s), attitude (degrees, the angle
+//! of the rotation between the two attitudes), body rates (deg/s) — over the measured
+//! channels (derived ones, e.g. velocities differentiated from positions, are not
+//! measurements). The **total** is the RMS over channels and windows in units of 1 m, 1 m/s,
+//! 1° and 1°/s. The **noise floor** is the total a right model would leave on data with the
+//! measured noise ([`noise::expected_channel_errors`]). [`Comparison::axes`] splits the error
+//! per axis (signed mean and RMS) to say where it is.
+
+pub mod noise;
+pub mod predict;
+pub mod start;
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+pub use noise::{estimate_noise, expected_channel_errors, NoiseEstimate};
+pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
+use start::{Scratch, StartFit};
+
+use crate::euler::EulerZyx;
+use crate::flight::data::{unwrap_angles, FlightData};
+use crate::flight::model::{AirData, Model, State, Vehicle};
+use crate::numeric::attitude_error_deg;
+
+/// Smallest noise deviation a channel is weighted with: position m, velocity m/s, attitude
+/// rad, rates rad/s, airspeed m/s. Noise-free data would otherwise get infinite weights.
+pub const SIGMA_MIN: [f64; 5] = [1e-3, 1e-3, 1e-5, 1e-5, 1e-3];
+
+/// Settings of a comparison.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CompareConfig {
+    /// Window length, s.
+    pub window_s: f64,
+    /// Span at each window start of the quadratic warm start, s.
+    pub fit_s: f64,
+    /// Longest integration step, s.
+    pub max_dt: f64,
+    /// Use at most this many windows, evenly spread (0 = all).
+    pub max_windows: usize,
+    /// The first window starts this long after the first sample, s.
+    pub offset_s: f64,
+    /// Fit each start over the first `span` seconds of its window instead of the whole
+    /// window (for a model with a fast unstable mode, where a whole window is
+    /// ill-conditioned).
+    pub start_span_s: Option<f64>,
+    /// Levenberg–Marquardt iterations of each start fit (0: keep the warm start).
+    pub start_iterations: usize,
+}
+
+impl CompareConfig {
+    /// The window length that suits a vehicle, s. A fixed wing: 8 s, a few periods of its
+    /// short-period and roll modes but short enough that an unstable spiral or phugoid cannot
+    /// run away. A point mass: 60 s (in practice, the whole flight): it has no unstable mode,
+    /// and slow effects (drag on a long fall, the Earth's rotation and curvature) need tens of
+    /// seconds to show.
+    pub fn default_window_s(vehicle: crate::flight::VehicleKind) -> f64 {
+        match vehicle {
+            crate::flight::VehicleKind::FixedWing => 8.0,
+            crate::flight::VehicleKind::PointMass => 60.0,
+        }
+    }
+}
+
+impl Default for CompareConfig {
+    fn default() -> Self {
+        Self {
+            window_s: 8.0,
+            fit_s: 0.5,
+            max_dt: 0.02,
+            max_windows: 0,
+            offset_s: 0.0,
+            start_span_s: None,
+            start_iterations: 8,
+        }
+    }
+}
+
+/// Which channels of the data are measurements (not derived from others).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Measured {
+    /// NED velocity.
+    pub velocity: bool,
+    /// Attitude angles.
+    pub attitude: bool,
+    /// Body rates.
+    pub rates: bool,
+    /// Airspeed.
+    pub airspeed: bool,
+}
+
+impl Measured {
+    /// The measured channels of a flight.
+    pub fn of(d: &FlightData) -> Self {
+        Self {
+            velocity: d.vel_ned.is_some() && !d.is_derived("vel_ned"),
+            attitude: d.attitude.is_some(),
+            rates: d.rates_body.is_some() && !d.is_derived("rates_body"),
+            airspeed: d.airspeed.is_some(),
+        }
+    }
+
+    /// The channels a model of this vehicle is scored on (a point mass has no attitude).
+    pub fn for_vehicle(self, model: &Model) -> Self {
+        match model.vehicle {
+            Vehicle::PointMass => Self {
+                attitude: false,
+                rates: false,
+                airspeed: false,
+                ..self
+            },
+            Vehicle::FixedWing(_) => self,
+        }
+    }
+}
+
+/// RMS errors per channel (None where the data do not measure the channel).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ChannelErrors {
+    /// Position, m.
+    pub position_m: f64,
+    /// NED velocity, m/s.
+    pub velocity_mps: Option<f64>,
+    /// Attitude, degrees.
+    pub attitude_deg: Option<f64>,
+    /// Body rates, degrees/s.
+    pub rate_dps: Option<f64>,
+}
+
+impl ChannelErrors {
+    /// Combined score: RMS of the channels in units of 1 m, 1 m/s, 1°, 1°/s.
+    pub fn score(&self) -> f64 {
+        let mut sum = self.position_m.powi(2);
+        let mut k = 1.0;
+        for v in [self.velocity_mps, self.attitude_deg, self.rate_dps]
+            .into_iter()
+            .flatten()
+        {
+            sum += v * v;
+            k += 1.0;
+        }
+        (sum / k).sqrt()
+    }
+
+    /// The channel with the largest normalised error.
+    pub fn dominant(&self) -> &'static str {
+        let mut best = ("position", self.position_m);
+        for (name, v) in [
+            ("velocity", self.velocity_mps),
+            ("attitude", self.attitude_deg),
+            ("rates", self.rate_dps),
+        ] {
+            if let Some(v) = v {
+                if v > best.1 {
+                    best = (name, v);
+                }
+            }
+        }
+        best.0
+    }
+}
+
+/// One window of the comparison.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WindowResult {
+    /// Start time, s.
+    pub t0: f64,
+    /// End time, s.
+    pub t1: f64,
+    /// First and one-past-last sample index.
+    pub samples: (usize, usize),
+    /// RMS errors in this window.
+    pub errors: ChannelErrors,
+    /// The window's score ([`ChannelErrors::score`]).
+    pub score: f64,
+    /// The fitted start state.
+    pub start: State,
+    /// Noise-weighted squared misfit of the window, Σ r².
+    pub chi2: f64,
+    /// Number of weighted residuals.
+    pub residuals: usize,
+    /// Σ r_k·r_k+1 over consecutive samples of each residual channel: with `chi2`, the lag-1
+    /// autocorrelation of the residuals (0 when they are white noise).
+    pub lag1_product: f64,
+}
+
+/// The model's prediction at every sample of the compared windows.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Prediction {
+    /// Sample indices.
+    pub index: Vec<usize>,
+    /// Predicted position, NED.
+    pub pos_ned: Vec<DVec3>,
+    /// Predicted NED velocity.
+    pub vel_ned: Vec<DVec3>,
+    /// Predicted attitude (aerospace angles); identity for a point mass.
+    pub attitude: Vec<EulerZyx>,
+    /// Predicted body rates, rad/s; zero for a point mass.
+    pub rates: Vec<DVec3>,
+    /// Predicted airspeed, α, β; zero for a point mass.
+    pub air: Vec<AirData>,
+}
+
+impl Prediction {
+    fn push(&mut self, i: usize, p: &Predicted) {
+        self.index.push(i);
+        self.pos_ned.push(p.pos_ned);
+        self.vel_ned.push(p.vel_ned);
+        self.attitude.push(p.attitude);
+        self.rates.push(p.rates);
+        self.air.push(p.air);
+    }
+}
+
+/// The error along one axis of one channel over the compared samples.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisError {
+    /// Channel, e.g. "position".
+    pub channel: &'static str,
+    /// Axis, e.g. "north".
+    pub axis: &'static str,
+    /// Unit of the values.
+    pub unit: &'static str,
+    /// Mean of predicted − measured (a bias), in `unit`.
+    pub mean: f64,
+    /// RMS of predicted − measured, in `unit`.
+    pub rms: f64,
+}
+
+/// Result of a comparison.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Comparison {
+    /// Total score (see module docs).
+    pub total: f64,
+    /// RMS per channel over all windows.
+    pub channels: ChannelErrors,
+    /// Windows in time order.
+    pub windows: Vec<WindowResult>,
+    /// Per-sample prediction.
+    pub prediction: Prediction,
+    /// Per-axis errors (position N/E/D, velocity N/E/D, roll/pitch/yaw, p/q/r, airspeed, α,
+    /// β), for the channels measured.
+    pub axes: Vec<AxisError>,
+    /// Noise-weighted misfit Σ r² over all windows.
+    pub chi2: f64,
+    /// Degrees of freedom: residuals minus fitted start parameters.
+    pub dof: f64,
+}
+
+impl Comparison {
+    /// Windows sorted worst first.
+    pub fn worst_windows(&self) -> Vec<&WindowResult> {
+        let mut w: Vec<&WindowResult> = self.windows.iter().collect();
+        w.sort_by(|a, b| b.score.total_cmp(&a.score));
+        w
+    }
+
+    /// The error in units of the measurement noise, √(χ²/ν): about 1 for a right model.
+    pub fn noise_units(&self) -> f64 {
+        (self.chi2 / self.dof.max(1.0)).sqrt()
+    }
+
+    /// Lag-1 autocorrelation of the weighted residuals in time, pooled over channels and
+    /// windows: near 0 when what is left is white measurement noise, near 1 when it is a
+    /// smooth error of the model.
+    pub fn residual_autocorrelation(&self) -> f64 {
+        let p: f64 = self.windows.iter().map(|w| w.lag1_product).sum();
+        if self.chi2 > 0.0 {
+            (p / self.chi2).clamp(-1.0, 1.0)
+        } else {
+            0.0
+        }
+    }
+
+    /// The number of independent residuals the misfit is worth: ν·(1 − ρ)/(1 + ρ) for
+    /// lag-1 autocorrelation ρ (an AR(1) approximation; at least 1).
+    pub fn independent_residuals(&self) -> f64 {
+        let rho = self.residual_autocorrelation().max(0.0);
+        (self.dof * (1.0 - rho) / (1.0 + rho)).max(1.0)
+    }
+
+    /// The fitted start states, one per window (to warm-start another comparison).
+    pub fn starts(&self) -> Vec<State> {
+        self.windows.iter().map(|w| w.start).collect()
+    }
+}
+
+/// Everything precomputed once per data set and reused across model evaluations.
+pub struct Prepared<'a> {
+    /// The data.
+    pub data: &'a FlightData,
+    /// Attitude angles unwrapped per axis (yaw, pitch, roll), rad.
+    unwrapped: Option<[Vec<f64>; 3]>,
+    /// Window sample ranges.
+    pub windows: Vec<(usize, usize)>,
+    /// The measurement noise.
+    pub noise: NoiseEstimate,
+    /// The measured channels.
+    pub measured: Measured,
+    /// Weights of the residuals: 1/σ per axis of position, velocity, attitude (roll, pitch,
+    /// yaw), rates, and airspeed.
+    weights: [[f64; 3]; 4],
+    airspeed_weight: f64,
+    cfg: CompareConfig,
+}
+
+/// Cut `n` samples at `time` into windows of `window_s` starting `offset_s` after the first
+/// sample; a trailing stub shorter than half a window joins the window before it.
+fn cut_windows(time: &[f64], cfg: &CompareConfig) -> Vec<(usize, usize)> {
+    let n = time.len();
+    let mut windows: Vec<(usize, usize)> = Vec::new();
+    if n < 3 || !(cfg.window_s > 0.0) {
+        return windows;
+    }
+    let mut start = time.partition_point(|&t| t < time[0] + cfg.offset_s.max(0.0));
+    while start + 2 < n {
+        let t_end = time[start] + cfg.window_s;
+        let end = time.partition_point(|&t| t < t_end).max(start + 2).min(n);
+        if time[end - 1] - time[start] < 0.5 * cfg.window_s {
+            if let Some(last) = windows.last_mut() {
+                last.1 = end;
+                break;
+            }
+        }
+        windows.push((start, end));
+        start = end;
+    }
+    if cfg.max_windows > 0 && windows.len() > cfg.max_windows {
+        let step = windows.len() as f64 / cfg.max_windows as f64;
+        windows = (0..cfg.max_windows)
+            .map(|i| windows[(i as f64 * step) as usize])
+            .collect();
+    }
+    windows
+}
+
+impl<'a> Prepared<'a> {
+    /// Cut the data into windows, estimate the noise, and precompute what every evaluation
+    /// needs.
+    pub fn new(data: &'a FlightData, cfg: CompareConfig) -> Self {
+        let unwrapped = data.attitude.as_ref().map(|att| {
+            [
+                unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
+                unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
+            ]
+        });
+        let noise = estimate_noise(data);
+        let w = |s: [f64; 3], min: f64| s.map(|v| 1.0 / v.max(min));
+        let weights = [
+            w(noise.pos_axes, SIGMA_MIN[0]),
+            w(noise.vel_axes, SIGMA_MIN[1]),
+            w(noise.att_axes, SIGMA_MIN[2]),
+            w(noise.rate_axes, SIGMA_MIN[3]),
+        ];
+        Self {
+            data,
+            unwrapped,
+            windows: cut_windows(&data.time, &cfg),
+            noise,
+            measured: Measured::of(data),
+            weights,
+            airspeed_weight: 1.0 / noise.airspeed_mps.max(SIGMA_MIN[4]),
+            cfg,
+        }
+    }
+
+    /// The settings.
+    pub fn config(&self) -> CompareConfig {
+        self.cfg
+    }
+
+    /// Append the weighted residual rows of sample `i` for prediction `p`.
+    pub(crate) fn residual_rows(&self, model: &Model, i: usize, p: &Predicted, out: &mut Vec<f64>) {
+        let d = self.data;
+        let m = self.measured.for_vehicle(model);
+        let [wp, wv, wa, wr] = &self.weights;
+        let e = p.pos_ned - d.pos_ned[i];
+        out.extend([e.x * wp[0], e.y * wp[1], e.z * wp[2]]);
+        if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
+            let e = p.vel_ned - v[i];
+            out.extend([e.x * wv[0], e.y * wv[1], e.z * wv[2]]);
+        }
+        if let (true, Some(a)) = (m.attitude, &d.attitude) {
+            let (pa, ma) = (p.attitude, a[i]);
+            out.extend([
+                wrap(pa.roll - ma.roll) * wa[0],
+                wrap(pa.pitch - ma.pitch) * wa[1],
+                wrap(pa.yaw - ma.yaw) * wa[2],
+            ]);
+        }
+        if let (true, Some(w)) = (m.rates, &d.rates_body) {
+            let e = p.rates - w[i];
+            out.extend([e.x * wr[0], e.y * wr[1], e.z * wr[2]]);
+        }
+        if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
+            out.push((p.air.airspeed - s[i]) * self.airspeed_weight);
+        }
+    }
+}
+
+/// An angle difference wrapped into (−π, π].
+fn wrap(a: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let r = a.rem_euclid(TAU);
+    if r > PI {
+        r - TAU
+    } else {
+        r
+    }
+}
+
+/// One window compared: its result, its predictions and (when asked for) its start fit.
+struct WindowOutcome {
+    result: WindowResult,
+    predicted: Vec<Predicted>,
+    fit: Option<StartFit>,
+}
+
+fn compare_window(
+    model: &Model,
+    prep: &Prepared,
+    window: (usize, usize),
+    x_start: State,
+    keep_fit: bool,
+) -> WindowOutcome {
+    let mut scratch = Scratch::default();
+    let fit = (prep.cfg.start_iterations > 0)
+        .then(|| prep.fit_start(model, window, x_start, &mut scratch));
+    let x0 = fit.as_ref().map_or(x_start, |f| f.state);
+    let mut rows = Vec::new();
+    prep.window_residuals(model, window, &x0, &mut scratch, &mut rows);
+    let chi2: f64 = rows.iter().map(|r| r * r).sum();
+    let per_sample = rows.len() / (window.1 - window.0).max(1);
+    let lag1_product: f64 = rows
+        .iter()
+        .zip(rows.iter().skip(per_sample))
+        .map(|(a, b)| a * b)
+        .sum();
+    let d = prep.data;
+    let m = prep.measured.for_vehicle(model);
+    let (start, end) = window;
+    let (mut sp, mut sv, mut sa, mut sr) = (0.0, 0.0, 0.0, 0.0);
+    for (k, i) in (start..end).enumerate() {
+        let p = &scratch.predicted[k];
+        sp += (p.pos_ned - d.pos_ned[i]).length_squared();
+        if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
+            sv += (p.vel_ned - v[i]).length_squared();
+        }
+        if let (true, Some(a)) = (m.attitude, &d.attitude) {
+            sa += attitude_error_deg(&p.attitude, &a[i]).powi(2);
+        }
+        if let (true, Some(w)) = (m.rates, &d.rates_body) {
+            sr += (p.rates - w[i]).length_squared();
+        }
+    }
+    let n = (end - start) as f64;
+    let errors = ChannelErrors {
+        position_m: (sp / n).sqrt(),
+        velocity_mps: m.velocity.then(|| (sv / n).sqrt()),
+        attitude_deg: m.attitude.then(|| (sa / n).sqrt()),
+        rate_dps: m.rates.then(|| (sr / n).sqrt().to_degrees()),
+    };
+    WindowOutcome {
+        result: WindowResult {
+            t0: d.time[start],
+            t1: d.time[end - 1],
+            samples: window,
+            score: errors.score(),
+            errors,
+            start: x0,
+            chi2,
+            residuals: rows.len(),
+            lag1_product,
+        },
+        predicted: std::mem::take(&mut scratch.predicted),
+        fit: if keep_fit { fit } else { None },
+    }
+}
+
+/// Compare a model with prepared data, fitting every window's start from its warm start.
+pub fn compare_prepared(model: &Model, prep: &Prepared) -> Comparison {
+    compare_from(model, prep, None)
+}
+
+/// Compare a model with prepared data, fitting every window's start from `starts` (one per
+/// window, e.g. another model's fitted starts; surfaces are recomputed for this model) or,
+/// without them, from the warm start.
+pub fn compare_from(model: &Model, prep: &Prepared, starts: Option<&[State]>) -> Comparison {
+    compare_windows(model, prep, starts, false).0
+}
+
+/// [`compare_from`], also returning each window's start fit (its Jacobian with respect to the
+/// start state: for fitting model parameters with the starts projected out). Memory grows with
+/// the windows (samples × channels × 12 numbers each): for a subset of windows.
+pub fn compare_with_fits(
+    model: &Model,
+    prep: &Prepared,
+    starts: Option<&[State]>,
+) -> (Comparison, Vec<StartFit>) {
+    compare_windows(model, prep, starts, true)
+}
+
+fn compare_windows(
+    model: &Model,
+    prep: &Prepared,
+    starts: Option<&[State]>,
+    keep_fits: bool,
+) -> (Comparison, Vec<StartFit>) {
+    let mut tracker = SurfaceTracker::new(model, prep.data);
+    let initial: Vec<State> = prep
+        .windows
+        .iter()
+        .enumerate()
+        .map(|(k, &w)| {
+            let surfaces = tracker.at(w.0);
+            match starts.and_then(|s| s.get(k)) {
+                Some(x) => {
+                    let mut x = *x;
+                    x.set_surfaces(surfaces);
+                    x
+                }
+                None => prep.warm_start(model, w, surfaces),
+            }
+        })
+        .collect();
+    let outcomes: Vec<WindowOutcome> = prep
+        .windows
+        .par_iter()
+        .zip(initial.par_iter())
+        .map(|(&w, x)| compare_window(model, prep, w, *x, keep_fits))
+        .collect();
+    let mut outcomes = outcomes;
+    let fits = outcomes.iter_mut().filter_map(|o| o.fit.take()).collect();
+    (assemble(model, prep, outcomes), fits)
+}
+
+/// Compare several models in one pass over the windows, each window's start fitted for the
+/// first model (from `starts`, or the warm start) and then for each other model from the
+/// first one's; `then(k, window, fit)` runs on every model's start fit (Jacobian included)
+/// while it exists, so nothing per window outlives its pass. Returns each model's comparison
+/// with what `then` returned per window.
+pub fn compare_many<T: Send>(
+    models: &[&Model],
+    prep: &Prepared,
+    starts: Option<&[State]>,
+    then: impl Fn(usize, (usize, usize), &StartFit) -> T + Sync,
+) -> Vec<(Comparison, Vec<T>)> {
+    let Some(first) = models.first() else {
+        return Vec::new();
+    };
+    // Surfaces at each window start, per model (its actuator lag, if any).
+    let surfaces: Vec<Vec<DVec3>> = models
+        .iter()
+        .map(|m| {
+            let mut tracker = SurfaceTracker::new(m, prep.data);
+            prep.windows.iter().map(|w| tracker.at(w.0)).collect()
+        })
+        .collect();
+    let per_window: Vec<Vec<(WindowOutcome, T)>> = prep
+        .windows
+        .par_iter()
+        .enumerate()
+        .map(|(i, &w)| {
+            let mut x = match starts.and_then(|s| s.get(i)) {
+                Some(x) => *x,
+                None => prep.warm_start(first, w, surfaces[0][i]),
+            };
+            let mut out = Vec::with_capacity(models.len());
+            for (k, m) in models.iter().enumerate() {
+                x.set_surfaces(surfaces[k][i]);
+                let mut o = compare_window(m, prep, w, x, true);
+                let fit = o.fit.take();
+                if k == 0 {
+                    x = o.result.start;
+                }
+                let extra = match &fit {
+                    Some(f) => then(k, w, f),
+                    None => then(k, w, &StartFit::unfitted(o.result.start)),
+                };
+                out.push((o, extra));
+            }
+            out
+        })
+        .collect();
+    let mut by_model: Vec<(Vec<WindowOutcome>, Vec<T>)> =
+        models.iter().map(|_| (Vec::new(), Vec::new())).collect();
+    for window in per_window {
+        for (k, (o, t)) in window.into_iter().enumerate() {
+            by_model[k].0.push(o);
+            by_model[k].1.push(t);
+        }
+    }
+    models
+        .iter()
+        .zip(by_model)
+        .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
+        .collect()
+}
+
+fn assemble(model: &Model, prep: &Prepared, outcomes: Vec<WindowOutcome>) -> Comparison {
+    let m = prep.measured.for_vehicle(model);
+    let mut prediction = Prediction::default();
+    let mut windows = Vec::with_capacity(outcomes.len());
+    let (mut sp, mut sv, mut sa, mut sr, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut chi2, mut rows) = (0.0, 0usize);
+    for o in outcomes {
+        let (start, end) = o.result.samples;
+        for (k, i) in (start..end).enumerate() {
+            prediction.push(i, &o.predicted[k]);
+        }
+        let w = (end - start) as f64;
+        let e = &o.result.errors;
+        sp += e.position_m.powi(2) * w;
+        sv += e.velocity_mps.unwrap_or(0.0).powi(2) * w;
+        sa += e.attitude_deg.unwrap_or(0.0).powi(2) * w;
+        sr += e.rate_dps.unwrap_or(0.0).powi(2) * w;
+        n += w;
+        chi2 += o.result.chi2;
+        rows += o.result.residuals;
+        windows.push(o.result);
+    }
+    let n = n.max(1.0);
+    let channels = ChannelErrors {
+        position_m: (sp / n).sqrt(),
+        velocity_mps: m.velocity.then(|| (sv / n).sqrt()),
+        attitude_deg: m.attitude.then(|| (sa / n).sqrt()),
+        rate_dps: m.rates.then(|| (sr / n).sqrt()),
+    };
+    let fitted = if prep.cfg.start_iterations > 0 {
+        windows.len() * start::param_count(model)
+    } else {
+        0
+    };
+    let axes = axis_errors(model, prep, &prediction);
+    Comparison {
+        total: total_score(&windows),
+        channels,
+        windows,
+        prediction,
+        axes,
+        chi2,
+        dof: rows.saturating_sub(fitted) as f64,
+    }
+}
+
+/// RMS of window scores, weighted by window length in samples.
+fn total_score(windows: &[WindowResult]) -> f64 {
+    let (mut s, mut n) = (0.0, 0.0);
+    for w in windows {
+        let m = (w.samples.1 - w.samples.0) as f64;
+        s += w.score * w.score * m;
+        n += m;
+    }
+    if n > 0.0 {
+        (s / n).sqrt()
+    } else {
+        0.0
+    }
+}
+
+/// Per-axis signed mean and RMS of predicted − measured.
+fn axis_errors(model: &Model, prep: &Prepared, p: &Prediction) -> Vec<AxisError> {
+    let d = prep.data;
+    let m = prep.measured.for_vehicle(model);
+    let mut out = Vec::new();
+    let mut add = |channel, axis, unit, values: &mut dyn Iterator<Item = f64>| {
+        let (mut s, mut s2, mut n) = (0.0, 0.0, 0.0);
+        for v in values.filter(|v| v.is_finite()) {
+            s += v;
+            s2 += v * v;
+            n += 1.0;
+        }
+        if n > 0.0 {
+            out.push(AxisError {
+                channel,
+                axis,
+                unit,
+                mean: s / n,
+                rms: (s2 / n).sqrt(),
+            });
+        }
+    };
+    let idx = &p.index;
+    for (k, axis) in ["north", "east", "down"].into_iter().enumerate() {
+        add(
+            "position",
+            axis,
+            "m",
+            &mut idx
+                .iter()
+                .enumerate()
+                .map(|(j, &i)| p.pos_ned[j][k] - d.pos_ned[i][k]),
+        );
+    }
+    if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
+        for (k, axis) in ["north", "east", "down"].into_iter().enumerate() {
+            add(
+                "velocity",
+                axis,
+                "m/s",
+                &mut idx
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &i)| p.vel_ned[j][k] - v[i][k]),
+            );
+        }
+    }
+    if let (true, Some(a)) = (m.attitude, &d.attitude) {
+        let angle = |e: &EulerZyx, k: usize| [e.roll, e.pitch, e.yaw][k];
+        for (k, axis) in ["roll", "pitch", "yaw"].into_iter().enumerate() {
+            add(
+                "attitude",
+                axis,
+                "deg",
+                &mut idx
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &i)| wrap(angle(&p.attitude[j], k) - angle(&a[i], k)).to_degrees()),
+            );
+        }
+    }
+    if let (true, Some(w)) = (m.rates, &d.rates_body) {
+        for (k, axis) in ["p", "q", "r"].into_iter().enumerate() {
+            add(
+                "rates",
+                axis,
+                "deg/s",
+                &mut idx
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &i)| (p.rates[j][k] - w[i][k]).to_degrees()),
+            );
+        }
+    }
+    if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
+        add(
+            "air",
+            "airspeed",
+            "m/s",
+            &mut idx
+                .iter()
+                .enumerate()
+                .map(|(j, &i)| p.air[j].airspeed - s[i]),
+        );
+    }
+    // α and β as the measurements give them, in the model's air: from the measured velocity
+    // and attitude, less the model's wind.
+    if let (true, true, Some(v), Some(a)) = (m.velocity, m.attitude, &d.vel_ned, &d.attitude) {
+        let measured_air = |i: usize| {
+            let v_r =
+                a[i].to_matrix().transpose() * (v[i] - model.wind_at(d.pos_ned[i], d.time[i]));
+            crate::flight::model::air_angles(v_r, 1.0)
+        };
+        add(
+            "air",
+            "alpha",
+            "deg",
+            &mut idx
+                .iter()
+                .enumerate()
+                .map(|(j, &i)| (p.air[j].alpha - measured_air(i).alpha).to_degrees()),
+        );
+        add(
+            "air",
+            "beta",
+            "deg",
+            &mut idx
+                .iter()
+                .enumerate()
+                .map(|(j, &i)| (p.air[j].beta - measured_air(i).beta).to_degrees()),
+        );
+    }
+    out
+}
+
+/// Compare a model with flight data.
+pub fn compare(model: &Model, data: &FlightData, cfg: CompareConfig) -> Comparison {
+    compare_prepared(model, &Prepared::new(data, cfg))
+}
+
+/// The total a right model would leave on this data: the expected channel errors of the
+/// measured noise ([`noise::expected_channel_errors`]) over the channels the comparison
+/// scores, combined like [`ChannelErrors::score`].
+pub fn noise_floor(model: &Model, prep: &Prepared) -> f64 {
+    let m = prep.measured.for_vehicle(model);
+    let [pos, vel, att, rate] = expected_channel_errors(&prep.noise);
+    ChannelErrors {
+        position_m: pos,
+        velocity_mps: m.velocity.then_some(vel),
+        attitude_deg: m.attitude.then_some(att),
+        rate_dps: m.rates.then_some(rate),
+    }
+    .score()
+}

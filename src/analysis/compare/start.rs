@@ -1,0 +1,433 @@
+//! The start state of each window, estimated — not read off.
+//!
+//! **Warm start.** Least-squares quadratics in time over the first `fit_s` seconds of the
+//! window: through positions (→ position and velocity), through the unwrapped attitude
+//! angles (→ attitude and, without rate gyros, rates), through measured velocities and body
+//! rates. Cheap, but biased where the window starts in a transient (a control step, a roll
+//! acceleration): the quadratic cannot follow it, and the open-loop prediction then diverges
+//! from the wrong start — an error that is the comparison's, not the model's.
+//!
+//! **Output-error fit.** The start state is then a free parameter of the comparison, as in
+//! aircraft system identification with estimated initial conditions: Levenberg–Marquardt on
+//! the model's own prediction over the window (or its first `span` seconds), minimising the
+//! noise-weighted misfit of every measured channel — position, velocity, attitude, body
+//! rates, airspeed — with a forward-difference Jacobian (one extra flight per state). Twelve
+//! numbers for a fixed wing (position, NED velocity, roll/pitch/yaw, p/q/r), six for a point
+//! mass. Surface positions under actuator lag are not fitted: they follow from the commands.
+
+use glam::DVec3;
+
+use super::predict::{fly_window, Predicted};
+use super::Prepared;
+use crate::euler::EulerZyx;
+use crate::flight::model::{Model, State, Vehicle};
+use crate::numeric::{quad_fit, solve_in_place};
+
+/// Forward-difference steps of the start parameters: position m, velocity m/s, angles rad,
+/// rates rad/s. Small against every noise level of interest, large against rounding (the
+/// flown trajectory is smooth in its start state).
+const STEPS: [f64; 4] = [1e-4, 1e-4, 1e-6, 1e-6];
+
+/// Stop when the next step promises to lower the misfit (χ², in units of the noise variance)
+/// by less than this: far below anything a significance test could see.
+pub const ABS_TOL: f64 = 1e-3;
+/// ... or by less than this fraction of it: a model far from the data (χ² of 10⁵ in a window)
+/// need not have its start polished to a thousandth of a noise unit.
+pub const REL_TOL: f64 = 1e-6;
+
+/// Number of start parameters of a vehicle.
+pub fn param_count(model: &Model) -> usize {
+    match model.vehicle {
+        Vehicle::PointMass => 6,
+        Vehicle::FixedWing(_) => 12,
+    }
+}
+
+/// The start parameters of a state: position, NED velocity, and for a fixed wing roll, pitch,
+/// yaw and body rates.
+pub fn params_of(model: &Model, x: &State) -> Vec<f64> {
+    let p = x.pos_ned();
+    match model.vehicle {
+        Vehicle::PointMass => {
+            let v = x.vel();
+            vec![p.x, p.y, p.z, v.x, v.y, v.z]
+        }
+        Vehicle::FixedWing(_) => {
+            let v = x.rot() * x.vel();
+            let e = x.attitude();
+            let w = x.omega();
+            vec![
+                p.x, p.y, p.z, v.x, v.y, v.z, e.roll, e.pitch, e.yaw, w.x, w.y, w.z,
+            ]
+        }
+    }
+}
+
+/// The state of start parameters, with the given surface positions.
+pub fn state_of(model: &Model, q: &[f64], surfaces: DVec3) -> State {
+    let mut x = State::default();
+    x.set_pos_ned(DVec3::new(q[0], q[1], q[2]));
+    let vel = DVec3::new(q[3], q[4], q[5]);
+    match model.vehicle {
+        Vehicle::PointMass => x.set_vel(vel),
+        Vehicle::FixedWing(_) => {
+            let att = EulerZyx::new(q[8], q[7], q[6]);
+            x.set_attitude(att);
+            x.set_vel(att.to_matrix().transpose() * vel);
+            x.set_omega(DVec3::new(q[9], q[10], q[11]));
+            x.set_surfaces(surfaces);
+        }
+    }
+    x
+}
+
+fn step_of(k: usize) -> f64 {
+    STEPS[(k / 3).min(3)]
+}
+
+impl Prepared<'_> {
+    /// Warm start at the first sample of a window (module docs).
+    pub fn warm_start(
+        &self,
+        model: &Model,
+        (start, end): (usize, usize),
+        surfaces: DVec3,
+    ) -> State {
+        let d = self.data;
+        let t0 = d.time[start];
+        let fit_end = d.time[start..end]
+            .partition_point(|&t| t < t0 + self.cfg.fit_s)
+            .max(3.min(end - start))
+            + start;
+        let ts = &d.time[start..fit_end];
+        let fit = |vals: &dyn Fn(usize) -> f64| {
+            let y: Vec<f64> = (start..fit_end).map(vals).collect();
+            quad_fit(ts, &y, t0)
+        };
+        let (px, vx) = fit(&|i| d.pos_ned[i].x);
+        let (py, vy) = fit(&|i| d.pos_ned[i].y);
+        let (pz, vz) = fit(&|i| d.pos_ned[i].z);
+        let mut vel_ned = DVec3::new(vx, vy, vz);
+        if let (Some(v), true) = (&d.vel_ned, self.measured.velocity) {
+            vel_ned = DVec3::new(fit(&|i| v[i].x).0, fit(&|i| v[i].y).0, fit(&|i| v[i].z).0);
+        }
+        let mut q = vec![px, py, pz, vel_ned.x, vel_ned.y, vel_ned.z];
+        if matches!(model.vehicle, Vehicle::FixedWing(_)) {
+            let (att, att_rate) = match &self.unwrapped {
+                Some([yaw, pitch, roll]) => {
+                    let (y0, yd) = fit(&|i| yaw[i]);
+                    let (p0, pd) = fit(&|i| pitch[i]);
+                    let (r0, rd) = fit(&|i| roll[i]);
+                    (EulerZyx::new(y0, p0, r0), [yd, pd, rd])
+                }
+                None => (EulerZyx::default(), [0.0; 3]),
+            };
+            let omega = match (&d.rates_body, self.measured.rates) {
+                (Some(w), true) => {
+                    DVec3::new(fit(&|i| w[i].x).0, fit(&|i| w[i].y).0, fit(&|i| w[i].z).0)
+                }
+                _ => {
+                    // Body rates from the Euler-angle rates of the fit.
+                    let [psi_d, theta_d, phi_d] = att_rate;
+                    let (sphi, cphi) = att.roll.sin_cos();
+                    let (sth, cth) = att.pitch.sin_cos();
+                    DVec3::new(
+                        phi_d - psi_d * sth,
+                        theta_d * cphi + psi_d * cth * sphi,
+                        -theta_d * sphi + psi_d * cth * cphi,
+                    )
+                }
+            };
+            q.extend([att.roll, att.pitch, att.yaw, omega.x, omega.y, omega.z]);
+        }
+        state_of(model, &q, surfaces)
+    }
+
+    /// The samples of a window that the start fit uses: all of them, or the first `span`
+    /// seconds.
+    pub fn fit_range(&self, (start, end): (usize, usize)) -> (usize, usize) {
+        match self.cfg.start_span_s {
+            Some(span) => {
+                let t_end = self.data.time[start] + span;
+                let n = self.data.time[start..end].partition_point(|&t| t < t_end);
+                (start, start + n.max(2.min(end - start)))
+            }
+            None => (start, end),
+        }
+    }
+
+    /// Fit the start state of a window by Levenberg–Marquardt from `x0` (module docs). The
+    /// Jacobian is taken by forward differences once, then kept current by Broyden's rank-one
+    /// updates (taken afresh when an updated one stops leading downhill); the fit stops when
+    /// the next step would lower the misfit by less than [`ABS_TOL`] (in units of the noise
+    /// variance: nothing a significance test could see) or a relative [`REL_TOL`].
+    pub fn fit_start(
+        &self,
+        model: &Model,
+        window: (usize, usize),
+        x0: State,
+        scratch: &mut Scratch,
+    ) -> StartFit {
+        let span = self.fit_range(window);
+        let surfaces = x0.surfaces();
+        let np = param_count(model);
+        let mut q = params_of(model, &x0);
+        let mut r = Vec::new();
+        self.window_residuals(model, span, &state_of(model, &q, surfaces), scratch, &mut r);
+        let mut sse = sum_sq(&r);
+        let m = r.len();
+        let mut fit = StartFit {
+            state: x0,
+            iterations: 0,
+            jacobian: Vec::new(),
+            residuals: Vec::new(),
+            params: np,
+        };
+        if !sse.is_finite() || m == 0 {
+            fit.residuals = r;
+            return fit;
+        }
+        let mut jac = vec![0.0; np * m]; // column-major
+        self.difference_jacobian(model, span, &q, surfaces, &r, scratch, &mut jac);
+        let mut fresh = true;
+        let mut lambda = 1e-6;
+        let mut trial = Vec::with_capacity(m);
+        let mut step = vec![0.0; np];
+        let mut iteration = 0;
+        let mut tries = 0;
+        while iteration < self.cfg.start_iterations && tries < 16 {
+            tries += 1;
+            let (jtj, jtr) = normal_equations(&jac, &r, np, m);
+            let mut a = jtj.clone();
+            for k in 0..np {
+                a[k * np + k] += lambda * jtj[k * np + k].max(1e-30);
+            }
+            step.iter_mut().zip(&jtr).for_each(|(s, g)| *s = -g);
+            let solved = solve_in_place(&mut a, &mut step, np).is_some();
+            // The decrease the linear model promises: χ² − |r + Jδ|² = −2gᵀδ − δᵀJᵀJδ.
+            let g_step: f64 = jtr.iter().zip(&step).map(|(g, d)| g * d).sum();
+            let quad: f64 = (0..np)
+                .map(|a| {
+                    (0..np)
+                        .map(|b| step[a] * jtj[a * np + b] * step[b])
+                        .sum::<f64>()
+                })
+                .sum();
+            let promised = -2.0 * g_step - quad;
+            if solved && promised < ABS_TOL.max(REL_TOL * sse) {
+                break; // converged: nothing left worth a flight
+            }
+            if solved {
+                let qn: Vec<f64> = q.iter().zip(&step).map(|(a, b)| a + b).collect();
+                self.window_residuals(
+                    model,
+                    span,
+                    &state_of(model, &qn, surfaces),
+                    scratch,
+                    &mut trial,
+                );
+                let sse_new = sum_sq(&trial);
+                if sse_new < sse {
+                    iteration += 1;
+                    broyden_update(&mut jac, &step, &r, &trial, np, m);
+                    q = qn;
+                    sse = sse_new;
+                    std::mem::swap(&mut r, &mut trial);
+                    lambda = (lambda / 10.0).max(1e-12);
+                    fresh = false;
+                    continue;
+                }
+            }
+            if fresh {
+                lambda *= 10.0; // an exact Jacobian overshot: shorter steps
+            } else {
+                // An updated Jacobian that misleads: take it afresh.
+                self.difference_jacobian(model, span, &q, surfaces, &r, scratch, &mut jac);
+                fresh = true;
+            }
+        }
+        fit.state = state_of(model, &q, surfaces);
+        fit.iterations = iteration;
+        fit.jacobian = jac;
+        fit.residuals = r;
+        fit
+    }
+
+    /// Forward-difference Jacobian of the window residuals `r` at start parameters `q`.
+    #[allow(clippy::too_many_arguments)]
+    fn difference_jacobian(
+        &self,
+        model: &Model,
+        span: (usize, usize),
+        q: &[f64],
+        surfaces: DVec3,
+        r: &[f64],
+        scratch: &mut Scratch,
+        jac: &mut [f64],
+    ) {
+        let m = r.len();
+        let mut trial = Vec::with_capacity(m);
+        for k in 0..q.len() {
+            let h = step_of(k);
+            let mut qk = q.to_vec();
+            qk[k] += h;
+            self.window_residuals(
+                model,
+                span,
+                &state_of(model, &qk, surfaces),
+                scratch,
+                &mut trial,
+            );
+            let col = &mut jac[k * m..(k + 1) * m];
+            for ((j, a), b) in col.iter_mut().zip(&trial).zip(r) {
+                *j = (a - b) / h;
+            }
+        }
+    }
+
+    /// Noise-weighted residuals of the prediction from `x0` over the samples of `span`.
+    pub fn window_residuals(
+        &self,
+        model: &Model,
+        span: (usize, usize),
+        x0: &State,
+        scratch: &mut Scratch,
+        out: &mut Vec<f64>,
+    ) {
+        fly_window(
+            model,
+            self.data,
+            span,
+            x0,
+            self.cfg.max_dt,
+            &mut scratch.predicted,
+        );
+        out.clear();
+        for (k, i) in (span.0..span.1).enumerate() {
+            self.residual_rows(model, i, &scratch.predicted[k], out);
+        }
+    }
+}
+
+/// A fitted start state.
+#[derive(Clone, Debug)]
+pub struct StartFit {
+    /// The start state.
+    pub state: State,
+    /// Levenberg–Marquardt iterations taken.
+    pub iterations: usize,
+    /// The last Jacobian of the weighted residuals (over the fit span) with respect to the
+    /// start parameters, column-major, `params` columns; empty when no iteration ran. Near
+    /// the optimum it spans the directions in which a start change can absorb an error —
+    /// what a parameter fit projects out ([`project_out`]).
+    pub jacobian: Vec<f64>,
+    /// The weighted residuals over the fit span at the fitted start.
+    pub residuals: Vec<f64>,
+    /// Number of start parameters (columns).
+    pub params: usize,
+}
+
+impl StartFit {
+    /// A start taken as it is (no fit, no Jacobian).
+    pub fn unfitted(state: State) -> Self {
+        Self {
+            state,
+            iterations: 0,
+            jacobian: Vec::new(),
+            residuals: Vec::new(),
+            params: 0,
+        }
+    }
+}
+
+/// Remove from each column of `cols` (column-major, `m` rows) its least-squares fit by the
+/// columns of `jac` (column-major, `m` rows): what is left is the part of a residual change
+/// that no change of the start state can produce (variable projection).
+pub fn project_out(jac: &[f64], params: usize, cols: &mut [f64], m: usize) {
+    if params == 0 || jac.len() != params * m || m == 0 {
+        return;
+    }
+    let mut gram = vec![0.0; params * params];
+    for a in 0..params {
+        for b in a..params {
+            let s: f64 = jac[a * m..(a + 1) * m]
+                .iter()
+                .zip(&jac[b * m..(b + 1) * m])
+                .map(|(u, v)| u * v)
+                .sum();
+            gram[a * params + b] = s;
+            gram[b * params + a] = s;
+        }
+    }
+    for col in cols.chunks_mut(m) {
+        let mut y: Vec<f64> = (0..params)
+            .map(|a| {
+                jac[a * m..(a + 1) * m]
+                    .iter()
+                    .zip(col.iter())
+                    .map(|(u, v)| u * v)
+                    .sum()
+            })
+            .collect();
+        let mut g = gram.clone();
+        if solve_in_place(&mut g, &mut y, params).is_none() {
+            continue;
+        }
+        for (a, ya) in y.iter().enumerate() {
+            for (c, j) in col.iter_mut().zip(&jac[a * m..(a + 1) * m]) {
+                *c -= ya * j;
+            }
+        }
+    }
+}
+
+/// Reusable buffers of one window's evaluations.
+#[derive(Default)]
+pub struct Scratch {
+    /// Predictions over the window.
+    pub predicted: Vec<Predicted>,
+}
+
+/// JᵀJ (row-major) and Jᵀr of a column-major Jacobian.
+fn normal_equations(jac: &[f64], r: &[f64], np: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
+    let mut jtj = vec![0.0; np * np];
+    let mut jtr = vec![0.0; np];
+    for a in 0..np {
+        let ca = &jac[a * m..(a + 1) * m];
+        jtr[a] = ca.iter().zip(r).map(|(u, v)| u * v).sum();
+        for b in a..np {
+            let cb = &jac[b * m..(b + 1) * m];
+            let s: f64 = ca.iter().zip(cb).map(|(u, v)| u * v).sum();
+            jtj[a * np + b] = s;
+            jtj[b * np + a] = s;
+        }
+    }
+    (jtj, jtr)
+}
+
+/// Broyden's rank-one update of a column-major Jacobian after the step `step` took the
+/// residuals from `r_old` to `r_new`: J += (Δr − Jδ)δᵀ/(δᵀδ).
+fn broyden_update(
+    jac: &mut [f64],
+    step: &[f64],
+    r_old: &[f64],
+    r_new: &[f64],
+    np: usize,
+    m: usize,
+) {
+    let dd: f64 = step.iter().map(|d| d * d).sum();
+    if !(dd > 0.0) {
+        return;
+    }
+    for i in 0..m {
+        let jd: f64 = (0..np).map(|k| jac[k * m + i] * step[k]).sum();
+        let miss = (r_new[i] - r_old[i] - jd) / dd;
+        for k in 0..np {
+            jac[k * m + i] += miss * step[k];
+        }
+    }
+}
+
+fn sum_sq(r: &[f64]) -> f64 {
+    r.iter().map(|v| v * v).sum()
+}

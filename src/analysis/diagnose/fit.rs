@@ -1,0 +1,773 @@
+//! Fitting one candidate correction — an effect's parameters, or numbers of the aircraft's
+//! parameter set — on the misfit profiled over every window's start state, and scoring it
+//! against the model without it.
+//!
+//! The profile is linearised around the baseline's fitted starts (variable projection: the
+//! residual change a parameter causes, less what a start change could absorb), Levenberg–
+//! Marquardt runs on that, and the starts are then fitted exactly at the result (repeated
+//! when the linearisation was off). The covariance comes from the projected Jacobian.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use super::{AircraftChange, Candidate, Correction, DiagnoseConfig};
+use crate::analysis::compare::start::{params_of, project_out, state_of, Scratch, StartFit};
+use crate::analysis::compare::{
+    compare_from, compare_many, compare_with_fits, Comparison, Prepared,
+};
+use crate::flight::effects::{Effect, ParamSpec};
+use crate::flight::model::{Model, State};
+use crate::numeric::{chi2_quantile, invert, solve_in_place};
+
+/// The effect named `name` in `model`.
+pub(super) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
+    model
+        .effects
+        .iter()
+        .find(|e| e.name() == name)
+        .map(|e| e.as_ref())
+}
+
+/// Whose number a fitted parameter is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Owner {
+    /// A parameter of the effect of that name.
+    Effect(&'static str),
+    /// A number of the aircraft's parameter set.
+    Aircraft,
+}
+
+/// A parameter being fitted: its name, range and typical size, and whose it is.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Free {
+    pub name: &'static str,
+    pub range: (f64, f64),
+    pub scale: f64,
+    pub owner: Owner,
+}
+
+/// Set the free parameters to `theta`, each kept inside its range.
+pub(super) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
+    for (f, v) in free.iter().zip(theta) {
+        let v = v.clamp(f.range.0, f.range.1);
+        let _ = match f.owner {
+            Owner::Effect(name) => model
+                .effect_mut(name)
+                .map_or(Ok(()), |e| e.set_param(f.name, v)),
+            Owner::Aircraft => model.set_aircraft(f.name, v),
+        };
+    }
+}
+
+/// The current values of the free parameters.
+pub(super) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
+    free.iter()
+        .map(|f| {
+            match f.owner {
+                Owner::Effect(name) => effect(model, name).and_then(|e| e.param(f.name)),
+                Owner::Aircraft => model.aircraft(f.name),
+            }
+            .unwrap_or(0.0)
+        })
+        .collect()
+}
+
+/// One window's start state and the linearisation of its residuals around it: what a change
+/// of the start can absorb (the columns of `jac`), projected out of every residual change.
+pub(super) struct Linearised {
+    q: Vec<f64>,
+    surfaces: DVec3,
+    pub(super) jac: Vec<f64>,
+    gram: Vec<f64>,
+    pub(super) params: usize,
+}
+
+impl Linearised {
+    pub(super) fn of(model: &Model, fit: &StartFit) -> Self {
+        let m = fit.residuals.len();
+        let np = fit.params;
+        let mut gram = vec![0.0; np * np];
+        if fit.jacobian.len() == np * m {
+            for a in 0..np {
+                for b in a..np {
+                    let v: f64 = fit.jacobian[a * m..(a + 1) * m]
+                        .iter()
+                        .zip(&fit.jacobian[b * m..(b + 1) * m])
+                        .map(|(u, w)| u * w)
+                        .sum();
+                    gram[a * np + b] = v;
+                    gram[b * np + a] = v;
+                }
+            }
+        }
+        Self {
+            q: params_of(model, &fit.state),
+            surfaces: fit.state.surfaces(),
+            jac: fit.jacobian.clone(),
+            gram,
+            params: np,
+        }
+    }
+
+    fn state(&self, model: &Model) -> State {
+        state_of(model, &self.q, self.surfaces)
+    }
+
+    /// Replace `r` by what no start change can absorb, r − J·(JᵀJ)⁻¹Jᵀr, and return the start
+    /// change that absorbs the rest, −(JᵀJ)⁻¹Jᵀr.
+    fn project(&self, r: &mut [f64]) -> Vec<f64> {
+        let (np, m) = (self.params, r.len());
+        if np == 0 || self.jac.len() != np * m {
+            return vec![0.0; np];
+        }
+        let mut y: Vec<f64> = (0..np)
+            .map(|a| {
+                self.jac[a * m..(a + 1) * m]
+                    .iter()
+                    .zip(r.iter())
+                    .map(|(u, v)| u * v)
+                    .sum()
+            })
+            .collect();
+        let mut g = self.gram.clone();
+        if solve_in_place(&mut g, &mut y, np).is_none() {
+            return vec![0.0; np];
+        }
+        for (a, ya) in y.iter().enumerate() {
+            for (v, j) in r.iter_mut().zip(&self.jac[a * m..(a + 1) * m]) {
+                *v -= ya * j;
+            }
+        }
+        y.iter().map(|v| -v).collect()
+    }
+}
+
+/// The profiled misfit in the linearisation: the projected residuals of every window at the
+/// model's parameters, their χ², and each window's start change.
+fn linear_profile(model: &Model, prep: &Prepared, lin: &[Linearised]) -> (f64, Vec<Vec<f64>>) {
+    let parts: Vec<(f64, Vec<f64>)> = prep
+        .windows
+        .par_iter()
+        .zip(lin.par_iter())
+        .map(|(&w, l)| {
+            let mut scratch = Scratch::default();
+            let mut r = Vec::new();
+            prep.window_residuals(
+                model,
+                prep.fit_range(w),
+                &l.state(model),
+                &mut scratch,
+                &mut r,
+            );
+            let dq = l.project(&mut r);
+            (r.iter().map(|v| v * v).sum(), dq)
+        })
+        .collect();
+    let chi2 = parts.iter().map(|p| p.0).sum();
+    (chi2, parts.into_iter().map(|p| p.1).collect())
+}
+
+/// Forward-difference step of the parameters, in units of each one's scale.
+const PARAM_STEP: f64 = 0.01;
+
+/// The model with each free parameter in turn moved by one difference step.
+pub(super) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> Vec<Model> {
+    (0..free.len())
+        .map(|j| {
+            let mut m = model.clone();
+            let mut t = theta.to_vec();
+            t[j] += PARAM_STEP * free[j].scale;
+            set_values(&mut m, free, &t);
+            m
+        })
+        .collect()
+}
+
+/// One window's share of the normal equations: A = D̃ᵀD̃ and g = D̃ᵀr, D̃ the change of the
+/// residuals per scaled parameter with the start directions projected out.
+fn window_normal(
+    model: &Model,
+    perturbed: &[Model],
+    prep: &Prepared,
+    window: (usize, usize),
+    l: &Linearised,
+) -> (Vec<f64>, Vec<f64>) {
+    let np = perturbed.len();
+    let span = prep.fit_range(window);
+    let mut scratch = Scratch::default();
+    let x = l.state(model);
+    let mut r = Vec::new();
+    prep.window_residuals(model, span, &x, &mut scratch, &mut r);
+    let m = r.len();
+    let mut cols = vec![0.0; np * m];
+    let mut rj = Vec::with_capacity(m);
+    for (j, pm) in perturbed.iter().enumerate() {
+        prep.window_residuals(pm, span, &x, &mut scratch, &mut rj);
+        for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(&r) {
+            *c = (a - b) / PARAM_STEP;
+        }
+    }
+    project_out(&l.jac, l.params, &mut cols, m);
+    let mut a = vec![0.0; np * np];
+    let mut g = vec![0.0; np];
+    for i in 0..np {
+        let ci = &cols[i * m..(i + 1) * m];
+        // D̃ is orthogonal to the start directions, so D̃ᵀr = D̃ᵀr̃.
+        g[i] = ci.iter().zip(&r).map(|(u, v)| u * v).sum();
+        for k in i..np {
+            let v: f64 = ci
+                .iter()
+                .zip(&cols[k * m..(k + 1) * m])
+                .map(|(u, v)| u * v)
+                .sum();
+            a[i * np + k] = v;
+            a[k * np + i] = v;
+        }
+    }
+    (a, g)
+}
+
+fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {
+    sum.0.iter_mut().zip(&part.0).for_each(|(s, v)| *s += v);
+    sum.1.iter_mut().zip(&part.1).for_each(|(s, v)| *s += v);
+}
+
+/// Normal equations of the profiled misfit in the scaled free parameters, summed over windows
+/// (see [`window_normal`]).
+fn normal_equations(
+    model: &Model,
+    free: &[Free],
+    theta: &[f64],
+    prep: &Prepared,
+    lin: &[Linearised],
+) -> (Vec<f64>, Vec<f64>) {
+    let np = free.len();
+    let perturbed = perturbed_models(model, free, theta);
+    let parts: Vec<(Vec<f64>, Vec<f64>)> = prep
+        .windows
+        .par_iter()
+        .zip(lin.par_iter())
+        .map(|(&w, l)| window_normal(model, &perturbed, prep, w, l))
+        .collect();
+    let mut sum = (vec![0.0; np * np], vec![0.0; np]);
+    for p in &parts {
+        add_into(&mut sum, p);
+    }
+    sum
+}
+
+/// The fitted parameters' covariance in their own units (row-major), or None when the data
+/// do not determine them.
+fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
+    let np = free.len();
+    let inv = invert(a, np)?;
+    let rho = cmp.residual_autocorrelation().clamp(0.0, 0.99);
+    let s2 = (cmp.chi2 / cmp.dof.max(1.0)).max(1.0) * (1.0 + rho) / (1.0 - rho);
+    let mut cov = vec![0.0; np * np];
+    for i in 0..np {
+        for k in 0..np {
+            cov[i * np + k] = inv[i * np + k] * s2 * free[i].scale * free[k].scale;
+        }
+    }
+    cov.iter()
+        .all(|v| v.is_finite())
+        .then_some(cov)
+        .filter(|c| (0..np).all(|i| c[i * np + i] >= 0.0))
+}
+
+/// Levenberg–Marquardt on the parameters over the linearised profile; updates `model`,
+/// `theta` and the windows' starts. Returns the linearised χ² reached.
+#[allow(clippy::too_many_arguments)]
+fn fit_linearised(
+    model: &mut Model,
+    free: &[Free],
+    theta: &mut Vec<f64>,
+    prep: &Prepared,
+    lin: &mut [Linearised],
+    iterations: usize,
+) -> f64 {
+    let np = free.len();
+    let (mut chi2, mut dq) = linear_profile(model, prep, lin);
+    let mut lambda = 1e-3;
+    for _ in 0..iterations {
+        let (a0, g) = normal_equations(model, free, theta, prep, lin);
+        let mut accepted = None;
+        for _ in 0..8 {
+            let mut a = a0.clone();
+            for k in 0..np {
+                a[k * np + k] += lambda * a0[k * np + k].max(1e-30);
+            }
+            let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
+            if solve_in_place(&mut a, &mut step, np).is_none() {
+                lambda *= 10.0;
+                continue;
+            }
+            let trial: Vec<f64> = theta
+                .iter()
+                .zip(&step)
+                .zip(free)
+                .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
+                .collect();
+            let mut m = model.clone();
+            set_values(&mut m, free, &trial);
+            let (c, dq_trial) = linear_profile(&m, prep, lin);
+            if c.is_finite() && c < chi2 {
+                accepted = Some((trial, m, c, dq_trial));
+                lambda = (lambda / 10.0).max(1e-9);
+                break;
+            }
+            lambda *= 10.0;
+        }
+        let Some((trial, m, c, dq_trial)) = accepted else {
+            break;
+        };
+        let gain = chi2 - c;
+        *theta = trial;
+        *model = m;
+        chi2 = c;
+        dq = dq_trial;
+        // Move each start to where the linearisation says it belongs at these parameters.
+        for (l, d) in lin.iter_mut().zip(&dq) {
+            l.q.iter_mut().zip(d).for_each(|(q, d)| *q += d);
+        }
+        if gain < FIT_TOL.max(1e-6 * chi2) {
+            break;
+        }
+    }
+    let _ = dq;
+    chi2
+}
+
+/// Stop fitting parameters when an iteration lowers χ² (in noise units) by less than this.
+const FIT_TOL: f64 = 0.01;
+
+/// Fit the free parameters of the effect `name` (already in `model`) (module docs), starting
+/// from the start fits `fits` of the model without it. Returns the comparison at the fitted
+/// values, and the parameter covariance.
+fn fit(
+    model: &mut Model,
+    free: &[Free],
+    prep: &Prepared,
+    baseline: &Baseline,
+    iterations: usize,
+) -> (Comparison, Option<Vec<f64>>) {
+    let np = free.len();
+    let fits = &baseline.fits;
+    let starts: Vec<State> = fits.iter().map(|f| f.state).collect();
+    if np == 0 {
+        return (compare_from(model, prep, Some(&starts)), None);
+    }
+    let chi2_base: f64 = fits
+        .iter()
+        .map(|f| f.residuals.iter().map(|r| r * r).sum::<f64>())
+        .sum();
+    let mut theta = values(model, free);
+    let mut lin: Vec<Linearised> = fits.iter().map(|f| Linearised::of(model, f)).collect();
+    let mut linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
+    if !(chi2_base - linear > FIT_TOL.max(1e-6 * chi2_base)) {
+        // The effect explains nothing the starts could not: its best values change the misfit
+        // by less than a hundredth of a noise unit, so the comparison is the baseline's.
+        let (a, _) = normal_equations(model, free, &theta, prep, &lin);
+        let cov = covariance(&a, free, &baseline.comparison);
+        return (baseline.comparison.clone(), cov);
+    }
+    // The linearisation is around the starts of the model without the effect; the starts are
+    // then fitted exactly, and when that changes the misfit by more than the tolerance, the
+    // fit is repeated around them.
+    let mut exact: Option<(Comparison, Vec<StartFit>)> = None;
+    for _ in 0..3 {
+        let starts: Vec<State> = lin.iter().map(|l| l.state(model)).collect();
+        let (cmp, new_fits) = compare_with_fits(model, prep, Some(&starts));
+        let settled = (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2);
+        lin = new_fits.iter().map(|f| Linearised::of(model, f)).collect();
+        exact = Some((cmp, new_fits));
+        if settled {
+            break;
+        }
+        linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
+    }
+    let Some((cmp, _)) = exact else {
+        unreachable!("the loop runs at least once");
+    };
+    let (a, _) = normal_equations(model, free, &theta, prep, &lin);
+    let cov = covariance(&a, free, &cmp);
+    (cmp, cov)
+}
+
+/// A model's comparison on prepared data together with its windows' start fits: what every
+/// candidate effect is fitted from and scored against.
+pub struct Baseline {
+    /// The comparison.
+    pub comparison: Comparison,
+    pub(super) fits: Vec<StartFit>,
+}
+
+impl Baseline {
+    /// Compare `model` on `prep`, keeping the start fits.
+    pub fn of(model: &Model, prep: &Prepared) -> Self {
+        let (comparison, fits) = compare_with_fits(model, prep, None);
+        Self { comparison, fits }
+    }
+}
+
+/// The free parameters of the effect `name` in `model`: all but those `fixed` and those known
+/// from the data's metadata. With `reset`, each is first set to its fitting start value.
+pub(super) fn effect_free(
+    model: &mut Model,
+    name: &str,
+    fixed: &[String],
+    prep: &Prepared,
+    reset: bool,
+) -> Result<Vec<Free>, String> {
+    let info = effect(model, name)
+        .map(|e| e.info())
+        .ok_or_else(|| format!("effect `{name}` was not added"))?;
+    for f in fixed {
+        if info.param(f).is_none() {
+            return Err(format!("effect `{name}` has no parameter `{f}`"));
+        }
+    }
+    let known_origin = prep.data.meta.latitude_deg.is_some();
+    let is_held =
+        |p: &ParamSpec| fixed.iter().any(|f| f == p.name) || (p.from_origin && known_origin);
+    let mut free = Vec::new();
+    if let Some(e) = model.effect_mut(name) {
+        for p in info.params.iter().filter(|p| !is_held(p)) {
+            if let (Some(start), true) = (p.start, reset) {
+                e.set_param(p.name, start)?;
+            }
+            free.push(Free {
+                name: p.name,
+                range: p.range,
+                scale: p.scale_at(e.param(p.name).unwrap_or(0.0)),
+                owner: Owner::Effect(info.name),
+            });
+        }
+    }
+    Ok(free)
+}
+
+/// Smallest typical size of an aircraft number that is zero in the set (a coefficient of 0:
+/// a change of 0.01 is already a large one for most).
+const AIRCRAFT_MIN_SCALE: f64 = 0.01;
+
+/// The aircraft numbers `keys` of `model` as free parameters, each scaled by a tenth of its
+/// value.
+pub(super) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<Free>, String> {
+    keys.iter()
+        .map(|&k| {
+            let key = crate::flight::params::keys::find(k)
+                .ok_or_else(|| format!("unknown aircraft parameter `{k}`"))?;
+            let v = model
+                .aircraft(k)
+                .ok_or_else(|| format!("a point mass has no aircraft parameter `{k}`"))?;
+            Ok(Free {
+                name: key.name,
+                range: key.range,
+                scale: (0.1 * v.abs()).max(AIRCRAFT_MIN_SCALE),
+                owner: Owner::Aircraft,
+            })
+        })
+        .collect()
+}
+
+/// What is tried: an effect added to the model, or numbers of the aircraft's set.
+#[derive(Clone, Debug)]
+pub(super) enum Trial {
+    Effect(String),
+    Aircraft(Vec<&'static str>),
+}
+
+impl Trial {
+    pub(super) fn label(&self) -> String {
+        match self {
+            Trial::Effect(name) => name.clone(),
+            Trial::Aircraft(keys) => format!("aircraft:{}", keys.join(",")),
+        }
+    }
+}
+
+/// Fit a trial (already in `model`, its free parameters `free`) and score it against the
+/// baseline.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn fit_trial(
+    base: &Model,
+    mut model: Model,
+    trial: &Trial,
+    free: &[Free],
+    prep: &Prepared,
+    before: &Baseline,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> Result<Candidate, String> {
+    let (after, cov) = fit(&mut model, free, prep, before, cfg.max_iterations);
+    make_candidate(
+        base,
+        &model,
+        trial,
+        free,
+        &before.comparison,
+        &after,
+        cov,
+        cfg,
+        candidates,
+    )
+}
+
+/// Try one effect on top of `base`: fit it and score it against the baseline. `fixed` lists
+/// parameters not to fit; `candidates` is how many corrections are being tried (for the
+/// significance level).
+///
+/// # Errors
+/// The effect does not apply or is already in the model; a fixed parameter it does not have.
+pub fn try_effect(
+    base: &Model,
+    effect: Box<dyn Effect>,
+    fixed: &[String],
+    prep: &Prepared,
+    before: &Baseline,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> Result<Candidate, String> {
+    let name = effect.name().to_string();
+    let mut model = base.clone();
+    model.add_effect(effect)?;
+    let free = effect_free(&mut model, &name, fixed, prep, true)?;
+    fit_trial(
+        base,
+        model,
+        &Trial::Effect(name),
+        &free,
+        prep,
+        before,
+        cfg,
+        candidates,
+    )
+}
+
+/// Try new values of numbers of the aircraft's parameter set (fitted jointly), scored against
+/// the baseline.
+///
+/// # Errors
+/// A point mass, or an unknown key.
+pub fn try_aircraft(
+    base: &Model,
+    keys: &[&'static str],
+    prep: &Prepared,
+    before: &Baseline,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> Result<Candidate, String> {
+    let free = aircraft_free(base, keys)?;
+    fit_trial(
+        base,
+        base.clone(),
+        &Trial::Aircraft(keys.to_vec()),
+        &free,
+        prep,
+        before,
+        cfg,
+        candidates,
+    )
+}
+
+/// The full pass of a screened diagnosis: the base model and the best `top` candidates (at
+/// their subset values) compared on every window in one pass; for each candidate, each
+/// window's share of the parameters' normal equations is taken while its start fit exists, so
+/// no window's Jacobian outlives it. Each candidate's parameters then take one Gauss–Newton
+/// step on all windows — the all-window estimate, whose covariance is the all-window one —
+/// while its errors are those at the subset values (the two differ by a few of the subset's
+/// σ, which changes the misfit by a few units in hundreds of thousands).
+pub(super) fn full_pass(
+    base: &Model,
+    top: &[Candidate],
+    full: &Prepared,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> (Comparison, Vec<Candidate>) {
+    struct Fitting {
+        model: Model,
+        trial: Trial,
+        free: Vec<Free>,
+        theta: Vec<f64>,
+        perturbed: Vec<Model>,
+    }
+    let fittings: Vec<Fitting> = top
+        .iter()
+        .filter_map(|c| {
+            let mut model = base.clone();
+            c.correction.apply(&mut model).ok()?;
+            let (trial, free) = match &c.correction {
+                Correction::Effect(e) => {
+                    let held: Vec<String> = c
+                        .params
+                        .iter()
+                        .zip(&c.held)
+                        .filter(|(_, h)| **h)
+                        .map(|((k, _), _)| k.clone())
+                        .collect();
+                    let name = e.name().to_string();
+                    let free = effect_free(&mut model, &name, &held, full, false).ok()?;
+                    (Trial::Effect(name), free)
+                }
+                Correction::Aircraft(changes) => {
+                    let keys: Vec<&'static str> = changes.iter().map(|c| c.key).collect();
+                    let free = aircraft_free(&model, &keys).ok()?;
+                    (Trial::Aircraft(keys), free)
+                }
+            };
+            let theta = values(&model, &free);
+            let perturbed = perturbed_models(&model, &free, &theta);
+            Some(Fitting {
+                model,
+                trial,
+                free,
+                theta,
+                perturbed,
+            })
+        })
+        .collect();
+    let mut models: Vec<&Model> = vec![base];
+    models.extend(fittings.iter().map(|f| &f.model));
+    let results = compare_many(&models, full, None, |k, w, fit| {
+        (k > 0).then(|| {
+            let f = &fittings[k - 1];
+            window_normal(
+                &f.model,
+                &f.perturbed,
+                full,
+                w,
+                &Linearised::of(&f.model, fit),
+            )
+        })
+    });
+    let mut results = results.into_iter();
+    let Some((base_cmp, _)) = results.next() else {
+        unreachable!("compare_many returns one result per model");
+    };
+    let mut out = Vec::new();
+    for (f, (after, shares)) in fittings.into_iter().zip(results) {
+        let np = f.free.len();
+        let mut sum = (vec![0.0; np * np], vec![0.0; np]);
+        for share in shares.iter().flatten() {
+            add_into(&mut sum, share);
+        }
+        let (a, g) = sum;
+        let mut model = f.model;
+        let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
+        let mut m = a.clone();
+        if np > 0 && solve_in_place(&mut m, &mut step, np).is_some() {
+            let theta: Vec<f64> = f
+                .theta
+                .iter()
+                .zip(&step)
+                .zip(&f.free)
+                .map(|((t, s), p)| (t + s * p.scale).clamp(p.range.0, p.range.1))
+                .collect();
+            set_values(&mut model, &f.free, &theta);
+        }
+        let cov = (np > 0).then(|| covariance(&a, &f.free, &after)).flatten();
+        if let Ok(c) = make_candidate(
+            base, &model, &f.trial, &f.free, &base_cmp, &after, cov, cfg, candidates,
+        ) {
+            out.push(c);
+        }
+    }
+    (base_cmp, out)
+}
+
+/// Build the candidate's record from its fit.
+#[allow(clippy::too_many_arguments)]
+fn make_candidate(
+    base: &Model,
+    model: &Model,
+    trial: &Trial,
+    free: &[Free],
+    before: &Comparison,
+    after: &Comparison,
+    cov: Option<Vec<f64>>,
+    cfg: &DiagnoseConfig,
+    candidates: usize,
+) -> Result<Candidate, String> {
+    let np = free.len();
+    let sigma = |k: usize| cov.as_ref().map_or(f64::NAN, |c| c[k * np + k].sqrt());
+    let mut params = Vec::new();
+    let mut held = Vec::new();
+    let mut uncertainty = Vec::new();
+    let correction = match trial {
+        Trial::Effect(name) => {
+            let e = effect(model, name)
+                .map(|e| e.clone_box())
+                .ok_or_else(|| format!("effect `{name}` was not added"))?;
+            for p in e.params() {
+                params.push((p.name.to_string(), p.value));
+                let k = free.iter().position(|f| f.name == p.name);
+                held.push(k.is_none());
+                uncertainty.push(k.map_or(f64::NAN, sigma));
+            }
+            Correction::Effect(e)
+        }
+        Trial::Aircraft(keys) => {
+            let mut changes = Vec::new();
+            for (k, key) in keys.iter().enumerate() {
+                let value = model.aircraft(key).unwrap_or(f64::NAN);
+                params.push((key.to_string(), value));
+                held.push(false);
+                uncertainty.push(sigma(k));
+                changes.push(AircraftChange {
+                    key,
+                    was: base.aircraft(key).unwrap_or(f64::NAN),
+                    value,
+                });
+            }
+            Correction::Aircraft(changes)
+        }
+    };
+    let correlation = match &cov {
+        Some(c) => (0..np * np)
+            .map(|ik| {
+                let (i, k) = (ik / np, ik % np);
+                c[ik] / (c[i * np + i] * c[k * np + k]).sqrt()
+            })
+            .collect(),
+        None => Vec::new(),
+    };
+    let (nu_b, nu_a) = (before.noise_units(), after.noise_units());
+    let excess_removed = if nu_b > 1.0 {
+        ((nu_b - nu_a) / (nu_b - 1.0)).clamp(-1.5, 1.5)
+    } else {
+        0.0
+    };
+    let lr = if after.chi2 > 0.0 {
+        after.independent_residuals() * (before.chi2 / after.chi2).ln()
+    } else {
+        f64::INFINITY
+    };
+    let level = cfg.alpha / candidates.max(1) as f64;
+    let lr_critical = chi2_quantile(1.0 - level, np.max(1) as f64);
+    let significant = lr > lr_critical && after.chi2 < before.chi2 && excess_removed >= 0.2;
+    Ok(Candidate {
+        effect: trial.label(),
+        params,
+        held,
+        uncertainty,
+        correlation,
+        fitted: np,
+        error_before: before.total,
+        error_after: after.total,
+        error_reduction: if before.total > 0.0 {
+            (before.total - after.total) / before.total
+        } else {
+            0.0
+        },
+        noise_units_before: nu_b,
+        noise_units_after: nu_a,
+        excess_removed,
+        lr_statistic: lr,
+        lr_critical,
+        significant,
+        partial: significant && nu_a > cfg.at_floor,
+        windows: after.windows.len(),
+        correction,
+    })
+}
