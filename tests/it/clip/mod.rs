@@ -12,4 +12,5 @@ mod command;
 mod corpus;
 mod extra;
 mod reference;
+mod regress;
 mod seeds;
