@@ -19,6 +19,9 @@
 //! kinds. `scene_1m` transforms, clips and projects a 1 M-edge mesh through
 //! [`EdgeProjector`] (rayon on all cores, and on one thread for comparison).
 //!
+//! `clip-cached/*` repeat the homogeneous sets with their first 8 192 edges (cache-resident:
+//! the clippers' own cost, where `clip/*` at 1 M edges is bound by DRAM for the fast paths).
+//!
 //! `WIREFLIGHT_BENCH_EDGES` overrides the set size (e.g. 65536 for a quick run).
 
 use std::hint::black_box;
@@ -184,48 +187,63 @@ fn edges_count() -> usize {
         .unwrap_or(1 << 20)
 }
 
+/// One group: the copy reference, Blinn's batch, and the per-edge loop of every clipper in
+/// `clippers`, on the same edges.
+fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clippers: &[Clipper]) {
+    let volume = ClipVolume::new(DEPTH);
+    let soa = EdgesSoa::from_pairs(edges);
+    let mut g = c.benchmark_group(name);
+    configure(&mut g, edges.len());
+    // The bandwidth reference: the same 32 B per edge read and written.
+    let mut copy = EdgesSoa::from_pairs(edges);
+    g.bench_function("copy", |b| {
+        b.iter(|| {
+            for k in 0..4 {
+                copy.a[k].copy_from_slice(&soa.a[k]);
+                copy.c[k].copy_from_slice(&soa.c[k]);
+            }
+            black_box(&copy);
+        })
+    });
+    let mut out_soa = SegmentsSoa::default();
+    g.bench_function("blinn-batch", |b| {
+        b.iter(|| {
+            out_soa.clear();
+            clip_soa(black_box(&soa), DEPTH, &mut out_soa)
+        })
+    });
+    let mut out = Vec::with_capacity(edges.len());
+    for &clipper in clippers {
+        g.bench_function(clipper.name(), |b| {
+            b.iter(|| per_edge(edges, &mut out, |a, c| clipper.clip_in(a, c, &volume)))
+        });
+    }
+    g.finish();
+}
+
+/// Edges per set of the cache-resident groups: 256 KiB of input and at most 288 KiB of
+/// output, inside this machine's 1 MiB L2, so that the clippers' own cost shows instead of
+/// DRAM's.
+const CACHED_EDGES: usize = 8192;
+
 fn homogeneous(c: &mut Criterion) {
     let n = edges_count();
-    let volume = ClipVolume::new(DEPTH);
     for kind in ["inside", "outside", "crossing", "mixed", "flythrough"] {
         let edges = if kind == "flythrough" {
             flythrough(n)
         } else {
             set(kind, n)
         };
-        let soa = EdgesSoa::from_pairs(&edges);
         let mut tally = ClipStats::default();
         for &(a, b) in &edges {
             tally.record(&wireflight::clip::clip_edge(a, b, DEPTH));
         }
         eprintln!("{kind}: {tally}");
-        let mut g = c.benchmark_group(format!("clip/{kind}"));
-        configure(&mut g, edges.len());
-        // The bandwidth reference: the same 32 B per edge read and written.
-        let mut copy = EdgesSoa::from_pairs(&edges);
-        g.bench_function("copy", |b| {
-            b.iter(|| {
-                for k in 0..4 {
-                    copy.a[k].copy_from_slice(&soa.a[k]);
-                    copy.c[k].copy_from_slice(&soa.c[k]);
-                }
-                black_box(&copy);
-            })
-        });
-        let mut out_soa = SegmentsSoa::default();
-        g.bench_function("blinn-batch", |b| {
-            b.iter(|| {
-                out_soa.clear();
-                clip_soa(black_box(&soa), DEPTH, &mut out_soa)
-            })
-        });
-        let mut out = Vec::with_capacity(edges.len());
-        for clipper in Clipper::ALL {
-            g.bench_function(clipper.name(), |b| {
-                b.iter(|| per_edge(&edges, &mut out, |a, c| clipper.clip_in(a, c, &volume)))
-            });
-        }
-        g.finish();
+        homogeneous_group(c, &format!("clip/{kind}"), &edges, &Clipper::ALL);
+        // The same kind of edges, few enough to stay in cache: Blinn's batch against the
+        // per-edge Blinn where memory is not the limit.
+        let small: Vec<_> = edges.iter().copied().take(CACHED_EDGES).collect();
+        homogeneous_group(c, &format!("clip-cached/{kind}"), &small, &[Clipper::Blinn]);
     }
 }
 

@@ -9,10 +9,11 @@
 //! * Indexed meshes (the projector): [`vertex_code`] once per *vertex* (glam's SIMD compare of
 //!   `(x, y, z)` against `±w`, two movemasks), then per edge two byte loads, an OR and an AND
 //!   ([`clip_coded`]). A vertex shared by four edges is classified once instead of four times.
-//! * Flat edge lists in structure-of-arrays form ([`EdgesSoa`] → [`SegmentsSoa`]): eight edges
-//!   per step, the outcodes of all sixteen endpoints computed by straight-line code over
-//!   `[f32; 8]` lanes that the compiler turns into SIMD compares; a step whose eight edges are
-//!   all inside is copied out with no per-edge branch.
+//! * Flat edge lists in structure-of-arrays form ([`EdgesSoa`] → [`SegmentsSoa`]): blocks of
+//!   [`BLOCK`] edges; the codes of a block's endpoints come from one pass of straight-line
+//!   compares over the coordinate arrays, which the compiler turns into SIMD; a block that is
+//!   all inside is copied out whole (nine bulk copies), any other block is compacted through
+//!   a small staging area with no branch on the trivial outcomes.
 //!
 //! Why the outcodes can skip the boundary coordinates: `w + x < 0` (rounded in `f32`) holds
 //! exactly when `x < −w` (rounding keeps the sign of a sum, and a sum of two floats is zero
@@ -198,45 +199,71 @@ impl SegmentsSoa {
     }
 }
 
-/// Lanes per step of [`clip_soa`].
-pub const LANES: usize = 8;
+/// Edges per block of [`clip_soa`]: the codes of a block are computed in one vectorised pass,
+/// then the block is either copied out whole (all inside) or compacted edge by edge. 64 edges
+/// are 2 KiB of input and 2.3 KiB of staging, well inside L1, and make the per-block calls
+/// (nine `extend_from_slice`) cheap per edge.
+pub const BLOCK: usize = 64;
 
-/// Vertex codes of eight points given as coordinate lanes: straight-line code the compiler
-/// vectorises.
+/// The code of one point ([`vertex_code`] bit for bit) from its coordinates: straight-line
+/// compares that the compiler vectorises when called over slices.
 #[inline(always)]
 #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(w > 0)`: NaN is not in front either
-fn lane_codes<const ZERO_TO_ONE: bool>(
-    x: &[f32; LANES],
-    y: &[f32; LANES],
-    z: &[f32; LANES],
-    w: &[f32; LANES],
-) -> [u8; LANES] {
-    let mut code = [0u8; LANES];
-    for i in 0..LANES {
-        let (x, y, z, w) = (x[i], y[i], z[i], w[i]);
-        let near = if ZERO_TO_ONE { z < 0.0 } else { z < -w };
-        // |v| < ∞ is false for ±∞ and NaN.
-        let finite = x.abs() < f32::INFINITY
-            && y.abs() < f32::INFINITY
-            && z.abs() < f32::INFINITY
-            && w.abs() < f32::INFINITY;
-        code[i] = u8::from(x < -w)
-            | (u8::from(x > w) << 1)
-            | (u8::from(y < -w) << 2)
-            | (u8::from(y > w) << 3)
-            | (u8::from(near) << 4)
-            | (u8::from(z > w) << 5)
-            | (u8::from(!finite) << 6)
-            | (u8::from(!(w > 0.0)) << 7);
-    }
-    code
+fn point_code<const ZERO_TO_ONE: bool>(x: f32, y: f32, z: f32, w: f32) -> u8 {
+    let near = if ZERO_TO_ONE { z < 0.0 } else { z < -w };
+    // |v| < ∞ is false for ±∞ and NaN.
+    let finite = x.abs() < f32::INFINITY
+        && y.abs() < f32::INFINITY
+        && z.abs() < f32::INFINITY
+        && w.abs() < f32::INFINITY;
+    u8::from(x < -w)
+        | (u8::from(x > w) << 1)
+        | (u8::from(y < -w) << 2)
+        | (u8::from(y > w) << 3)
+        | (u8::from(near) << 4)
+        | (u8::from(z > w) << 5)
+        | (u8::from(!finite) << 6)
+        | (u8::from(!(w > 0.0)) << 7)
 }
 
+/// Codes of the points `(x[i], y[i], z[i], w[i])` into `out[i]` (all five the same length).
 #[inline(always)]
-fn lanes(v: &[f32], start: usize) -> &[f32; LANES] {
-    v[start..start + LANES]
-        .try_into()
-        .expect("a slice of LANES elements")
+fn codes_into<const ZERO_TO_ONE: bool>(p: [&[f32]; 4], out: &mut [u8]) {
+    let [x, y, z, w] = p;
+    for ((((o, &x), &y), &z), &w) in out.iter_mut().zip(x).zip(y).zip(z).zip(w) {
+        *o = point_code::<ZERO_TO_ONE>(x, y, z, w);
+    }
+}
+
+/// Whether every point `(x[i], y[i], z[i], w[i])` is inside the volume and in front of the
+/// eye, i.e. its [`vertex_code`] is 0: the block test of the trivial accept. One AND of eight
+/// compares per point, with no early exit (so it vectorises; a block is 64 points), and none
+/// of the packing of full codes. Finite follows: `w < ∞` and `|x|, |y|, |z| ≤ w`, and a NaN
+/// fails every compare.
+#[inline(always)]
+fn all_inside<const ZERO_TO_ONE: bool>(p: [&[f32]; 4]) -> bool {
+    let [x, y, z, w] = p;
+    let mut ok = true;
+    for (((&x, &y), &z), &w) in x.iter().zip(y).zip(z).zip(w) {
+        let near = if ZERO_TO_ONE { 0.0 } else { -w };
+        ok &= (x >= -w)
+            & (x <= w)
+            & (y >= -w)
+            & (y <= w)
+            & (z >= near)
+            & (z <= w)
+            & (w > 0.0)
+            & (w < f32::INFINITY);
+    }
+    ok
+}
+
+/// Staging for one block's surviving segments: written unconditionally at the next free slot
+/// (branch-free compaction), then appended to the output in nine calls.
+struct Staging {
+    a: [[f32; BLOCK]; 4],
+    c: [[f32; BLOCK]; 4],
+    edge: [u32; BLOCK],
 }
 
 /// Clip every edge of `edges` against the view volume, appending the visible segments to
@@ -271,88 +298,108 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
         DepthRange::NegOneToOne
     };
     let n = edges.len();
+    // One reservation per call: the loop below never reallocates.
     out.reserve(n);
     let mut stats = ClipStats {
         edges_in: n as u64,
         ..ClipStats::default()
     };
-    let [ax, ay, az, aw] = &edges.a;
-    let [cx, cy, cz, cw] = &edges.c;
-    let full = n - n % LANES;
+    let mut staging = Staging {
+        a: [[0.0; BLOCK]; 4],
+        c: [[0.0; BLOCK]; 4],
+        edge: [0; BLOCK],
+    };
+    let (mut ca, mut cc) = ([0u8; BLOCK], [0u8; BLOCK]);
     let mut start = 0;
-    while start < full {
-        let ca = lane_codes::<ZERO_TO_ONE>(
-            lanes(ax, start),
-            lanes(ay, start),
-            lanes(az, start),
-            lanes(aw, start),
-        );
-        let cc = lane_codes::<ZERO_TO_ONE>(
-            lanes(cx, start),
-            lanes(cy, start),
-            lanes(cz, start),
-            lanes(cw, start),
-        );
-        let mut any = 0u8;
-        for i in 0..LANES {
-            any |= ca[i] | cc[i];
-        }
-        if any == 0 {
-            // Eight edges inside and in front of the eye: copy them out as they are.
-            let end = start + LANES;
+    while start < n {
+        let end = n.min(start + BLOCK);
+        let m = end - start;
+        let a: [&[f32]; 4] = std::array::from_fn(|k| &edges.a[k][start..end]);
+        let c: [&[f32]; 4] = std::array::from_fn(|k| &edges.c[k][start..end]);
+        if all_inside::<ZERO_TO_ONE>(a) && all_inside::<ZERO_TO_ONE>(c) {
+            // The whole block is inside and in front of the eye: copy it out as it is.
             for k in 0..4 {
-                out.a[k].extend_from_slice(&edges.a[k][start..end]);
-                out.c[k].extend_from_slice(&edges.c[k][start..end]);
+                out.a[k].extend_from_slice(a[k]);
+                out.c[k].extend_from_slice(c[k]);
             }
             out.edge.extend(start as u32..end as u32);
-            stats.trivially_accepted += LANES as u64;
-        } else {
-            for i in 0..LANES {
-                lane(edges, start + i, ca[i], cc[i], depth, out, &mut stats);
-            }
+            stats.trivially_accepted += m as u64;
+            start = end;
+            continue;
         }
-        start += LANES;
-    }
-    for i in full..n {
-        let (a, c) = edges.get(i);
-        let (ca, cc) = (vertex_code(a, depth), vertex_code(c, depth));
-        lane(edges, i, ca, cc, depth, out, &mut stats);
+        codes_into::<ZERO_TO_ONE>(a, &mut ca[..m]);
+        codes_into::<ZERO_TO_ONE>(c, &mut cc[..m]);
+        // Every edge finite and both ends outside one plane: the block is counted, not read.
+        let all_rejected = ca[..m].iter().zip(&cc[..m]).fold(true, |acc, (&p, &q)| {
+            acc & ((p | q) & NON_FINITE == 0) & (p & q & OUTCODE_BITS != 0)
+        });
+        if all_rejected {
+            stats.trivially_rejected += m as u64;
+        } else {
+            compact_block(
+                &a, &c, &ca[..m], &cc[..m], start, depth, &mut staging, out, &mut stats,
+            );
+        }
+        start = end;
     }
     stats
 }
 
-#[inline(always)]
-fn lane(
-    edges: &EdgesSoa,
-    i: usize,
-    ca: u8,
-    cc: u8,
+/// One block with at least one edge not trivially accepted. Every edge is first written to
+/// the next staging slot and the slot kept only if the edge is accepted (no branch on the
+/// common outcomes, which are unpredictable in mixed data); the trivial drops are counted
+/// without branches too; only crossing edges, and NaN or `w ≤ 0` ones, take the scalar path
+/// ([`clip_coded`], the per-edge clipper's own code, so the results are bit-identical).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn compact_block(
+    a: &[&[f32]; 4],
+    c: &[&[f32]; 4],
+    ca: &[u8],
+    cc: &[u8],
+    start: usize,
     depth: DepthRange,
+    staging: &mut Staging,
     out: &mut SegmentsSoa,
     stats: &mut ClipStats,
 ) {
-    // The common drops first, without touching the coordinates again.
-    if (ca | cc) & NON_FINITE != 0 {
-        stats.non_finite += 1;
-        return;
-    }
-    if ca & cc & OUTCODE_BITS != 0 {
-        stats.trivially_rejected += 1;
-        return;
-    }
-    let (a, c) = edges.get(i);
-    let outcome = clip_coded(a, c, ca, cc, depth);
-    match outcome {
-        ClipOutcome::Accepted(p, q) => {
-            stats.trivially_accepted += 1;
-            out.push(i as u32, p, q);
+    let m = ca.len().min(cc.len()).min(BLOCK);
+    let mut kept = 0usize;
+    let (mut accepted, mut rejected) = (0u64, 0u64);
+    for i in 0..m {
+        let (either, both) = (ca[i] | cc[i], ca[i] & cc[i]);
+        for k in 0..4 {
+            staging.a[k][kept] = a[k][i];
+            staging.c[k][kept] = c[k][i];
         }
-        ClipOutcome::Clipped(p, q) => {
-            stats.clipped += 1;
-            out.push(i as u32, p, q);
+        staging.edge[kept] = (start + i) as u32;
+        let accept = either == 0;
+        // clip_coded's order: non-finite first, then both outside one plane.
+        let reject = either & NON_FINITE == 0 && both & OUTCODE_BITS != 0;
+        kept += usize::from(accept);
+        accepted += u64::from(accept);
+        rejected += u64::from(reject);
+        if !(accept || reject) {
+            let p = Vec4::new(a[0][i], a[1][i], a[2][i], a[3][i]);
+            let q = Vec4::new(c[0][i], c[1][i], c[2][i], c[3][i]);
+            let outcome = clip_coded(p, q, ca[i], cc[i], depth);
+            // Counted by the shared tally (edges_in was counted for the whole call).
+            stats.record(&outcome);
+            stats.edges_in -= 1;
+            if let Some((p, q)) = outcome.segment() {
+                for k in 0..4 {
+                    staging.a[k][kept] = p[k];
+                    staging.c[k][kept] = q[k];
+                }
+                kept += 1;
+            }
         }
-        ClipOutcome::ClippedAway => stats.clipped_away += 1,
-        ClipOutcome::Rejected => stats.trivially_rejected += 1,
-        ClipOutcome::NonFinite => stats.non_finite += 1,
     }
+    stats.trivially_accepted += accepted;
+    stats.trivially_rejected += rejected;
+    for k in 0..4 {
+        out.a[k].extend_from_slice(&staging.a[k][..kept]);
+        out.c[k].extend_from_slice(&staging.c[k][..kept]);
+    }
+    out.edge.extend_from_slice(&staging.edge[..kept]);
 }

@@ -47,10 +47,30 @@ fn random_edges(rng: &mut Rng, n: usize) -> Vec<(Vec4, Vec4)> {
 fn soa_batch_and_coded_path_match_the_per_edge_clipper_exactly() {
     let mut rng = Rng::new(0xBA7C);
     for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
-        // Lengths around the lane width, then a big batch.
-        for n in [0usize, 1, 7, 8, 9, 15, 16, 17, 100_003] {
+        // Lengths around the block size, then a big batch.
+        for n in [0usize, 1, 7, 8, 9, 63, 64, 65, 127, 128, 129, 100_003] {
             let edges = random_edges(&mut rng, n);
             check_batch(&edges, depth).unwrap_or_else(|e| panic!("{depth:?} n = {n}: {e}"));
+        }
+        // Blocks that are mostly inside with one edge of every other kind here and there:
+        // the compaction path, where an accepted edge's slot is kept and a dropped one's
+        // reused (a wrong slot count shows as shifted or stale segments).
+        for every in [2usize, 9, 64, 200] {
+            let odd = random_edges(&mut rng, 5000);
+            let edges: Vec<_> = (0..5000)
+                .map(|i| {
+                    if i % every == 0 {
+                        odd[i]
+                    } else {
+                        let t = (i % 97) as f32 / 97.0;
+                        (
+                            Vec4::new(t - 0.5, 0.2, 0.5, 1.0),
+                            Vec4::new(0.1, 0.5 - t, 0.25, 1.0),
+                        )
+                    }
+                })
+                .collect();
+            check_batch(&edges, depth).unwrap_or_else(|e| panic!("{depth:?} 1 in {every}: {e}"));
         }
         // All inside (the copy-out path) and all outside.
         let inside: Vec<_> = (0..1000)
