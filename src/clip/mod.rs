@@ -166,6 +166,7 @@ pub fn lerp_from_nearer(a: glam::DVec4, c: glam::DVec4, t: f64) -> glam::DVec4 {
 /// returned point with w > 0 divides to a point within the square. w ≤ 0 is left for the
 /// caller to drop.
 #[inline]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(w > 0)`: a NaN w is not in front either
 pub fn settle(p: Vec4, a: glam::DVec4, c: glam::DVec4, t: f64, depth: DepthRange) -> Vec4 {
     let within = |q: Vec4| {
         let slack = SETTLE_REL * f64::from(q.abs().max_element());
