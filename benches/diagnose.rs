@@ -7,6 +7,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 use wireflight::analysis::compare::{compare_prepared, CompareConfig, Prepared};
 use wireflight::analysis::diagnose::{diagnose, DiagnoseConfig};
+use wireflight::analysis::identify::{free_keys, identify, IdentifyConfig};
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
@@ -64,6 +65,52 @@ fn one_hour(c: &mut Criterion) {
     group.bench_function("diagnose (whole catalogue)", |b| {
         b.iter(|| diagnose(&model, &short, &[], &DiagnoseConfig::default()))
     });
+    group.finish();
+
+    // identify: two 45 s flight tests of an aircraft whose c_m_alpha and c_ell_p are off,
+    // every aerodynamic coefficient free (31 numbers).
+    let mut wrong = ModelSpec::baseline(VehicleKind::FixedWing);
+    wrong
+        .effects
+        .push(EffectSpec::parse("aircraft:c_m_alpha=-3.3").unwrap());
+    wrong
+        .effects
+        .push(EffectSpec::parse("aircraft:c_ell_p=-0.4").unwrap());
+    let wrong = wrong.build(Origin::default()).unwrap();
+    let flights: Vec<_> = [1, 2]
+        .map(|seed| {
+            simulate(
+                &wrong,
+                &SimSpec {
+                    noise: Noise {
+                        pos_m: 0.05,
+                        att_deg: 0.05,
+                        vel_mps: 0.05,
+                        rate_dps: 0.2,
+                    },
+                    seed,
+                    ..SimSpec::new(Manoeuvre::FlightTest, 45.0)
+                },
+            )
+            .unwrap()
+        })
+        .into();
+    let samples: usize = flights.iter().map(|f| f.len()).sum();
+    let mut group = c.benchmark_group("identify_2x45s_50hz");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(samples as u64));
+    for (label, patterns) in [
+        (
+            "2 numbers",
+            vec!["c_m_alpha".to_string(), "c_ell_p".to_string()],
+        ),
+        ("31 aerodynamic coefficients", Vec::new()),
+    ] {
+        let keys = free_keys(&patterns).unwrap();
+        group.bench_function(label, |b| {
+            b.iter(|| identify(&model, &flights, &keys, &IdentifyConfig::default()))
+        });
+    }
     group.finish();
 }
 

@@ -29,7 +29,8 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize) -> Option<()> {
         let piv =
             (col..n).max_by(|&i, &j| a[i * n + col].abs().total_cmp(&a[j * n + col].abs()))?;
         // Written so that a NaN pivot counts as singular.
-        if !(a[piv * n + col].abs() > tiny) {
+        let pivot = a[piv * n + col].abs();
+        if pivot.is_nan() || pivot <= tiny {
             return None;
         }
         if piv != col {
@@ -195,7 +196,7 @@ pub fn ln_gamma(x: f64) -> f64 {
 /// The regularised lower incomplete gamma function P(a, x) = γ(a, x)/Γ(a), a > 0, x ≥ 0: the
 /// series below a + 1, Lentz's continued fraction above (Numerical Recipes §6.2).
 pub fn gamma_p(a: f64, x: f64) -> f64 {
-    if !(a > 0.0) || x.is_nan() {
+    if a.is_nan() || a <= 0.0 || x.is_nan() {
         return f64::NAN;
     }
     if x <= 0.0 {

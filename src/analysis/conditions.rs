@@ -194,7 +194,7 @@ pub fn growth_exponent(
         .iter()
         .map(|w| w.t1 - w.t0 - origin_s)
         .fold(0.0f64, f64::max);
-    if !(span > 0.0) {
+    if span.is_nan() || span <= 0.0 {
         return None;
     }
     let mut sum = [0.0f64; BINS];

@@ -4,5 +4,7 @@
 pub mod compare;
 pub mod conditions;
 pub mod diagnose;
+pub mod identify;
 pub mod plots;
+pub(crate) mod profile;
 pub mod report;

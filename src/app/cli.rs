@@ -31,6 +31,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// Find which physical effect the model is missing, with evidence.
     Diagnose(DiagnoseArgs),
+    /// Fit many numbers of the aircraft's parameter set together over several flights.
+    Identify(IdentifyArgs),
     /// Fly through a wireframe world in a window (winit + wgpu, egui HUD).
     View(ViewArgs),
     /// Clip edges from a CSV file with a chosen algorithm (the clipping lab).
@@ -191,6 +193,54 @@ pub struct DiagnoseArgs {
     /// Add the winner and diagnose again until nothing significant is left.
     #[arg(long)]
     pub iterate: bool,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+const IDENTIFY_EXAMPLES: &str = "\
+Examples:
+  wireflight identify --flight a.csv --flight b.csv --free 'c_m_*,c_ell_p' --out identified.toml
+  wireflight identify --flight tests/data/jsbsim-c172p-doublets.csv \\
+      --flight tests/data/jsbsim-c172p-steps.csv \\
+      --validate tests/data/jsbsim-c172p-validation.csv --out c172p-identified.toml
+  wireflight compare --flight c.csv --aircraft identified.toml
+
+The numbers are fitted jointly by output error over every window of every flight (each
+window's start state estimated with them), pulled toward the starting set by a prior of
+relative width --prior, so that a number the flights do not determine stays where it was and
+is reported as not identified. An equation-error regression on the measured accelerations is
+tried as the starting point. The output is an ordinary parameter-set TOML.";
+
+/// `wireflight identify` options.
+#[derive(Debug, Args)]
+#[command(after_help = IDENTIFY_EXAMPLES)]
+pub struct IdentifyArgs {
+    /// Flight data (CSV); repeat for several flights. (`--data` is another spelling.)
+    #[arg(long, alias = "data", value_name = "FILE.csv", required = true)]
+    pub flight: Vec<std::path::PathBuf>,
+    /// The model to start from (its aircraft set is the prior's centre).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// How each flight is cut into windows.
+    #[command(flatten)]
+    pub windows: WindowArgs,
+    /// The numbers to fit, comma-separated keys or prefixes ending in `*` (`c_m_*,c_ell_p,
+    /// mass_kg`) [default: every aerodynamic coefficient].
+    #[arg(long, value_name = "K1,K2*,...", value_delimiter = ',')]
+    pub free: Vec<String>,
+    /// Relative width (1σ) of the prior toward the starting set.
+    #[arg(long, default_value_t = 0.3, value_parser = positive)]
+    pub prior: f64,
+    /// Held-out flights: their error before and after is printed (repeatable).
+    #[arg(long, value_name = "FILE.csv")]
+    pub validate: Vec<std::path::PathBuf>,
+    /// Skip the equation-error starting point.
+    #[arg(long)]
+    pub no_equation_error: bool,
+    /// Write the identified parameter set here (TOML).
+    #[arg(long, value_name = "FILE.toml")]
+    pub out: Option<std::path::PathBuf>,
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,

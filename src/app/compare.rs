@@ -189,7 +189,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         Some(_) => Table::new(["channel", "error", &format!("→ {label}")]),
         None => Table::new(["channel", "error"]),
     };
-    let rows: [(&str, fn(&Comparison) -> Option<f64>, &str); 4] = [
+    type Channel = fn(&Comparison) -> Option<f64>;
+    let rows: [(&str, Channel, &str); 4] = [
         ("position", |c| Some(c.channels.position_m), "m"),
         ("velocity", |c| c.channels.velocity_mps, "m/s"),
         ("attitude", |c| c.channels.attitude_deg, "°"),

@@ -7,6 +7,7 @@ pub mod cli;
 pub mod clip;
 pub mod compare;
 pub mod diagnose;
+pub mod identify;
 pub mod render;
 pub mod simulate;
 pub mod view;
@@ -33,6 +34,7 @@ where
         Command::Simulate(args) => simulate::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
+        Command::Identify(args) => identify::run(&args),
         Command::View(args) => view::run(&args),
         Command::Clip(args) => clip::run(&args),
     }

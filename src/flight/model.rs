@@ -424,8 +424,8 @@ impl Model {
         let k3 = self.derivative(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmd);
         let k4 = self.derivative(t + dt, &stage(x, &k3, dt), cmd);
         let mut out = x.0;
-        for i in 0..STATE_LEN {
-            out[i] += dt / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);
+        for (i, o) in out.iter_mut().enumerate() {
+            *o += dt / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);
         }
         let mut out = State(out);
         if let Some(s) = &lag {

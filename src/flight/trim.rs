@@ -107,7 +107,7 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
         }
     }
     let residual = norm(&r);
-    if !(residual < 1e-6) {
+    if residual.is_nan() || residual >= 1e-6 {
         return Err(format!(
             "no trim at {va} m/s (residual {residual:.2e}): the aircraft cannot hold that speed level"
         ));

@@ -47,14 +47,13 @@ pub fn builtin_plane() -> EdgeMesh {
         b.polygon(r).expect("finite constants");
     }
     for pair in rings.windows(2) {
-        for i in 0..HEX {
-            b.edge_between(pair[0][i], pair[1][i]).expect("finite");
+        for (&a, &c) in pair[0].iter().zip(&pair[1]) {
+            b.edge_between(a, c).expect("finite");
         }
     }
-    for i in 0..HEX {
-        b.edge_between(NOSE_TIP, rings[0][i]).expect("finite");
-        b.edge_between(rings[rings.len() - 1][i], TAIL_TIP)
-            .expect("finite");
+    for (&front, &back) in rings[0].iter().zip(&rings[rings.len() - 1]) {
+        b.edge_between(NOSE_TIP, front).expect("finite");
+        b.edge_between(back, TAIL_TIP).expect("finite");
     }
 
     // Propeller: a two-blade cross in front of the nose.

@@ -286,11 +286,17 @@ fn ground_effect_on_a_constant_height_pass_is_named_with_its_equals() {
         .chain(d.alternatives.iter().map(String::as_str))
         .collect();
     assert!(named.contains(&"ground_effect"), "{named:?}\n{text}");
-    assert!(named.len() >= 2, "the drag numbers are equal explanations: {text}");
+    assert!(
+        named.len() >= 2,
+        "the drag numbers are equal explanations: {text}"
+    );
     assert!(d.winner().unwrap().excess_removed >= 0.9, "{text}");
     // No other catalogue effect is among them: only drag numbers can stand in for it.
     for n in &named {
-        assert!(*n == "ground_effect" || n.starts_with("aircraft:"), "{n}: {text}");
+        assert!(
+            *n == "ground_effect" || n.starts_with("aircraft:"),
+            "{n}: {text}"
+        );
     }
     let shown = wireflight::analysis::report::diagnosis_text(&d);
     assert!(shown.contains("cannot tell them apart"), "{shown}");

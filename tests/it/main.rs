@@ -16,6 +16,7 @@ mod flight_data;
 mod flight_model;
 mod golden;
 mod gpu_backend;
+mod identify;
 mod independent;
 mod mesh_loaders;
 mod mk82;

@@ -46,7 +46,7 @@ fn mk82_reads_renders_and_simulates() {
         },
     );
     assert!(stats.drawn() > 50, "{stats}");
-    let image = cpu::render(&lines);
+    let image = cpu::render(lines);
     let lit = image
         .pixels
         .chunks_exact(4)

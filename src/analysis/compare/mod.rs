@@ -328,7 +328,7 @@ pub struct Prepared<'a> {
 fn cut_windows(time: &[f64], cfg: &CompareConfig) -> Vec<(usize, usize)> {
     let n = time.len();
     let mut windows: Vec<(usize, usize)> = Vec::new();
-    if n < 3 || !(cfg.window_s > 0.0) {
+    if n < 3 || cfg.window_s.is_nan() || cfg.window_s <= 0.0 {
         return windows;
     }
     let mut start = time.partition_point(|&t| t < time[0] + cfg.offset_s.max(0.0));

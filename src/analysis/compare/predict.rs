@@ -193,9 +193,9 @@ mod tests {
                         None => surfaces_of(&c[upto]),
                         Some(tau) => {
                             let mut s = surfaces_of(&c[0]);
-                            for i in 0..upto {
+                            for (i, ci) in c.iter().enumerate().take(upto) {
                                 let a = 1.0 - (-(data.time[i + 1] - data.time[i]) / tau).exp();
-                                s += a * (surfaces_of(&c[i]) - s);
+                                s += a * (surfaces_of(ci) - s);
                             }
                             s
                         }

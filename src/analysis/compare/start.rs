@@ -416,7 +416,8 @@ fn broyden_update(
     m: usize,
 ) {
     let dd: f64 = step.iter().map(|d| d * d).sum();
-    if !(dd > 0.0) {
+    // NaN as well as zero: no step to update with.
+    if dd.is_nan() || dd <= 0.0 {
         return;
     }
     for i in 0..m {

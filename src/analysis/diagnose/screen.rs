@@ -9,9 +9,10 @@
 
 use rayon::prelude::*;
 
-use super::fit::{Baseline, Linearised};
+use super::fit::Baseline;
 use crate::analysis::compare::start::{project_out, Scratch};
 use crate::analysis::compare::Prepared;
+use crate::analysis::profile::Linearised;
 use crate::flight::model::Model;
 use crate::flight::params::keys::{AircraftKey, KEYS};
 

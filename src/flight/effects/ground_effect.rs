@@ -24,7 +24,7 @@ impl Effect for GroundEffect {
         &INFO
     }
     fn induced_drag_factor(&self, s: &Sample) -> f64 {
-        if !(self.span > 0.0) {
+        if self.span.is_nan() || self.span <= 0.0 {
             return 1.0; // no wing, no ground effect (and no division by zero)
         }
         let x = 16.0 * (-s.pos_ned.z).max(0.0) / self.span;

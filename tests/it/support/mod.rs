@@ -92,7 +92,7 @@ pub fn assert_close_impl<T: MaxAbsDiff + fmt::Debug>(
 ) {
     let diff = actual.max_abs_diff(expected);
     // Written so that a NaN difference fails.
-    if !(diff <= tol) {
+    if diff.is_nan() || diff > tol {
         panic!(
             "values differ: {context}\n    actual:     {actual:?}\n    expected:   {expected:?}\n    \
              tolerance:  {tol:e}\n    difference: {diff:e} (max abs, component-wise)"

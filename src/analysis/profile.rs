@@ -1,0 +1,284 @@
+//! The misfit of a model on prepared flight data, profiled over every window's start state:
+//! the machinery shared by fitting one candidate (`diagnose::fit`) and identifying many
+//! numbers (`identify`).
+//!
+//! The profile is linearised around fitted starts (variable projection): the change of a
+//! window's residuals with a parameter, less what a change of the start could absorb. Normal
+//! equations are summed over windows in parallel; no window's Jacobian outlives its turn.
+
+use glam::DVec3;
+use rayon::prelude::*;
+
+use crate::analysis::compare::start::{params_of, project_out, state_of, Scratch, StartFit};
+use crate::analysis::compare::Prepared;
+use crate::flight::effects::Effect;
+use crate::flight::model::{Model, State};
+use crate::numeric::solve_in_place;
+
+/// The effect named `name` in `model`.
+pub(crate) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
+    model
+        .effects
+        .iter()
+        .find(|e| e.name() == name)
+        .map(|e| e.as_ref())
+}
+
+/// Whose number a fitted parameter is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Owner {
+    /// A parameter of the effect of that name.
+    Effect(&'static str),
+    /// A number of the aircraft's parameter set.
+    Aircraft,
+}
+
+/// A parameter being fitted: its name, range and typical size, and whose it is.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Free {
+    pub name: &'static str,
+    pub range: (f64, f64),
+    pub scale: f64,
+    pub owner: Owner,
+}
+
+/// Set the free parameters to `theta`, each kept inside its range.
+pub(crate) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
+    for (f, v) in free.iter().zip(theta) {
+        let v = v.clamp(f.range.0, f.range.1);
+        let _ = match f.owner {
+            Owner::Effect(name) => model
+                .effect_mut(name)
+                .map_or(Ok(()), |e| e.set_param(f.name, v)),
+            Owner::Aircraft => model.set_aircraft(f.name, v),
+        };
+    }
+}
+
+/// The current values of the free parameters.
+pub(crate) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
+    free.iter()
+        .map(|f| {
+            match f.owner {
+                Owner::Effect(name) => effect(model, name).and_then(|e| e.param(f.name)),
+                Owner::Aircraft => model.aircraft(f.name),
+            }
+            .unwrap_or(0.0)
+        })
+        .collect()
+}
+
+/// One window's start state and the linearisation of its residuals around it: what a change
+/// of the start can absorb (the columns of `jac`), projected out of every residual change.
+pub(crate) struct Linearised {
+    pub(crate) q: Vec<f64>,
+    surfaces: DVec3,
+    pub(crate) jac: Vec<f64>,
+    gram: Vec<f64>,
+    pub(crate) params: usize,
+}
+
+impl Linearised {
+    pub(crate) fn of(model: &Model, fit: &StartFit) -> Self {
+        let m = fit.residuals.len();
+        let np = fit.params;
+        let mut gram = vec![0.0; np * np];
+        if fit.jacobian.len() == np * m {
+            for a in 0..np {
+                for b in a..np {
+                    let v: f64 = fit.jacobian[a * m..(a + 1) * m]
+                        .iter()
+                        .zip(&fit.jacobian[b * m..(b + 1) * m])
+                        .map(|(u, w)| u * w)
+                        .sum();
+                    gram[a * np + b] = v;
+                    gram[b * np + a] = v;
+                }
+            }
+        }
+        Self {
+            q: params_of(model, &fit.state),
+            surfaces: fit.state.surfaces(),
+            jac: fit.jacobian.clone(),
+            gram,
+            params: np,
+        }
+    }
+
+    pub(crate) fn state(&self, model: &Model) -> State {
+        state_of(model, &self.q, self.surfaces)
+    }
+
+    /// Replace `r` by what no start change can absorb, r − J·(JᵀJ)⁻¹Jᵀr, and return the start
+    /// change that absorbs the rest, −(JᵀJ)⁻¹Jᵀr.
+    fn project(&self, r: &mut [f64]) -> Vec<f64> {
+        let (np, m) = (self.params, r.len());
+        if np == 0 || self.jac.len() != np * m {
+            return vec![0.0; np];
+        }
+        let mut y: Vec<f64> = (0..np)
+            .map(|a| {
+                self.jac[a * m..(a + 1) * m]
+                    .iter()
+                    .zip(r.iter())
+                    .map(|(u, v)| u * v)
+                    .sum()
+            })
+            .collect();
+        let mut g = self.gram.clone();
+        if solve_in_place(&mut g, &mut y, np).is_none() {
+            return vec![0.0; np];
+        }
+        for (a, ya) in y.iter().enumerate() {
+            for (v, j) in r.iter_mut().zip(&self.jac[a * m..(a + 1) * m]) {
+                *v -= ya * j;
+            }
+        }
+        y.iter().map(|v| -v).collect()
+    }
+}
+
+/// The profiled misfit in the linearisation: the projected residuals of every window at the
+/// model's parameters, their χ², and each window's start change.
+pub(crate) fn linear_profile(
+    model: &Model,
+    prep: &Prepared,
+    lin: &[Linearised],
+) -> (f64, Vec<Vec<f64>>) {
+    let parts: Vec<(f64, Vec<f64>)> = prep
+        .windows
+        .par_iter()
+        .zip(lin.par_iter())
+        .map(|(&w, l)| {
+            let mut scratch = Scratch::default();
+            let mut r = Vec::new();
+            prep.window_residuals(
+                model,
+                prep.fit_range(w),
+                &l.state(model),
+                &mut scratch,
+                &mut r,
+            );
+            let dq = l.project(&mut r);
+            (r.iter().map(|v| v * v).sum(), dq)
+        })
+        .collect();
+    let chi2 = parts.iter().map(|p| p.0).sum();
+    (chi2, parts.into_iter().map(|p| p.1).collect())
+}
+
+/// Forward-difference step of the parameters, in units of each one's scale.
+const PARAM_STEP: f64 = 0.01;
+
+/// The model with each free parameter in turn moved by one difference step.
+pub(crate) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> Vec<Model> {
+    (0..free.len())
+        .map(|j| {
+            let mut m = model.clone();
+            let mut t = theta.to_vec();
+            t[j] += PARAM_STEP * free[j].scale;
+            set_values(&mut m, free, &t);
+            m
+        })
+        .collect()
+}
+
+/// One window's share of the normal equations: A = D̃ᵀD̃ and g = D̃ᵀr, D̃ the change of the
+/// residuals per scaled parameter with the start directions projected out.
+pub(crate) fn window_normal(
+    model: &Model,
+    perturbed: &[Model],
+    prep: &Prepared,
+    window: (usize, usize),
+    l: &Linearised,
+) -> (Vec<f64>, Vec<f64>) {
+    let np = perturbed.len();
+    let span = prep.fit_range(window);
+    let mut scratch = Scratch::default();
+    let x = l.state(model);
+    let mut r = Vec::new();
+    prep.window_residuals(model, span, &x, &mut scratch, &mut r);
+    let m = r.len();
+    let mut cols = vec![0.0; np * m];
+    let mut rj = Vec::with_capacity(m);
+    for (j, pm) in perturbed.iter().enumerate() {
+        prep.window_residuals(pm, span, &x, &mut scratch, &mut rj);
+        for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(&r) {
+            *c = (a - b) / PARAM_STEP;
+        }
+    }
+    project_out(&l.jac, l.params, &mut cols, m);
+    let mut a = vec![0.0; np * np];
+    let mut g = vec![0.0; np];
+    for i in 0..np {
+        let ci = &cols[i * m..(i + 1) * m];
+        // D̃ is orthogonal to the start directions, so D̃ᵀr = D̃ᵀr̃.
+        g[i] = ci.iter().zip(&r).map(|(u, v)| u * v).sum();
+        for k in i..np {
+            let v: f64 = ci
+                .iter()
+                .zip(&cols[k * m..(k + 1) * m])
+                .map(|(u, v)| u * v)
+                .sum();
+            a[i * np + k] = v;
+            a[k * np + i] = v;
+        }
+    }
+    (a, g)
+}
+
+pub(crate) fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {
+    sum.0.iter_mut().zip(&part.0).for_each(|(s, v)| *s += v);
+    sum.1.iter_mut().zip(&part.1).for_each(|(s, v)| *s += v);
+}
+
+/// Normal equations of the profiled misfit in the scaled free parameters, summed over windows
+/// (see [`window_normal`]).
+pub(crate) fn normal_equations(
+    model: &Model,
+    free: &[Free],
+    theta: &[f64],
+    prep: &Prepared,
+    lin: &[Linearised],
+) -> (Vec<f64>, Vec<f64>) {
+    let np = free.len();
+    let perturbed = perturbed_models(model, free, theta);
+    let parts: Vec<(Vec<f64>, Vec<f64>)> = prep
+        .windows
+        .par_iter()
+        .zip(lin.par_iter())
+        .map(|(&w, l)| window_normal(model, &perturbed, prep, w, l))
+        .collect();
+    let mut sum = (vec![0.0; np * np], vec![0.0; np]);
+    for p in &parts {
+        add_into(&mut sum, p);
+    }
+    sum
+}
+
+/// Smallest typical size of an aircraft number that is zero in the set (a coefficient of 0:
+/// a change of 0.01 is already a large one for most).
+const AIRCRAFT_MIN_SCALE: f64 = 0.01;
+
+/// The aircraft numbers `keys` of `model` as free parameters, each scaled by a tenth of its
+/// value.
+pub(crate) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<Free>, String> {
+    keys.iter()
+        .map(|&k| {
+            let key = crate::flight::params::keys::find(k)
+                .ok_or_else(|| format!("unknown aircraft parameter `{k}`"))?;
+            let v = model
+                .aircraft(k)
+                .ok_or_else(|| format!("a point mass has no aircraft parameter `{k}`"))?;
+            Ok(Free {
+                name: key.name,
+                range: key.range,
+                scale: (0.1 * v.abs()).max(AIRCRAFT_MIN_SCALE),
+                owner: Owner::Aircraft,
+            })
+        })
+        .collect()
+}
+
+/// Stop fitting parameters when an iteration lowers χ² (in noise units) by less than this.
+pub(crate) const FIT_TOL: f64 = 0.01;

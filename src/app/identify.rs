@@ -1,0 +1,245 @@
+//! `wireflight identify`: many numbers of the aircraft's parameter set fitted together over
+//! several flights, checked on held-out ones, written as a parameter-set TOML.
+
+use anyhow::{bail, Context};
+use serde_json::json;
+
+use crate::analysis::compare::{compare, Prepared};
+use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
+use crate::analysis::identify::{free_keys, identify, Identification, IdentifyConfig};
+use crate::analysis::report::{fixed, fmt_number, model_label, signed, Table};
+use crate::app::cli::IdentifyArgs;
+use crate::flight::data::FlightData;
+use crate::flight::model::{Model, Vehicle};
+use crate::flight::params::keys;
+
+/// A held-out flight's error before and after, in noise units.
+struct Validation {
+    path: std::path::PathBuf,
+    before: f64,
+    after: f64,
+}
+
+/// Run `wireflight identify`.
+///
+/// # Errors
+/// Bad data, model or keys; a point mass; a flight too short for a window.
+pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
+    let flights: Vec<FlightData> = args
+        .flight
+        .iter()
+        .map(|p| crate::flight::data::read(p))
+        .collect::<Result<_, _>>()?;
+    let first = &args.flight[0];
+    let mut base = args.model.choice().build(first, &flights[0])?;
+    if !matches!(base.vehicle, Vehicle::FixedWing(_)) {
+        bail!("identify fits an aircraft's parameter set: the model is a point mass");
+    }
+    let cfg = IdentifyConfig {
+        compare: args.windows.config(base.vehicle.kind()),
+        prior: args.prior,
+        equation_error: !args.no_equation_error,
+        ..IdentifyConfig::default()
+    };
+    if !args.model.add.is_empty() {
+        let dcfg = DiagnoseConfig {
+            compare: cfg.compare,
+            ..DiagnoseConfig::default()
+        };
+        let prep = Prepared::new(&flights[0], cfg.compare);
+        add_fitted(&mut base, &prep, &args.model.add_specs()?, &dcfg)
+            .map_err(anyhow::Error::msg)?;
+    }
+    let free = free_keys(&args.free).map_err(anyhow::Error::msg)?;
+    let id = identify(&base, &flights, &free, &cfg).map_err(anyhow::Error::msg)?;
+    let validations: Vec<Validation> = args
+        .validate
+        .iter()
+        .map(|p| {
+            let d = crate::flight::data::read(p)?;
+            let before = compare(&base, &d, cfg.compare).noise_units();
+            let after = compare(&id.model, &d, cfg.compare).noise_units();
+            Ok(Validation {
+                path: p.clone(),
+                before,
+                after,
+            })
+        })
+        .collect::<anyhow::Result<_>>()?;
+    if let Some(out) = &args.out {
+        let Vehicle::FixedWing(p) = &id.model.vehicle else {
+            unreachable!("checked above: a fixed wing");
+        };
+        let names: Vec<String> = args
+            .flight
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
+        let comment = format!(
+            "Identified by `wireflight identify` from {} (numbers fitted: {}; the others as in the \
+             starting set).",
+            names.join(", "),
+            id.estimates
+                .iter()
+                .map(|e| e.key.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        crate::fsio::write_atomic(out, keys::to_toml(p, &comment).as_bytes())
+            .with_context(|| format!("writing {}", out.display()))?;
+    }
+    if args.json {
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&identification_json(&id, &validations))?
+        );
+        return Ok(());
+    }
+    print!(
+        "{}",
+        identification_text(args, &base, &flights, &id, &validations)
+    );
+    if let Some(out) = &args.out {
+        println!("  wrote {}", out.display());
+    }
+    Ok(())
+}
+
+fn identification_json(id: &Identification, validations: &[Validation]) -> serde_json::Value {
+    json!({
+        "estimates": id.estimates.iter().map(|e| json!({
+            "key": e.key.name,
+            "start": e.start,
+            "equation_error": e.equation_error,
+            "value": e.value,
+            "sigma": e.sigma,
+            "prior_sigma": e.prior_sigma,
+            "change_percent": e.change_percent(),
+            "identified": e.identified(),
+        })).collect::<Vec<_>>(),
+        "correlation": id.correlation,
+        "confounded": id.confounded().iter().map(|(i, k, c)| json!({
+            "keys": [id.estimates[*i].key.name, id.estimates[*k].key.name],
+            "correlation": c,
+        })).collect::<Vec<_>>(),
+        "started_from_equation_error": id.started_from_equation_error,
+        "flights": id.before.iter().zip(&id.after).map(|(b, a)| json!({
+            "noise_units_before": b.noise_units(),
+            "noise_units_after": a.noise_units(),
+            "total_before": b.total,
+            "total_after": a.total,
+        })).collect::<Vec<_>>(),
+        "validation": validations.iter().map(|v| json!({
+            "file": v.path.display().to_string(),
+            "noise_units_before": v.before,
+            "noise_units_after": v.after,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn identification_text(
+    args: &IdentifyArgs,
+    base: &Model,
+    flights: &[FlightData],
+    id: &Identification,
+    validations: &[Validation],
+) -> String {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    let seconds: f64 = flights.iter().map(FlightData::duration).sum();
+    let samples: usize = flights.iter().map(FlightData::len).sum();
+    let _ = writeln!(
+        out,
+        "identify: {} flight{} ({seconds:.1} s, {samples} samples); model {}; {} numbers free, \
+         prior ±{:.0}% of the set",
+        flights.len(),
+        if flights.len() == 1 { "" } else { "s" },
+        model_label(base),
+        id.estimates.len(),
+        100.0 * args.prior
+    );
+    let _ = writeln!(
+        out,
+        "  start of the output-error fit: {}",
+        if id.started_from_equation_error {
+            "the equation-error estimate (it fitted better than the set)"
+        } else {
+            "the set"
+        }
+    );
+    let mut t = Table::new([
+        "parameter",
+        "set",
+        "identified",
+        "±",
+        "change",
+        "determined",
+    ]);
+    for e in &id.estimates {
+        t.row([
+            e.key.name.to_string(),
+            fmt_number(e.start),
+            fmt_number(e.value),
+            fmt_number(e.sigma),
+            e.change_percent()
+                .map_or("n/a".to_string(), |c| format!("{}%", signed(c, 1))),
+            if e.identified() {
+                "yes".to_string()
+            } else {
+                "no".to_string()
+            },
+        ]);
+    }
+    out.push_str(&t.render(2));
+    let confounded = id.confounded();
+    if !confounded.is_empty() {
+        let pairs: Vec<String> = confounded
+            .iter()
+            .map(|(i, k, c)| {
+                format!(
+                    "{}/{} {}",
+                    id.estimates[*i].key.name,
+                    id.estimates[*k].key.name,
+                    signed(*c, 2)
+                )
+            })
+            .collect();
+        let _ = writeln!(
+            out,
+            "  not separable by these flights (|correlation| > {}): {}",
+            crate::analysis::identify::CONFOUNDED,
+            pairs.join(", ")
+        );
+    }
+    let not: Vec<&str> = id
+        .estimates
+        .iter()
+        .filter(|e| !e.identified())
+        .map(|e| e.key.name)
+        .collect();
+    if !not.is_empty() {
+        let _ = writeln!(
+            out,
+            "  not determined by these flights (σ > {}× the prior's; the prior holds them): {}",
+            crate::analysis::identify::IDENTIFIED,
+            not.join(", ")
+        );
+    }
+    let mut f = Table::new(["flight", "× noise before", "after"]);
+    for ((p, b), a) in args.flight.iter().zip(&id.before).zip(&id.after) {
+        f.row([
+            p.display().to_string(),
+            fixed(b.noise_units(), 2),
+            fixed(a.noise_units(), 2),
+        ]);
+    }
+    for v in validations {
+        f.row([
+            format!("{} (held out)", v.path.display()),
+            fixed(v.before, 2),
+            fixed(v.after, 2),
+        ]);
+    }
+    out.push_str(&f.render(2));
+    out
+}
