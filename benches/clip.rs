@@ -175,9 +175,6 @@ fn per_edge<P: Copy>(
 
 fn configure(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, n: usize) {
     g.throughput(Throughput::Elements(n as u64));
-    g.sample_size(10);
-    g.warm_up_time(Duration::from_millis(500));
-    g.measurement_time(Duration::from_secs(2));
 }
 
 fn edges_count() -> usize {
@@ -394,5 +391,15 @@ fn scene(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, homogeneous, planar, scene);
+// Short defaults (about 100 benchmarks); the command line overrides them, e.g.
+// `cargo bench --bench clip -- --warm-up-time 1 --measurement-time 3` (settings made on a
+// group would not be overridable).
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    targets = homogeneous, planar, scene
+}
 criterion_main!(benches);

@@ -310,13 +310,23 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
         edge: [0; BLOCK],
     };
     let (mut ca, mut cc) = ([0u8; BLOCK], [0u8; BLOCK]);
+    // Whether to try the compare-only test first: after a block that was all inside (scenes
+    // come in runs). After any other block the full codes are computed straight away, and
+    // they find an all-inside block too, so a run of them is noticed one block late.
+    let mut expect_inside = true;
     let mut start = 0;
     while start < n {
         let end = n.min(start + BLOCK);
         let m = end - start;
         let a: [&[f32]; 4] = std::array::from_fn(|k| &edges.a[k][start..end]);
         let c: [&[f32]; 4] = std::array::from_fn(|k| &edges.c[k][start..end]);
-        if all_inside::<ZERO_TO_ONE>(a) && all_inside::<ZERO_TO_ONE>(c) {
+        let inside = expect_inside && all_inside::<ZERO_TO_ONE>(a) && all_inside::<ZERO_TO_ONE>(c);
+        if !inside {
+            codes_into::<ZERO_TO_ONE>(a, &mut ca[..m]);
+            codes_into::<ZERO_TO_ONE>(c, &mut cc[..m]);
+        }
+        expect_inside = inside || ca[..m].iter().zip(&cc[..m]).all(|(&p, &q)| p | q == 0);
+        if expect_inside {
             // The whole block is inside and in front of the eye: copy it out as it is.
             for k in 0..4 {
                 out.a[k].extend_from_slice(a[k]);
@@ -327,8 +337,6 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
             start = end;
             continue;
         }
-        codes_into::<ZERO_TO_ONE>(a, &mut ca[..m]);
-        codes_into::<ZERO_TO_ONE>(c, &mut cc[..m]);
         // Every edge finite and both ends outside one plane: the block is counted, not read.
         let all_rejected = ca[..m].iter().zip(&cc[..m]).fold(true, |acc, (&p, &q)| {
             acc & ((p | q) & NON_FINITE == 0) & (p & q & OUTCODE_BITS != 0)
