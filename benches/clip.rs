@@ -1,18 +1,46 @@
-//! Blinn's clipper throughput, in edges per second, on a reproducible random edge set.
+//! The clipping lab's benchmarks: every algorithm on the same edge sets in one run, in edges
+//! per second, beside a memory-bandwidth reference measured in the same run.
 //!
-//! The set mixes the cases a real frame has, in fixed proportions: edges wholly inside the
-//! view volume (trivial accept), wholly outside one plane (trivial reject), crossing one or
-//! more planes (the t_in/t_out interval), and crossing the eye plane (one endpoint behind the
-//! eye, w < 0). A tiny xorshift generator with a fixed seed makes every run clip the same
-//! edges, so numbers are comparable between commits. Each benchmark also reports the mix's
-//! outcome tally once, so a change in the mix is visible.
+//! Homogeneous edge sets, 1 048 576 edges each (32 MiB of input, more than any cache here),
+//! made once from fixed seeds:
+//!
+//! * `inside`: every edge inside the volume (trivial accept);
+//! * `outside`: every edge outside one plane (trivial reject);
+//! * `crossing`: half inside, half crossing one to three planes;
+//! * `mixed`: 40% inside, 25% outside one plane, 25% crossing, 10% through the eye plane (the
+//!   set of the earlier benchmark);
+//! * `flythrough`: the clip-space edges of 40 frames of a flight around the window's world
+//!   (ground grid, hills, runway, structures, horizon), about 1 M edges.
+//!
+//! `copy` is a streaming copy of the same bytes (the eight coordinate arrays, 32 B per edge,
+//! into eight others): the bandwidth reference. `blinn-batch` is the structure-of-arrays
+//! path ([`wireflight::clip::batch::clip_soa`]); every other line is the straightforward
+//! per-edge loop (clip, tally, push the segment). 2D algorithms run on 2D sets of the same
+//! kinds. `scene_1m` transforms, clips and projects a 1 M-edge mesh through
+//! [`EdgeProjector`] (rayon on all cores, and on one thread for comparison).
+//!
+//! `clip-cached/*` repeat the homogeneous sets with their first 8 192 edges (cache-resident:
+//! the clippers' own cost, where `clip/*` at 1 M edges is bound by DRAM for the fast paths).
+//!
+//! `WIREFLIGHT_BENCH_EDGES` overrides the set size (e.g. 65536 for a quick run).
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use glam::Vec4;
+use std::hint::black_box;
+use std::time::Duration;
 
-use wireflight::clip::{clip_edge, ClipStats, DepthRange};
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
+use glam::{Mat4, Vec2, Vec3, Vec4};
 
-/// xorshift64*: deterministic, no dependency, good enough to spread test edges.
+use wireflight::camera::{Camera, Projection};
+use wireflight::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
+use wireflight::clip::{
+    cohen_sutherland, cyrus_beck, liang_barsky, nicholl_lee_nicholl, sutherland_hodgman,
+    ClipOutcome, ClipStats, ClipVolume, Clipper, DepthRange, Window2,
+};
+use wireflight::mesh::world::{World, WorldSpec};
+use wireflight::mesh::{EdgeMesh, EdgeMeshBuilder};
+use wireflight::pipeline::{EdgeProjector, Viewport};
+
+/// xorshift64*: deterministic, no dependency.
 struct Rng(u64);
 
 impl Rng {
@@ -20,95 +48,358 @@ impl Rng {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
-        let bits = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40; // 24 bits
+        let bits = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40;
         bits as f32 / (1u64 << 24) as f32
     }
-    /// Uniform in [lo, hi).
     fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.next_f32()
     }
 }
 
-/// A point inside the wgpu volume (−w ≤ x, y ≤ w, 0 ≤ z ≤ w), w in [0.5, 50).
+const DEPTH: DepthRange = DepthRange::ZeroToOne;
+
 fn inside(rng: &mut Rng) -> Vec4 {
     let w = rng.range(0.5, 50.0);
     Vec4::new(rng.range(-w, w), rng.range(-w, w), rng.range(0.0, w), w)
 }
 
-/// A point outside, scaled up to 4× beyond the side planes.
-fn outside(rng: &mut Rng) -> Vec4 {
-    let w = rng.range(0.5, 50.0);
-    let s = 4.0 * w;
-    let mut p = Vec4::new(
-        rng.range(-s, s),
-        rng.range(-s, s),
-        rng.range(-w, 2.0 * w),
-        w,
-    );
-    if p.x.abs() <= w && p.y.abs() <= w {
-        p.x += 2.0 * w; // push it out through the right plane
-    }
-    p
+fn beyond_right(rng: &mut Rng) -> Vec4 {
+    let p = inside(rng);
+    Vec4::new(p.w * rng.range(1.01, 4.0), p.y, p.z, p.w)
 }
 
-/// A point behind the eye (w < 0).
+fn crossing(rng: &mut Rng) -> (Vec4, Vec4) {
+    let a = inside(rng);
+    let mut c = inside(rng);
+    let k = rng.range(1.05, 3.0);
+    c.x = c.w * k;
+    if rng.next_f32() < 0.5 {
+        c.y = -c.w * k;
+    }
+    if rng.next_f32() < 0.3 {
+        c.z = c.w * k;
+    }
+    (a, c)
+}
+
 fn behind(rng: &mut Rng) -> Vec4 {
-    let w = -rng.range(0.1, 20.0);
     Vec4::new(
         rng.range(-20.0, 20.0),
         rng.range(-20.0, 20.0),
         rng.range(-20.0, 20.0),
-        w,
+        -rng.range(0.1, 20.0),
     )
 }
 
-/// 40% inside, 25% outside the same plane, 25% crossing, 10% through the eye plane.
-fn edge_set(n: usize) -> Vec<(Vec4, Vec4)> {
+fn set(kind: &str, n: usize) -> Vec<(Vec4, Vec4)> {
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15);
     (0..n)
-        .map(|i| match i % 20 {
-            0..=7 => (inside(&mut rng), inside(&mut rng)),
-            8..=12 => {
-                // Both beyond x = w: trivially rejected.
-                let (a, c) = (outside(&mut rng), outside(&mut rng));
-                (
-                    Vec4::new(a.w + 1.0 + a.x.abs(), a.y, a.z, a.w),
-                    Vec4::new(c.w + 1.0 + c.x.abs(), c.y, c.z, c.w),
-                )
-            }
-            13..=17 => (inside(&mut rng), outside(&mut rng)),
-            _ => (inside(&mut rng), behind(&mut rng)),
+        .map(|i| match kind {
+            "inside" => (inside(&mut rng), inside(&mut rng)),
+            "outside" => (beyond_right(&mut rng), beyond_right(&mut rng)),
+            "crossing" if i % 2 == 0 => (inside(&mut rng), inside(&mut rng)),
+            "crossing" => crossing(&mut rng),
+            _ => match i % 20 {
+                0..=7 => (inside(&mut rng), inside(&mut rng)),
+                8..=12 => (beyond_right(&mut rng), beyond_right(&mut rng)),
+                13..=17 => crossing(&mut rng),
+                _ => (inside(&mut rng), behind(&mut rng)),
+            },
         })
         .collect()
 }
 
-fn clipper(c: &mut Criterion) {
-    const N: usize = 100_000;
-    let edges = edge_set(N);
-    let mut group = c.benchmark_group("blinn_clip");
-    group.throughput(Throughput::Elements(N as u64));
-    for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
-        let mut tally = ClipStats::default();
-        for &(a, b) in &edges {
-            tally.record(&clip_edge(a, b, depth));
+/// Clip-space edges of 40 frames circling the world at 120 m.
+fn flythrough(target: usize) -> Vec<(Vec4, Vec4)> {
+    let world = World::new(&WorldSpec::default());
+    let far = 12_000.0;
+    let mut edges = Vec::with_capacity(target);
+    let mut frame = 0;
+    while edges.len() < target {
+        let a = frame as f32 * 0.157;
+        let eye = Vec3::new(900.0 * a.cos(), 900.0 * a.sin(), 120.0);
+        let ahead = Vec3::new(-a.sin(), a.cos(), -0.15);
+        let camera = Camera {
+            eye,
+            target: eye + ahead,
+            up: Vec3::Z,
+            projection: Projection::Perspective {
+                fov_y: 55f32.to_radians(),
+                near: 0.5,
+                far,
+            },
+        };
+        let m = camera.clip_from_world(16.0 / 9.0, DEPTH);
+        let horizon = m * Mat4::from_translation(eye) * Mat4::from_scale(Vec3::splat(0.95 * far));
+        for (mesh, mm) in [
+            (&world.grid, m),
+            (&world.hills, m),
+            (&world.runway, m),
+            (&world.structures, m),
+            (&world.horizon, horizon),
+        ] {
+            let clip: Vec<Vec4> = mesh
+                .positions()
+                .iter()
+                .map(|p| mm * p.extend(1.0))
+                .collect();
+            edges.extend(
+                mesh.edges()
+                    .iter()
+                    .map(|&[i, j]| (clip[i as usize], clip[j as usize])),
+            );
         }
-        eprintln!("{depth:?} mix: {tally:?}");
-        group.bench_function(format!("{depth:?}: mixed edges"), |b| {
-            b.iter(|| {
-                let mut stats = ClipStats::default();
-                for &(a, c) in &edges {
-                    stats.record(&clip_edge(
-                        std::hint::black_box(a),
-                        std::hint::black_box(c),
-                        depth,
-                    ));
-                }
-                stats
-            })
-        });
+        frame += 1;
     }
-    group.finish();
+    edges.truncate(target);
+    edges
 }
 
-criterion_group!(benches, clipper);
+/// The straightforward per-edge loop: clip, tally, keep the segment.
+fn per_edge<P: Copy>(
+    edges: &[(P, P)],
+    out: &mut Vec<(P, P)>,
+    clip: impl Fn(P, P) -> ClipOutcome<P>,
+) -> ClipStats {
+    out.clear();
+    let mut stats = ClipStats::default();
+    for &(a, c) in edges {
+        let o = clip(black_box(a), black_box(c));
+        stats.record(&o);
+        if let Some(s) = o.segment() {
+            out.push(s);
+        }
+    }
+    stats
+}
+
+fn configure(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, n: usize) {
+    g.throughput(Throughput::Elements(n as u64));
+}
+
+fn edges_count() -> usize {
+    std::env::var("WIREFLIGHT_BENCH_EDGES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1 << 20)
+}
+
+/// One group: the copy reference, Blinn's batch, and the per-edge loop of every clipper in
+/// `clippers`, on the same edges.
+fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clippers: &[Clipper]) {
+    let volume = ClipVolume::new(DEPTH);
+    let soa = EdgesSoa::from_pairs(edges);
+    let mut g = c.benchmark_group(name);
+    configure(&mut g, edges.len());
+    // The bandwidth reference: the same 32 B per edge read and written.
+    let mut copy = EdgesSoa::from_pairs(edges);
+    g.bench_function("copy", |b| {
+        b.iter(|| {
+            for k in 0..4 {
+                copy.a[k].copy_from_slice(&soa.a[k]);
+                copy.c[k].copy_from_slice(&soa.c[k]);
+            }
+            black_box(&copy);
+        })
+    });
+    let mut out_soa = SegmentsSoa::default();
+    g.bench_function("blinn-batch", |b| {
+        b.iter(|| {
+            out_soa.clear();
+            clip_soa(black_box(&soa), DEPTH, &mut out_soa)
+        })
+    });
+    let mut out = Vec::with_capacity(edges.len());
+    for &clipper in clippers {
+        g.bench_function(clipper.name(), |b| {
+            b.iter(|| per_edge(edges, &mut out, |a, c| clipper.clip_in(a, c, &volume)))
+        });
+    }
+    g.finish();
+}
+
+/// Edges per set of the cache-resident groups: 256 KiB of input and at most 288 KiB of
+/// output, inside this machine's 1 MiB L2, so that the clippers' own cost shows instead of
+/// DRAM's.
+const CACHED_EDGES: usize = 8192;
+
+fn homogeneous(c: &mut Criterion) {
+    let n = edges_count();
+    for kind in ["inside", "outside", "crossing", "mixed", "flythrough"] {
+        let edges = if kind == "flythrough" {
+            flythrough(n)
+        } else {
+            set(kind, n)
+        };
+        let mut tally = ClipStats::default();
+        for &(a, b) in &edges {
+            tally.record(&wireflight::clip::clip_edge(a, b, DEPTH));
+        }
+        eprintln!("{kind}: {tally}");
+        homogeneous_group(c, &format!("clip/{kind}"), &edges, &Clipper::ALL);
+        // The same kind of edges, few enough to stay in cache: Blinn's batch against the
+        // per-edge Blinn where memory is not the limit.
+        let small: Vec<_> = edges.iter().copied().take(CACHED_EDGES).collect();
+        homogeneous_group(c, &format!("clip-cached/{kind}"), &small, &[Clipper::Blinn]);
+    }
+}
+
+fn planar_set(kind: &str, n: usize) -> Vec<(Vec2, Vec2)> {
+    let mut rng = Rng(0x2D2D_2D2D_1234_5678);
+    let inside = |rng: &mut Rng| Vec2::new(rng.range(30.0, 220.0), rng.range(50.0, 240.0));
+    (0..n)
+        .map(|i| match kind {
+            "inside" => (inside(&mut rng), inside(&mut rng)),
+            "outside" => (
+                Vec2::new(rng.range(230.0, 900.0), rng.range(-500.0, 800.0)),
+                Vec2::new(rng.range(230.0, 900.0), rng.range(-500.0, 800.0)),
+            ),
+            _ if i % 2 == 0 => (inside(&mut rng), inside(&mut rng)),
+            _ => (
+                inside(&mut rng),
+                Vec2::new(rng.range(-400.0, 700.0), rng.range(260.0, 900.0)),
+            ),
+        })
+        .collect()
+}
+
+fn planar(c: &mut Criterion) {
+    let n = edges_count();
+    let w = Window2::from_lrbt(30.0, 220.0, 50.0, 240.0).unwrap();
+    let corners = w.corners();
+    let polygon = cyrus_beck::ConvexPolygon::new(&corners).unwrap();
+    for kind in ["inside", "outside", "crossing"] {
+        let edges = planar_set(kind, n);
+        let mut g = c.benchmark_group(format!("clip2d/{kind}"));
+        configure(&mut g, edges.len());
+        let src: Vec<f32> = edges
+            .iter()
+            .flat_map(|(a, b)| [a.x, a.y, b.x, b.y])
+            .collect();
+        let mut dst = src.clone();
+        g.bench_function("copy", |b| {
+            b.iter(|| {
+                dst.copy_from_slice(&src);
+                black_box(&dst);
+            })
+        });
+        let mut out = Vec::with_capacity(edges.len());
+        type Planar<'a> = &'a dyn Fn(Vec2, Vec2) -> ClipOutcome<Vec2>;
+        let algos: [(&str, Planar<'_>); 5] = [
+            ("cohen-sutherland", &|a, b| {
+                cohen_sutherland::clip_2d(a, b, &w)
+            }),
+            ("liang-barsky", &|a, b| liang_barsky::clip_2d(a, b, &w)),
+            ("cyrus-beck", &|a, b| {
+                cyrus_beck::clip_polygon(a, b, &polygon)
+            }),
+            ("nicholl-lee-nicholl", &|a, b| {
+                nicholl_lee_nicholl::clip_2d(a, b, &w)
+            }),
+            ("sutherland-hodgman", &|a, b| {
+                sutherland_hodgman::clip_edge_2d(a, b, &w)
+            }),
+        ];
+        for (name, f) in algos {
+            g.bench_function(name, |b| b.iter(|| per_edge(&edges, &mut out, f)));
+        }
+        g.finish();
+    }
+}
+
+/// A mesh of about 1 M edges: the world's grid, hills and structures tiled.
+fn million_edge_mesh() -> EdgeMesh {
+    let world = World::new(&WorldSpec::default());
+    let mut b = EdgeMeshBuilder::new();
+    let mut k = 0;
+    while b.edge_count() < 1_000_000 {
+        let off = Vec3::new(
+            10_000.0 * (k % 7) as f32 - 30_000.0,
+            10_000.0 * (k / 7) as f32 - 30_000.0,
+            0.0,
+        );
+        for mesh in [&world.grid, &world.hills, &world.structures] {
+            for &[i, j] in mesh.edges() {
+                let (p, q) = (mesh.positions()[i as usize], mesh.positions()[j as usize]);
+                b.edge_between(p + off, q + off).expect("finite");
+            }
+        }
+        k += 1;
+    }
+    b.build().expect("edges")
+}
+
+fn scene(c: &mut Criterion) {
+    let mesh = million_edge_mesh();
+    let viewport = Viewport {
+        width: 1280,
+        height: 720,
+    };
+    let camera = Camera {
+        eye: Vec3::new(-2000.0, -1500.0, 400.0),
+        target: Vec3::new(3000.0, 2000.0, 0.0),
+        up: Vec3::Z,
+        projection: Projection::Perspective {
+            fov_y: 60f32.to_radians(),
+            near: 1.0,
+            far: 60_000.0,
+        },
+    };
+    let m = camera.clip_from_world(viewport.aspect(), DEPTH);
+    let mut out = Vec::with_capacity(mesh.edges().len());
+    let mut projector = EdgeProjector::new(Clipper::Blinn, DEPTH);
+    out.clear();
+    eprintln!(
+        "scene_1m: {} edges, {} vertices: {}",
+        mesh.edges().len(),
+        mesh.positions().len(),
+        projector.project(&mesh, m, viewport, &mut out)
+    );
+    let mut g = c.benchmark_group("scene_1m");
+    configure(&mut g, mesh.edges().len());
+    g.bench_function(
+        format!(
+            "transform+clip+project, blinn, {} threads",
+            rayon::current_num_threads()
+        ),
+        |b| {
+            b.iter(|| {
+                out.clear();
+                projector.project(&mesh, m, viewport, &mut out)
+            })
+        },
+    );
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .expect("pool");
+    g.bench_function("transform+clip+project, blinn, 1 thread", |b| {
+        b.iter(|| {
+            one.install(|| {
+                out.clear();
+                projector.project(&mesh, m, viewport, &mut out)
+            })
+        })
+    });
+    let mut slow = EdgeProjector::new(Clipper::CohenSutherland, DEPTH);
+    g.bench_function("transform+clip+project, cohen-sutherland (per edge)", |b| {
+        b.iter(|| {
+            out.clear();
+            slow.project(&mesh, m, viewport, &mut out)
+        })
+    });
+    g.finish();
+}
+
+// Short defaults (about 100 benchmarks); the command line overrides them, e.g.
+// `cargo bench --bench clip -- --warm-up-time 1 --measurement-time 3` (settings made on a
+// group would not be overridable).
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    targets = homogeneous, planar, scene
+}
 criterion_main!(benches);

@@ -12,6 +12,7 @@ pub mod analysis;
 pub mod app;
 pub mod camera;
 pub mod clip;
+pub mod clip_io;
 pub mod euler;
 pub mod flight;
 pub mod fsio;

@@ -39,6 +39,8 @@ pub enum Command {
     /// Euler angles in any of the 24 conventions: matrices, quaternions, conversions, and
     /// pictures of the rotations, gimbal lock and interpolation.
     Euler(EulerArgs),
+    /// Clip edges from a CSV file with a chosen algorithm (the clipping lab).
+    Clip(crate::app::clip::ClipArgs),
 }
 
 /// Which model to run against data (shared by compare and diagnose).
@@ -266,6 +268,8 @@ Examples:
   wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
   wireflight render --flight test.csv --frames-dir frames --fps 10   # replay a flight
+  wireflight render --clip-plane 0,1,0,0 --out left-half.png   # cut-away: keep y >= 0 (body axes)
+  wireflight render --mesh cube.obj --hidden-line --out cube.png    # back faces culled
 
 Angles are z-y-x Tait-Bryan in degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll), about the body axes
 nose +X, left wing +Y, rudder +Z (Z up): positive yaw turns the nose left, positive pitch
@@ -331,9 +335,42 @@ pub struct RenderArgs {
     /// Frames per second of flight time for the replay.
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub fps: f64,
-    /// The line clipper.
+    /// The line clipper: blinn, cohen-sutherland, liang-barsky, cyrus-beck or
+    /// sutherland-hodgman (all draw the same picture).
     #[arg(long, default_value = "blinn", value_name = "NAME")]
     pub clipper: Clipper,
+    /// Extra clip plane for a cut-away view, `A,B,C,D` in the model's body axes (nose +X,
+    /// left wing +Y, up +Z; metres): keeps the part where A·x + B·y + C·z + D ≥ 0, fixed to
+    /// the model at any attitude. Repeatable (at most 8), e.g. `--clip-plane 0,1,0,0` keeps
+    /// the left half.
+    #[arg(long = "clip-plane", value_name = "A,B,C,D", allow_hyphen_values = true, value_parser = parse_plane)]
+    pub clip_plane: Vec<[f32; 4]>,
+    /// Hidden-line drawing of a closed mesh with faces (OBJ, glTF): only edges of faces
+    /// turned toward the eye are drawn (back-face culling).
+    #[arg(long)]
+    pub hidden_line: bool,
+}
+
+/// Parse a plane `A,B,C,D` (four finite numbers, not all of A, B, C zero).
+pub fn parse_plane(s: &str) -> Result<[f32; 4], String> {
+    let parts: Vec<&str> = s.split(',').collect();
+    let [a, b, c, d] = parts[..] else {
+        return Err(format!("`{s}` is not A,B,C,D (four numbers, e.g. 0,1,0,0)"));
+    };
+    let mut v = [0f32; 4];
+    for (slot, t) in v.iter_mut().zip([a, b, c, d]) {
+        let x = finite_f64(t.trim())?;
+        if x.abs() > f64::from(f32::MAX) {
+            return Err(format!("`{t}` is out of range"));
+        }
+        *slot = x as f32;
+    }
+    if v[..3] == [0.0; 3] {
+        return Err(format!(
+            "`{s}`: A, B and C are all zero, so it is not a plane"
+        ));
+    }
+    Ok(v)
 }
 
 const SIMULATE_EXAMPLES: &str = "\
@@ -455,6 +492,8 @@ Keys (always):
                    (three rings nested in sequence order, coloured like the angles) around
                    the aircraft and three sliders, which show the attitude's angles or,
                    once moved, set it
+  K                cycle line clippers: blinn → cohen-sutherland → liang-barsky →
+                   cyrus-beck → sutherland-hodgman (HUD: counts and time per frame)
   Space            pause / resume
   R                reset (flight, trail and cameras back to the start)
   H or F1          help overlay on / off

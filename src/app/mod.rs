@@ -4,6 +4,7 @@
 //! name; the process then exits with status 2.
 
 pub mod cli;
+pub mod clip;
 pub mod compare;
 pub mod diagnose;
 pub mod euler;
@@ -37,6 +38,7 @@ where
         Command::Identify(args) => identify::run(&args),
         Command::View(args) => view::run(&args),
         Command::Euler(args) => euler::run(&args),
+        Command::Clip(args) => clip::run(&args),
     }
 }
 

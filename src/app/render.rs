@@ -4,13 +4,14 @@
 use anyhow::Context;
 
 use crate::app::cli::{ProjectionArg, RenderArgs};
-use crate::clip::DepthRange;
+use crate::clip::{DepthRange, PlaneSet};
 use crate::euler::EulerZyx;
 use crate::output::{write_frames, write_still};
 use crate::pipeline::Viewport;
 use crate::render::{OutputFormat, Rasterizer};
 use crate::scene::replay::ReplayScene;
 use crate::scene::{frame, ViewSpec};
+use glam::Vec4;
 
 /// Run `wireflight render`.
 ///
@@ -44,6 +45,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     let out = args.out.as_deref().context("--out is required")?;
+    let mut clip_planes = PlaneSet::EMPTY;
+    for p in &args.clip_plane {
+        clip_planes
+            .push(Vec4::from_array(*p))
+            .with_context(|| format!("--clip-plane {p:?}"))?;
+    }
+    if args.hidden_line && mesh.faces().is_empty() {
+        anyhow::bail!(
+            "--hidden-line needs a mesh with faces (an OBJ or glTF model); `{}` has only edges",
+            args.mesh
+        );
+    }
     let spec = ViewSpec {
         attitude: EulerZyx::from_degrees(args.yaw, args.pitch, args.roll),
         camera: args.camera.into(),
@@ -53,6 +66,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         depth: DepthRange::ZeroToOne,
         pan: args.pan,
         clipper: args.clipper,
+        clip_planes,
+        hidden_line: args.hidden_line,
     };
     let (scene, stats) = frame(&mesh, &spec);
     // Only a raster image needs a rasterizer (and the GPU's start-up).

@@ -1,4 +1,5 @@
-//! Clipping edges against the canonical view volume in homogeneous clip space.
+//! Clipping edges against the canonical view volume in homogeneous clip space, and the
+//! clipping lab: every line clipper of the seed lectures, one file each, over shared types.
 //!
 //! Clip space is what the projection matrix produces: a point `(x, y, z, w)` is visible when
 //!
@@ -11,20 +12,53 @@
 //! Every inequality above implies w ≥ 0, so points behind the eye are outside by construction.
 //!
 //! What every clipper shares lives here: the depth convention, the boundary coordinates and
-//! outcodes, the outcome of clipping one edge ([`ClipOutcome`]) and the tally of a batch
-//! ([`ClipStats`]). Each algorithm is one file; [`Clipper`] names them, and the projector
-//! ([`crate::pipeline::EdgeProjector`]) carries the choice. Drawing uses Blinn's ([`blinn`]).
-//! Pure math: no I/O, no allocation.
+//! outcodes, the outcome of clipping one edge ([`ClipOutcome`], in clip space or in 2D) and
+//! the tally of a batch ([`ClipStats`]); the 2D window ([`Window2`]) and the volume with extra
+//! planes ([`ClipVolume`]). Each algorithm is one file:
+//!
+//! | file | algorithm | 2D window | homogeneous (draws) | other |
+//! |---|---|---|---|---|
+//! | [`blinn`] | Blinn: BCs, outcodes, `[t_in, t_out]` | — | yes | [`batch`]: SoA fast path |
+//! | [`cohen_sutherland`] | outcodes, iterative chopping | yes | yes | |
+//! | [`liang_barsky`] | parametric `p_k t ≤ q_k` | yes | yes | 3D box |
+//! | [`cyrus_beck`] | parametric, any convex region | any convex polygon | yes | convex polyhedron |
+//! | [`nicholl_lee_nicholl`] | regions from rays through the corners | yes | — | |
+//! | [`sutherland_hodgman`] | polygon against one plane at a time | polygons, lines | polygons, lines | |
+//!
+//! [`Clipper`] names those that can draw a frame; the projector
+//! ([`crate::pipeline::EdgeProjector`]) carries the choice. [`cull`] has the "other ways to
+//! reject": bounding spheres against the frustum and back faces.
+//!
+//! # The shared contract
+//!
+//! Every clipper: never panics, never allocates, returns [`ClipOutcome::NonFinite`] for a NaN
+//! or infinite coordinate, counts a point on a boundary as inside, returns an edge whose
+//! endpoints are both inside *unchanged* ([`ClipOutcome::Accepted`]), keeps the direction
+//! A→C, computes crossings in `f64` from the original `f32` input, and (homogeneous) returns
+//! only segments with w > 0 at both ends. Drops are [`ClipOutcome::Rejected`] when no
+//! intersection was computed (trivial reject) and [`ClipOutcome::ClippedAway`] otherwise, so
+//! the tallies show what each algorithm spent. Pure math: no I/O.
 
+pub mod batch;
 pub mod blinn;
+pub mod cohen_sutherland;
+pub mod cull;
+pub mod cyrus_beck;
+pub mod liang_barsky;
+pub mod nicholl_lee_nicholl;
+pub mod sutherland_hodgman;
+mod volume;
+mod window;
 
 pub use blinn::clip_edge;
+pub use volume::{view_plane, ClipVolume, PlaneError, PlaneSet, MAX_USER_PLANES};
+pub use window::{Window2, EDGE_COUNT};
 
 use std::fmt;
 use std::ops::{Add, Sub};
 use std::str::FromStr;
 
-use glam::Vec4;
+use glam::{Vec2, Vec4};
 
 /// Depth range of the clip volume: which z values, relative to w, are visible.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -106,26 +140,81 @@ pub fn is_inside(p: Vec4, depth: DepthRange, rel_tol: f32) -> bool {
     boundary_coords(p, depth).iter().all(|&b| b >= -slack)
 }
 
-/// What happened to one edge.
+/// Largest violation of a plane, relative to the point's own largest coordinate, that a
+/// computed endpoint may show before [`settle`] recomputes it (0.1%: far beyond rounding
+/// in any ordinary edge, so it changes nothing there).
+pub const SETTLE_REL: f64 = 1e-3;
+
+/// `a + t·(c − a)` computed from the nearer end, so that it is exact at t = 0 and t = 1 even
+/// when one end is enormous next to the other.
+#[inline]
+pub fn lerp_from_nearer(a: glam::DVec4, c: glam::DVec4, t: f64) -> glam::DVec4 {
+    if t <= 0.5 {
+        a + t * (c - a)
+    } else {
+        c + (1.0 - t) * (a - c)
+    }
+}
+
+/// The guard on a computed endpoint `p` (at parameter `t` of `a`→`c`): returned unchanged
+/// when it is inside the six view planes to within [`SETTLE_REL`] of its own size, which is
+/// every ordinary case. Otherwise rounding has ruined it: when the far end is enormous (say
+/// w = −1e37 against an inside point with w = 1.5), `a + t·(c − a)` cancels to a point whose
+/// own coordinates are garbage, e.g. x = −1 with w = 5e−40, which would divide to −∞ while
+/// being well inside the tolerance *of the edge*. It is then recomputed from the nearer end
+/// and clamped into the six planes (moving it by no more than its error), so that every
+/// returned point with w > 0 divides to a point within the square. w ≤ 0 is left for the
+/// caller to drop.
+#[inline]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(w > 0)`: a NaN w is not in front either
+pub fn settle(p: Vec4, a: glam::DVec4, c: glam::DVec4, t: f64, depth: DepthRange) -> Vec4 {
+    let within = |q: Vec4| {
+        let slack = SETTLE_REL * f64::from(q.abs().max_element());
+        boundary_coords_of(q.as_dvec4().to_array(), depth)
+            .iter()
+            .all(|&b| b >= -slack)
+    };
+    if within(p) || !(p.w > 0.0) {
+        return p;
+    }
+    let q = lerp_from_nearer(a, c, t).as_vec4();
+    if within(q) || !(q.w > 0.0) {
+        return q;
+    }
+    let w = q.w;
+    let near = match depth {
+        DepthRange::ZeroToOne => 0.0,
+        DepthRange::NegOneToOne => -w,
+    };
+    Vec4::new(q.x.clamp(-w, w), q.y.clamp(-w, w), q.z.clamp(near, w), w)
+}
+
+/// What happened to one edge. `P` is the point type: [`Vec4`] in clip space (the default),
+/// [`Vec2`] for the 2D window ([`ClipOutcome2`]), `Vec3` for 3D polyhedra.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum ClipOutcome {
+pub enum ClipOutcome<P = Vec4> {
     /// Both endpoints inside: the edge, unchanged.
-    Accepted(Vec4, Vec4),
-    /// Both endpoints outside the same plane: nothing visible.
+    Accepted(P, P),
+    /// Dropped without computing an intersection: both endpoints outside one plane (the
+    /// outcode test `a & c != 0`), or parallel to and outside a plane.
     Rejected,
     /// The visible part `[P(t_in), P(t_out)]`, in the original direction A→C.
-    Clipped(Vec4, Vec4),
-    /// Not trivially rejected, but no part is visible (empty candidate interval), or what
-    /// survived is the single point w = 0, the eye itself, which has no image.
+    Clipped(P, P),
+    /// Dropped after computing intersections: no part is visible (e.g. an empty candidate
+    /// interval), or what survived is the single point w = 0, the eye itself, which has no
+    /// image.
     ClippedAway,
     /// An endpoint had a NaN or infinite coordinate; the edge is dropped.
     NonFinite,
 }
 
-impl ClipOutcome {
-    /// The visible segment, if any (homogeneous clip coordinates, w > 0 at both ends).
+/// The outcome of clipping a 2D segment against a [`Window2`].
+pub type ClipOutcome2 = ClipOutcome<Vec2>;
+
+impl<P: Copy> ClipOutcome<P> {
+    /// The visible segment, if any (in clip space: w > 0 at both ends).
     #[inline]
-    pub fn segment(&self) -> Option<(Vec4, Vec4)> {
+    pub fn segment(&self) -> Option<(P, P)> {
         match *self {
             ClipOutcome::Accepted(a, c) | ClipOutcome::Clipped(a, c) => Some((a, c)),
             _ => None,
@@ -133,23 +222,49 @@ impl ClipOutcome {
     }
 }
 
-/// The line clippers that can draw a frame. Each takes an edge in homogeneous clip space and
-/// returns a [`ClipOutcome`] under the same contract (see [`blinn`]).
+/// The line clippers that can draw a frame: those that clip a homogeneous edge against the
+/// view volume (and extra planes). Each returns a [`ClipOutcome`] under the same contract.
+/// Nicholl-Lee-Nicholl is 2D only (its regions are cut by rays through the window's corners,
+/// which have no counterpart in clip space), so it is not here; the `clip` command and the
+/// tests reach the 2D algorithms directly.
+///
+/// Sutherland-Hodgman is here as a line clipper by clipping the degenerate 2-vertex polygon
+/// A, C, carrying the edge parameter t as a vertex attribute (as hardware clippers carry
+/// varyings): every output vertex lies on the edge, and the ones with the smallest and largest
+/// t are the segment. That is how a pipeline that clips only polygons clips lines.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Clipper {
     /// Blinn's homogeneous clipper: boundary coordinates, outcodes, `[t_in, t_out]`.
     #[default]
     Blinn,
+    /// Cohen-Sutherland with 6-bit homogeneous outcodes, chopping one plane at a time.
+    CohenSutherland,
+    /// Liang-Barsky with `p_k = BC_k(A) − BC_k(C)`, `q_k = BC_k(A)`.
+    LiangBarsky,
+    /// Cyrus-Beck on the clip volume as a convex polyhedron of homogeneous half-spaces.
+    CyrusBeck,
+    /// Sutherland-Hodgman on the 2-vertex polygon A, C.
+    SutherlandHodgman,
 }
 
 impl Clipper {
     /// Every clipper, in the order a key cycles them.
-    pub const ALL: [Clipper; 1] = [Clipper::Blinn];
+    pub const ALL: [Clipper; 5] = [
+        Clipper::Blinn,
+        Clipper::CohenSutherland,
+        Clipper::LiangBarsky,
+        Clipper::CyrusBeck,
+        Clipper::SutherlandHodgman,
+    ];
 
     /// The name used on the command line and in the HUD.
     pub fn name(self) -> &'static str {
         match self {
             Clipper::Blinn => "blinn",
+            Clipper::CohenSutherland => "cohen-sutherland",
+            Clipper::LiangBarsky => "liang-barsky",
+            Clipper::CyrusBeck => "cyrus-beck",
+            Clipper::SutherlandHodgman => "sutherland-hodgman",
         }
     }
 
@@ -158,6 +273,19 @@ impl Clipper {
     pub fn clip(self, a: Vec4, c: Vec4, depth: DepthRange) -> ClipOutcome {
         match self {
             Clipper::Blinn => blinn::clip_edge(a, c, depth),
+            _ => self.clip_in(a, c, &ClipVolume::new(depth)),
+        }
+    }
+
+    /// Clip the edge `a`→`c` against a volume with extra planes.
+    #[inline]
+    pub fn clip_in(self, a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
+        match self {
+            Clipper::Blinn => blinn::clip_edge_in(a, c, volume),
+            Clipper::CohenSutherland => cohen_sutherland::clip_homogeneous(a, c, volume),
+            Clipper::LiangBarsky => liang_barsky::clip_homogeneous(a, c, volume),
+            Clipper::CyrusBeck => cyrus_beck::clip_homogeneous(a, c, volume),
+            Clipper::SutherlandHodgman => sutherland_hodgman::clip_edge_homogeneous(a, c, volume),
         }
     }
 
@@ -188,26 +316,39 @@ impl FromStr for Clipper {
 }
 
 /// Tally of what the clipper did to a batch of edges (one frame).
+///
+/// Every edge handed in lands in exactly one category, so `edges_in` is the sum of
+/// `trivially_accepted`, `trivially_rejected`, `clipped`, `clipped_away`, `non_finite`,
+/// `bounds_rejected` and `back_facing`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ClipStats {
     /// Edges handed to the clipper.
     pub edges_in: u64,
     /// Both endpoints inside: drawn unchanged (`a | c == 0`).
     pub trivially_accepted: u64,
-    /// Both endpoints outside one plane: dropped without arithmetic (`a & c != 0`).
+    /// Dropped without computing an intersection (for Blinn: both endpoints outside one
+    /// plane, `a & c != 0`).
     pub trivially_rejected: u64,
     /// Not trivial, and a visible part remained: drawn shortened.
     pub clipped: u64,
-    /// Not trivial, and the candidate interval came out empty: dropped.
+    /// Not trivial, and nothing visible remained: dropped.
     pub clipped_away: u64,
     /// An endpoint had a NaN or infinite coordinate: dropped.
     pub non_finite: u64,
+    /// Objects whose bounding sphere lies wholly outside the volume: none of their edges
+    /// reached the clipper.
+    pub objects_culled: u64,
+    /// Edges of those objects (dropped with them).
+    pub bounds_rejected: u64,
+    /// Edges whose faces all face away from the eye (hidden-line mode): dropped before
+    /// clipping.
+    pub back_facing: u64,
 }
 
 impl ClipStats {
     /// Count one outcome.
     #[inline]
-    pub fn record(&mut self, outcome: &ClipOutcome) {
+    pub fn record<P>(&mut self, outcome: &ClipOutcome<P>) {
         self.edges_in += 1;
         match outcome {
             ClipOutcome::Accepted(..) => self.trivially_accepted += 1,
@@ -216,6 +357,21 @@ impl ClipStats {
             ClipOutcome::ClippedAway => self.clipped_away += 1,
             ClipOutcome::NonFinite => self.non_finite += 1,
         }
+    }
+
+    /// Count an object of `edges` edges rejected whole by its bounding sphere.
+    #[inline]
+    pub fn record_culled_object(&mut self, edges: u64) {
+        self.objects_culled += 1;
+        self.bounds_rejected += edges;
+        self.edges_in += edges;
+    }
+
+    /// Count an edge dropped because it borders only back faces.
+    #[inline]
+    pub fn record_back_facing(&mut self) {
+        self.back_facing += 1;
+        self.edges_in += 1;
     }
 
     /// Edges that produce a drawn segment.
@@ -231,6 +387,9 @@ impl ClipStats {
         self.clipped += other.clipped;
         self.clipped_away += other.clipped_away;
         self.non_finite += other.non_finite;
+        self.objects_culled += other.objects_culled;
+        self.bounds_rejected += other.bounds_rejected;
+        self.back_facing += other.back_facing;
     }
 }
 
@@ -247,6 +406,16 @@ impl std::fmt::Display for ClipStats {
         )?;
         if self.non_finite > 0 {
             write!(f, ", non-finite {}", self.non_finite)?;
+        }
+        if self.objects_culled > 0 {
+            write!(
+                f,
+                ", culled by bounding sphere {} ({} objects)",
+                self.bounds_rejected, self.objects_culled
+            )?;
+        }
+        if self.back_facing > 0 {
+            write!(f, ", back-facing {}", self.back_facing)?;
         }
         Ok(())
     }

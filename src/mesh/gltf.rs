@@ -342,8 +342,13 @@ impl Loader<'_> {
                 }
             }
             Mode::TriangleStrip => {
-                for t in ids.windows(3) {
-                    triangle(b, t[0], t[1], t[2]);
+                // Every other triangle of a strip is wound the other way round.
+                for (k, t) in ids.windows(3).enumerate() {
+                    if k % 2 == 0 {
+                        triangle(b, t[0], t[1], t[2]);
+                    } else {
+                        triangle(b, t[1], t[0], t[2]);
+                    }
                 }
             }
             Mode::TriangleFan => {
@@ -356,10 +361,9 @@ impl Loader<'_> {
     }
 }
 
+/// A triangle's three edges, and the triangle as a face (hidden-line drawing).
 fn triangle(b: &mut EdgeMeshBuilder, i: u32, j: u32, k: u32) {
-    b.edge(i, j);
-    b.edge(j, k);
-    b.edge(k, i);
+    b.face_indices(&[i, j, k]);
 }
 
 /// Check what the `gltf` reader takes for granted (it debug-asserts element sizes and can

@@ -4,6 +4,11 @@
 //! vertices with bit-identical positions and keeps each undirected edge once, so an edge
 //! shared by two faces, or by two copies of a vertex that differ only in normal or UV, is drawn
 //! once. Degenerate edges (both ends the same welded vertex) are dropped.
+//!
+//! Loaders that read polygons (OBJ faces, glTF triangles) also record **faces**, for
+//! hidden-line drawing by back-face culling: each face as one counter-clockwise triangle of
+//! its corners (enough to tell which way it faces), and for each edge the faces it borders.
+//! Meshes built from outlines (the built-in plane, the world) have none.
 
 pub mod gltf;
 pub mod obj;
@@ -11,18 +16,27 @@ pub mod plane;
 pub mod world;
 
 use std::collections::HashMap;
-use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
 /// An edge list over shared vertices. Invariants (checked by the builder): at least one edge,
-/// all positions finite, indices in range, no degenerate or repeated edge, `a < b`.
+/// all positions finite, indices in range, no degenerate or repeated edge, `a < b`; faces
+/// (optional) index the same vertices, and `edge_faces` is empty or one entry per edge.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EdgeMesh {
     positions: Vec<Vec3>,
     edges: Vec<[u32; 2]>,
+    faces: Vec<[u32; 3]>,
+    edge_faces: Vec<[u32; 2]>,
 }
+
+/// In [`EdgeMesh::edge_faces`]: no face on this side (a line element, or an open boundary).
+pub const NO_FACE: u32 = u32::MAX;
+
+/// In [`EdgeMesh::edge_faces`] (both entries): the edge borders more than two faces; it is
+/// always drawn.
+pub const MANY_FACES: u32 = u32::MAX - 1;
 
 impl EdgeMesh {
     /// Vertex positions in model coordinates.
@@ -33,6 +47,19 @@ impl EdgeMesh {
     /// Edges as index pairs into [`positions`](Self::positions), `a < b`, each once.
     pub fn edges(&self) -> &[[u32; 2]] {
         &self.edges
+    }
+
+    /// Faces, each as a triangle of vertex indices wound counter-clockwise seen from the
+    /// side it faces (for a polygon, the corner triangle that best shows its winding). Empty
+    /// for meshes made of outlines.
+    pub fn faces(&self) -> &[[u32; 3]] {
+        &self.faces
+    }
+
+    /// Per edge, the (up to two) faces it borders, [`NO_FACE`] for none; empty when the mesh
+    /// has no faces.
+    pub fn edge_faces(&self) -> &[[u32; 2]] {
+        &self.edge_faces
     }
 
     /// Axis-aligned bounds `(min, max)` of the vertices used by edges.
@@ -66,7 +93,9 @@ pub struct EdgeMeshBuilder {
     positions: Vec<Vec3>,
     index_of: HashMap<[u32; 3], u32>,
     edges: Vec<[u32; 2]>,
-    seen: HashSet<[u32; 2]>,
+    seen: HashMap<[u32; 2], u32>,
+    faces: Vec<[u32; 3]>,
+    edge_faces: Vec<[u32; 2]>,
 }
 
 impl EdgeMeshBuilder {
@@ -102,12 +131,78 @@ impl EdgeMeshBuilder {
             return false;
         }
         let key = [a.min(b), a.max(b)];
-        if self.seen.insert(key) {
+        if let std::collections::hash_map::Entry::Vacant(slot) = self.seen.entry(key) {
+            slot.insert(self.edges.len() as u32);
             self.edges.push(key);
+            self.edge_faces.push([NO_FACE; 2]);
             true
         } else {
             false
         }
+    }
+
+    /// Add a face: a polygon given by vertex indices from [`vertex`](Self::vertex), in order,
+    /// counter-clockwise seen from the side it faces. Its edges are added as by
+    /// [`polygon`](Self::polygon), and each edge records the face. A face with fewer than
+    /// three distinct corners or no area adds its edges only.
+    pub fn face_indices(&mut self, corners: &[u32]) {
+        let n = corners.len();
+        for i in 0..n {
+            self.edge(corners[i], corners[(i + 1) % n]);
+        }
+        let p = |i: u32| self.positions[i as usize].as_dvec3();
+        // Newell's normal, then the fan triangle that best agrees with it (for a planar
+        // polygon, any with a positive agreement has the polygon's winding).
+        let mut normal = glam::DVec3::ZERO;
+        for i in 0..n {
+            normal += p(corners[i]).cross(p(corners[(i + 1) % n]));
+        }
+        let mut best: Option<([u32; 3], f64)> = None;
+        for i in 1..n.saturating_sub(1) {
+            let tri = [corners[0], corners[i], corners[i + 1]];
+            let area = (p(tri[1]) - p(tri[0]))
+                .cross(p(tri[2]) - p(tri[0]))
+                .dot(normal);
+            if area > 0.0 && best.is_none_or(|(_, a)| area > a) {
+                best = Some((tri, area));
+            }
+        }
+        let Some((tri, _)) = best else {
+            return;
+        };
+        let face = self.faces.len() as u32;
+        self.faces.push(tri);
+        for i in 0..n {
+            let (a, b) = (corners[i], corners[(i + 1) % n]);
+            let Some(&e) = self.seen.get(&[a.min(b), a.max(b)]) else {
+                continue; // degenerate (a == b)
+            };
+            let sides = &mut self.edge_faces[e as usize];
+            if sides.contains(&face) || sides[0] == MANY_FACES {
+                continue;
+            }
+            if sides[0] == NO_FACE {
+                sides[0] = face;
+            } else if sides[1] == NO_FACE {
+                sides[1] = face;
+            } else {
+                // A third face: not a closed 2-manifold here; the edge is always drawn.
+                *sides = [MANY_FACES; 2];
+            }
+        }
+    }
+
+    /// Add a face given by its corner positions (see [`face_indices`](Self::face_indices)).
+    ///
+    /// # Errors
+    /// As [`vertex`](Self::vertex).
+    pub fn face(&mut self, corners: &[Vec3]) -> Result<(), MeshProblem> {
+        let ids = corners
+            .iter()
+            .map(|&p| self.vertex(p))
+            .collect::<Result<Vec<u32>, _>>()?;
+        self.face_indices(&ids);
+        Ok(())
     }
 
     /// Add the edge between two positions.
@@ -169,7 +264,22 @@ impl EdgeMeshBuilder {
             }
             *e = [e[0].min(e[1]), e[0].max(e[1])];
         }
-        Ok(EdgeMesh { positions, edges })
+        // Every corner of a face is on one of its edges, so it has been remapped.
+        let mut faces = self.faces;
+        for f in &mut faces {
+            *f = f.map(|i| remap[i as usize]);
+        }
+        let edge_faces = if faces.is_empty() {
+            Vec::new()
+        } else {
+            self.edge_faces
+        };
+        Ok(EdgeMesh {
+            positions,
+            edges,
+            faces,
+            edge_faces,
+        })
     }
 }
 

@@ -125,7 +125,8 @@ fn add_mesh(builder: &mut EdgeMeshBuilder, mesh: &tobj::Mesh) -> Result<(), AddE
                     .edge_between(corners[0], corners[1])
                     .map_err(AddError::Problem)?;
             }
-            _ => builder.polygon(&corners).map_err(AddError::Problem)?,
+            // A polygon: its edges, and the face for hidden-line drawing.
+            _ => builder.face(&corners).map_err(AddError::Problem)?,
         }
     }
     Ok(())

@@ -16,7 +16,7 @@ use crate::clip::{ClipStats, Clipper, DepthRange};
 use crate::euler::EulerZyx;
 use crate::mesh::world::World;
 use crate::mesh::EdgeMesh;
-use crate::pipeline::{model_matrix, EdgeProjector, Viewport};
+use crate::pipeline::{model_matrix, EdgeProjector, Sphere, Viewport};
 use crate::render::{LineBatch, LineScene, Rgba};
 
 /// Fraction of the far distance at which the horizon ring is drawn.
@@ -122,6 +122,9 @@ pub struct ModelFrame<'a> {
 /// Builds frames; owns the layers, the aircraft mesh and every reusable buffer.
 pub struct SceneBuilder {
     layers: Vec<Layer>,
+    /// Bounding spheres (model space) of the layers, then of the aircraft: whole objects
+    /// outside the view are rejected before their edges are clipped.
+    spheres: Vec<Sphere>,
     aircraft: EdgeMesh,
     projector: EdgeProjector,
     scene: LineScene,
@@ -140,8 +143,14 @@ impl SceneBuilder {
                 segments: Vec::new(),
             })
             .collect();
+        let spheres = layers
+            .iter()
+            .map(|l| l.mesh.bounding_sphere())
+            .chain(std::iter::once(aircraft.bounding_sphere()))
+            .collect();
         Self {
             layers,
+            spheres,
             aircraft,
             projector: EdgeProjector::new(clipper, DepthRange::ZeroToOne),
             scene: LineScene {
@@ -220,8 +229,9 @@ impl SceneBuilder {
 
         if let Some(m) = &spec.model {
             let index = self.batch(Part::ModelAircraft);
-            stats.merge(&self.projector.project(
+            stats.merge(&self.projector.project_bounded(
                 &self.aircraft,
+                self.spheres.last().copied(),
                 clip_from_world * model_matrix(m.position, m.attitude),
                 viewport,
                 &mut self.scene.batches[index].segments,
@@ -243,16 +253,18 @@ impl SceneBuilder {
                 Placement::Ground => ground,
                 Placement::Horizon => horizon,
             };
-            stats.merge(&self.projector.project(
+            stats.merge(&self.projector.project_bounded(
                 &layer.mesh,
+                Some(self.spheres[index]),
                 clip_from_model,
                 viewport,
                 &mut self.scene.batches[index].segments,
             ));
         }
         let index = self.batch(Part::Aircraft);
-        stats.merge(&self.projector.project(
+        stats.merge(&self.projector.project_bounded(
             &self.aircraft,
+            self.spheres.last().copied(),
             clip_from_world * model_matrix(spec.aircraft_position, spec.aircraft_attitude),
             viewport,
             &mut self.scene.batches[index].segments,

@@ -25,7 +25,7 @@ pub mod text;
 pub mod track;
 
 use crate::camera::{CameraPreset, Projection, Subject};
-use crate::clip::{ClipStats, Clipper, DepthRange};
+use crate::clip::{ClipStats, Clipper, DepthRange, PlaneSet};
 use crate::euler::EulerZyx;
 use crate::mesh::EdgeMesh;
 use crate::pipeline::{model_matrix, EdgeProjector, Viewport};
@@ -50,6 +50,12 @@ pub struct ViewSpec {
     pub pan: [f32; 2],
     /// The line clipper.
     pub clipper: Clipper,
+    /// Extra clip planes for cut-away views, in the model's (body) coordinates: each keeps
+    /// `a·x + b·y + c·z + d ≥ 0`, so the cut stays fixed to the aircraft at any attitude.
+    pub clip_planes: PlaneSet,
+    /// Hidden-line drawing by back-face culling (meshes with faces; see
+    /// [`EdgeProjector::set_hidden_line`]).
+    pub hidden_line: bool,
 }
 
 impl Default for ViewSpec {
@@ -66,12 +72,15 @@ impl Default for ViewSpec {
             depth: DepthRange::ZeroToOne,
             pan: [0.0, 0.0],
             clipper: Clipper::Blinn,
+            clip_planes: PlaneSet::EMPTY,
+            hidden_line: false,
         }
     }
 }
 
 /// Build the frame: model at the world origin in the given attitude, seen by the preset
-/// camera, clipped and projected. Returns the line scene and the clipper's counts.
+/// camera, clipped and projected. Returns the line scene and the clipper's counts. A model
+/// whose bounding sphere is wholly outside the view (e.g. panned away) is rejected whole.
 pub fn frame(mesh: &EdgeMesh, spec: &ViewSpec) -> (LineScene, ClipStats) {
     let (centre, radius) = mesh.bounding_sphere();
     let subject = Subject {
@@ -96,8 +105,12 @@ pub fn frame(mesh: &EdgeMesh, spec: &ViewSpec) -> (LineScene, ClipStats) {
     let clip_from_model = camera.clip_from_world(spec.viewport.aspect(), spec.depth)
         * model_matrix(subject.position, spec.attitude);
     let mut segments = Vec::with_capacity(mesh.edges().len());
-    let stats = EdgeProjector::new(spec.clipper, spec.depth).project(
+    let mut projector = EdgeProjector::new(spec.clipper, spec.depth);
+    projector.set_planes(spec.clip_planes);
+    projector.set_hidden_line(spec.hidden_line);
+    let stats = projector.project_bounded(
         mesh,
+        Some((centre, radius)),
         clip_from_model,
         spec.viewport,
         &mut segments,

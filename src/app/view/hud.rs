@@ -180,12 +180,18 @@ pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
                 ));
                 let c = &m.clip;
                 ui.label(format!(
-                    "clip: edges in {}  accepted {}  rejected {}  clipped {}  removed {}",
+                    "clipper {} (K)  ·  {:.0} ns/edge incl. transform and projection",
+                    hud.session.clipper(),
+                    m.build * 1e9 / c.edges_in.max(1) as f64
+                ));
+                ui.label(format!(
+                    "clip: edges in {}  accepted {}  rejected {}  clipped {}  removed {}  culled {}",
                     thousands(c.edges_in),
                     thousands(c.trivially_accepted),
                     thousands(c.trivially_rejected),
                     thousands(c.clipped),
-                    thousands(c.clipped_away)
+                    thousands(c.clipped_away),
+                    thousands(c.bounds_rejected)
                 ));
                 ui.label(format!(
                     "segments drawn {}  ·  {}",

@@ -69,6 +69,10 @@ pub const KEY_HELP: &[(&str, &str)] = &[
     ("+ / -", "throttle up / down"),
     ("C", "cycle camera: chase, cockpit, orbit, free"),
     ("G", "Euler angles: gimbal rings and sliders"),
+    (
+        "K",
+        "cycle line clipper: blinn, cohen-sutherland, liang-barsky, cyrus-beck, sutherland-hodgman",
+    ),
     ("Space", "pause / resume (replay: play / pause)"),
     ("R", "reset"),
     ("H or F1", "this help"),
@@ -305,6 +309,11 @@ impl App {
             _ if repeat => {}
             KeyCode::KeyC => self.session.cycle_camera(),
             KeyCode::KeyG => self.session.toggle_euler(),
+            KeyCode::KeyK => {
+                let next = self.session.clipper().next();
+                self.session.set_clipper(next);
+                self.note = Some((format!("clipper: {next}"), Instant::now()));
+            }
             KeyCode::Space => self.session.toggle_pause(),
             KeyCode::KeyR => self.session.reset(),
             KeyCode::KeyH | KeyCode::F1 => self.show_help = !self.show_help,

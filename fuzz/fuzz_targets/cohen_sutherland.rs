@@ -1,0 +1,10 @@
+//! Fuzz target: Cohen-Sutherland, homogeneous and 2D. See `../../tests/it/clip/check.rs` for the properties.
+#![no_main]
+
+#[path = "../../tests/it/clip/check.rs"]
+mod check;
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    check::fuzz_homogeneous(data, &["cohen-sutherland"]);
+    check::fuzz_planar(data, &["cohen-sutherland"]);
+});
