@@ -18,6 +18,15 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Largest input file read (flight data, meshes and their buffers, model, parameter and
+    /// script files), MiB.
+    #[arg(long, global = true, value_name = "MIB", default_value_t = crate::fsio::DEFAULT_MAX_INPUT_MB,
+          value_parser = clap::value_parser!(u64).range(1..=1 << 24))]
+    pub max_input_mb: u64,
+    /// Let a glTF file read buffers outside its own directory (absolute paths, `file://`
+    /// URIs, `..`); by default they are refused.
+    #[arg(long, global = true)]
+    pub allow_external_uris: bool,
 }
 
 /// Subcommands.
@@ -158,6 +167,10 @@ pub struct CompareArgs {
     /// Frame size for --frames-dir, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),
+    /// Most frames --frames-dir writes (a flight with a long time gap would need more).
+    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_frames: u64,
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,
@@ -277,6 +290,10 @@ pub struct RenderArgs {
     /// Frames per second of flight time for the replay.
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub fps: f64,
+    /// Most frames the replay writes (a flight with a long time gap would need more).
+    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_frames: u64,
     /// The line clipper.
     #[arg(long, default_value = "blinn", value_name = "NAME")]
     pub clipper: Clipper,
@@ -341,6 +358,10 @@ pub struct SimulateArgs {
     /// Output and autopilot rate, Hz.
     #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]
     pub rate: f64,
+    /// Most samples of the flight (duration × rate); bounds the run's memory and time.
+    #[arg(long, value_name = "N", default_value_t = crate::flight::simulate::DEFAULT_MAX_SAMPLES,
+          value_parser = clap::value_parser!(u64).range(2..))]
+    pub max_samples: u64,
     /// Noise seed (output is deterministic for a seed).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
