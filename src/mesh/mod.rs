@@ -190,13 +190,14 @@ pub enum MeshProblem {
 /// A model file could not be used. Always names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
-    /// The file could not be read.
-    #[error("{path}: cannot read: {source}")]
+    /// The file could not be read. (The I/O error is in the message, not a `source`, so that an
+    /// error chain prints it once.)
+    #[error("{path}: cannot read: {error}")]
     Io {
         /// The file.
         path: PathBuf,
         /// The I/O error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file's extension names no supported format.
     #[error("{path}: unknown model format (expected .obj, .gltf or .glb)")]
