@@ -244,13 +244,13 @@ pub struct RenderArgs {
     )]
     pub mesh: String,
     /// Yaw ψ, degrees: rotation about Z (up).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub yaw: f64,
     /// Pitch θ, degrees: rotation about Y (left wing).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub pitch: f64,
     /// Roll φ, degrees: rotation about X (nose).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub roll: f64,
     /// Where the eye is.
     #[arg(long, value_enum, default_value_t = CameraArg::Chase)]
@@ -602,6 +602,17 @@ pub fn finite_f64(s: &str) -> Result<f64, String> {
     } else {
         Err(format!("`{s}` is not a finite number"))
     }
+}
+
+/// An angle in degrees: finite; beyond ±360° reduced to (−180°, 180°] (the same rotation —
+/// `fmod` is exact), since the radians of 1e100° overflow the f32 that draws it.
+fn angle_deg(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v.abs() <= 360.0 {
+        return Ok(v);
+    }
+    let w = v.rem_euclid(360.0);
+    Ok(if w > 180.0 { w - 360.0 } else { w })
 }
 
 fn fov_deg(s: &str) -> Result<f64, String> {

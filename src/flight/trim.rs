@@ -166,7 +166,7 @@ fn singular_trim(jac: &[[f64; N]; N], va: f64) -> String {
     let size = |j: usize| (0..N).fold(0.0f64, |m, i| m.max(jac[i][j].abs()));
     let largest = (0..N).map(size).fold(0.0f64, f64::max);
     let dead: Vec<&str> = (0..N)
-        .filter(|&j| !(size(j) > 1e-9 * largest))
+        .filter(|&j| size(j) <= 1e-9 * largest || size(j).is_nan())
         .map(|j| UNKNOWNS[j])
         .collect();
     if dead.is_empty() || dead.len() == N {

@@ -637,3 +637,140 @@ fn read_handle_is_not_left_open_on_a_fifo() {
     let o = run_for(&["compare", "--flight", "f.csv"], dir.path(), Duration::from_secs(10));
     assert_refused(&o, &["f.csv", "not a regular file"]);
 }
+
+/// The drawn segment count `render` prints.
+fn segments_drawn(o: &Output) -> usize {
+    let text = String::from_utf8_lossy(&o.stdout);
+    let before = text.split(" segments drawn").next().unwrap();
+    before.rsplit(' ').next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn no_blank_images_from_huge_angles_or_scales() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let base = run(&["render", "--out", "a.svg"], d);
+    assert_ok(&base);
+    let o = run(&["render", "--yaw", "1e100", "--camera", "chase", "--out", "b.svg"], d);
+    assert_ok(&o);
+    assert!(segments_drawn(&o) > 0, "{}", String::from_utf8_lossy(&o.stdout));
+    let o = run(&["render", "--yaw", "360", "--pitch", "-720", "--out", "c.svg"], d);
+    assert_eq!(segments_drawn(&o), segments_drawn(&base));
+    // Models beyond the sizes the cameras can draw are refused, naming the limit.
+    let plane = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/plane.obj"),
+    )
+    .unwrap();
+    for (scale, ok) in [(1e20, false), (1e-31, false), (1e-6, true), (1e5, true)] {
+        let scaled: Vec<String> = plane
+            .lines()
+            .map(|l| match l.strip_prefix("v ") {
+                Some(v) => {
+                    let p: Vec<String> = v
+                        .split_whitespace()
+                        .map(|c| format!("{:e}", c.parse::<f64>().unwrap() * scale))
+                        .collect();
+                    format!("v {}", p.join(" "))
+                }
+                None => l.to_string(),
+            })
+            .collect();
+        std::fs::write(d.join("s.obj"), scaled.join("\n")).unwrap();
+        for camera in ["chase", "cockpit", "top"] {
+            let o = run(&["render", "--mesh", "s.obj", "--camera", camera, "--out", "s.svg"], d);
+            if ok {
+                assert_ok(&o);
+                assert!(segments_drawn(&o) > 0, "scale {scale} {camera}: blank");
+            } else {
+                assert_refused(&o, &["s.obj", "bounding radius", "rescale"]);
+            }
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Random extreme options: simulate → compare / diagnose
+
+mod extremes {
+    use super::*;
+    use proptest::prelude::*;
+    use proptest::sample::select;
+
+    /// Exit 0 or 2 (never a panic, abort or signal) within `limit`; the status.
+    fn status_of(args: &[String], dir: &Path, limit: Duration) -> i32 {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let o = run_for(&args, dir, limit);
+        let code = o.status.code();
+        assert!(
+            matches!(code, Some(0 | 2)),
+            "`wireflight {}`: status {:?}\nstderr: {}",
+            args.join(" "),
+            o.status,
+            stderr(&o)
+        );
+        code.unwrap_or(-1)
+    }
+
+    /// Mostly ordinary values, one time in four an extreme one.
+    fn mix(ordinary: Vec<f64>, extreme: Vec<f64>) -> impl Strategy<Value = f64> {
+        prop_oneof![3 => select(ordinary), 1 => select(extreme)]
+    }
+
+    fn opt(name: &str, v: f64) -> [String; 2] {
+        [format!("--{name}"), format!("{v:e}")]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: 12,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
+
+        #[test]
+        fn simulate_then_compare_and_diagnose_exit_0_or_2_in_bounded_time(
+            point_mass in any::<bool>(),
+            duration in mix(vec![0.5, 4.0, 20.0], vec![1e-3, 1e9, 1e300]),
+            rate in mix(vec![0.5, 20.0, 50.0], vec![1e-6, 1e5]),
+            noise_pos in mix(vec![0.0, 0.3], vec![1e6, 1e200]),
+            noise_other in mix(vec![0.0, 0.5], vec![1e308]),
+            speed in mix(vec![25.0], vec![0.0, 1e6, 1e200]),
+            latitude in mix(vec![-90.0, 45.0], vec![95.0]),
+            window in select(vec![0.1, 1.0, 8.0, 86_400.0]),
+            offset in select(vec![0.0, 1.0, 1e9]),
+            start_span in select(vec![None, Some(1e-3), Some(5.0)]),
+            add in select(vec![None, Some("wind"), Some("actuator_lag:tau_s=0.001"), Some("drag:k=1e9")]),
+        ) {
+            let dir = tempfile::tempdir().unwrap();
+            let d = dir.path();
+            let mut sim: Vec<String> = vec!["simulate".into(), "--out".into(), "f.csv".into()];
+            if point_mass {
+                sim.extend(["--vehicle".into(), "point-mass".into()]);
+                sim.extend(opt("launch-speed", speed.max(1.0) * 6.0));
+            } else {
+                sim.extend(opt("airspeed", speed));
+            }
+            sim.extend(opt("duration", duration));
+            sim.extend(opt("rate", rate));
+            sim.extend(opt("noise-pos", noise_pos));
+            sim.extend(opt("noise-vel", noise_other));
+            sim.extend(opt("noise-rate", noise_other));
+            sim.extend(opt("latitude", latitude));
+            if status_of(&sim, d, Duration::from_secs(60)) != 0 {
+                return Ok(());
+            }
+            for cmd in ["compare", "diagnose"] {
+                let mut args: Vec<String> = vec![cmd.into(), "--flight".into(), "f.csv".into()];
+                args.extend(opt("window", window));
+                args.extend(opt("window-offset", offset));
+                if let Some(s) = start_span {
+                    args.extend(opt("start-span", s));
+                }
+                if let (Some(a), "compare") = (add, cmd) {
+                    args.extend(["--add".into(), a.into()]);
+                }
+                status_of(&args, d, Duration::from_secs(120));
+            }
+        }
+    }
+}
