@@ -185,8 +185,13 @@ pub fn remove_temporaries() {
 /// # Errors
 /// The OS refused the handler.
 pub fn install_signal_cleanup() -> anyhow::Result<()> {
+    #[cfg(unix)]
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    let mut signals = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP])
+    #[cfg(unix)]
+    let wanted = [SIGINT, SIGTERM, SIGHUP];
+    #[cfg(not(unix))]
+    let wanted = [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM];
+    let mut signals = signal_hook::iterator::Signals::new(wanted)
         .context("cannot install the signal handler")?;
     std::thread::Builder::new()
         .name("signals".into())

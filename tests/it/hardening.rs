@@ -373,12 +373,12 @@ fn an_obj_with_a_byte_order_mark_loses_no_vertex() {
 }
 
 #[test]
-fn a_flight_shorter_than_half_a_window_is_not_compared() {
+fn a_flight_of_one_or_two_rows_is_not_compared_nor_diagnosed() {
     let dir = tempfile::tempdir().unwrap();
     let a = flight(dir.path(), "a.csv", &[]);
     let text = std::fs::read_to_string(a).unwrap();
     let header = text.lines().position(|l| l.starts_with("time_s")).unwrap();
-    for rows in [1, 2, 5, 150] {
+    for rows in [1, 2] {
         let short: Vec<&str> = text.lines().take(header + 1 + rows).collect();
         std::fs::write(dir.path().join("s.csv"), short.join("\n") + "\n").unwrap();
         for cmd in ["compare", "diagnose"] {

@@ -336,12 +336,10 @@ fn cut_windows(time: &[f64], cfg: &CompareConfig) -> Vec<(usize, usize)> {
         let t_end = time[start] + cfg.window_s;
         let end = time.partition_point(|&t| t < t_end).max(start + 2).min(n);
         if time[end - 1] - time[start] < 0.5 * cfg.window_s {
-            // A short tail joins the window before it; a flight shorter than half a window
-            // has none (it would be reported as a window of the full length).
             if let Some(last) = windows.last_mut() {
                 last.1 = end;
+                break;
             }
-            break;
         }
         windows.push((start, end));
         start = end;
