@@ -20,17 +20,7 @@ pub mod mesh;
 #[path = "../../../src/numeric.rs"]
 pub mod numeric;
 
-/// The view's script parser and what it names.
-pub mod app {
-    pub mod view {
-        #[path = "../../../../src/app/view/cameras.rs"]
-        pub mod cameras;
-        #[path = "../../../../src/app/view/flight.rs"]
-        pub mod flight;
-        #[path = "../../../../src/app/view/script.rs"]
-        pub mod script;
-    }
-}
+pub mod app;
 
 #[path = "../harness.rs"]
 pub mod harness;
