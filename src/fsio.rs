@@ -106,8 +106,7 @@ pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
     }
     // The file may grow while it is read: read one byte more than the limit to tell.
     let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
-    file.take(limit.saturating_add(1))
-        .read_to_end(&mut bytes)?;
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
     if bytes.len() as u64 > limit {
         return Err(too_big(bytes.len() as u64));
     }
@@ -191,8 +190,8 @@ pub fn install_signal_cleanup() -> anyhow::Result<()> {
     let wanted = [SIGINT, SIGTERM, SIGHUP];
     #[cfg(not(unix))]
     let wanted = [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM];
-    let mut signals = signal_hook::iterator::Signals::new(wanted)
-        .context("cannot install the signal handler")?;
+    let mut signals =
+        signal_hook::iterator::Signals::new(wanted).context("cannot install the signal handler")?;
     std::thread::Builder::new()
         .name("signals".into())
         .spawn(move || {
@@ -227,7 +226,10 @@ fn alive(pid: u32, modified: Option<std::time::SystemTime>) -> bool {
 fn sweep(dir: &Path) {
     {
         let mut swept = SWEPT.lock().unwrap_or_else(PoisonError::into_inner);
-        if !swept.get_or_insert_with(HashSet::new).insert(dir.to_path_buf()) {
+        if !swept
+            .get_or_insert_with(HashSet::new)
+            .insert(dir.to_path_buf())
+        {
             return;
         }
     }

@@ -6,8 +6,8 @@
 
 use std::path::Path;
 
-use wireflight::flight::spec::ModelSpec;
 use wireflight::flight::effects::Origin;
+use wireflight::flight::spec::ModelSpec;
 
 /// Text as a loader sees it after reading a file (lossy, as for OBJ; the strict readers reject
 /// non-UTF-8 before parsing, so this only widens what the parsers are shown).

@@ -146,9 +146,7 @@ pub fn simulate_limited(
         ("rate", nz.rate_dps),
     ] {
         if !(sigma.is_finite() && sigma >= 0.0) {
-            return Err(format!(
-                "{name} noise {sigma} must be a finite number ≥ 0"
-            ));
+            return Err(format!("{name} noise {sigma} must be a finite number ≥ 0"));
         }
     }
     let kind = model.vehicle.kind();

@@ -253,8 +253,7 @@ impl ModelSpec {
                         .as_float()
                         .or_else(|| v.as_integer().map(|i| i as f64))
                         .with_context(|| format!("`origin.{k}` must be a number"))?;
-                    Origin::check_field(k, v)
-                        .map_err(|e| anyhow::anyhow!("`origin.{k}`: {e}"))?;
+                    Origin::check_field(k, v).map_err(|e| anyhow::anyhow!("`origin.{k}`: {e}"))?;
                     spec.origin[slot] = Some(v);
                 }
             }

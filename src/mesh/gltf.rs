@@ -125,7 +125,10 @@ pub fn parse(bytes: &[u8], path: &Path) -> Result<EdgeMesh, MeshError> {
             }
             gltf::buffer::Source::Uri(uri) => {
                 let file = resolve_uri(base, uri).map_err(|why| {
-                    malformed(format!("buffer {} has the URI '{uri}': {why}", buffer.index()))
+                    malformed(format!(
+                        "buffer {} has the URI '{uri}': {why}",
+                        buffer.index()
+                    ))
                 })?;
                 let data = crate::fsio::read_bytes(&file).map_err(|e| {
                     malformed(format!(
@@ -314,10 +317,12 @@ fn resolve_uri(base: &Path, uri: &str) -> Result<std::path::PathBuf, String> {
         if is_file_uri || rel.is_absolute() {
             return refuse("a file");
         }
-        if rel
-            .components()
-            .any(|c| !matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir))
-        {
+        if rel.components().any(|c| {
+            !matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        }) {
             return refuse("a path with `..`, naming a file");
         }
     }
@@ -328,8 +333,7 @@ fn resolve_uri(base: &Path, uri: &str) -> Result<std::path::PathBuf, String> {
     };
     if !allow_external {
         // A symbolic link inside the directory may still lead out of it.
-        if let (Ok(dir), Ok(target)) = (std::fs::canonicalize(base), std::fs::canonicalize(&file))
-        {
+        if let (Ok(dir), Ok(target)) = (std::fs::canonicalize(base), std::fs::canonicalize(&file)) {
             if !target.starts_with(&dir) {
                 return refuse("a file (through a symbolic link)");
             }

@@ -53,7 +53,12 @@ fn stderr(o: &Output) -> String {
 #[track_caller]
 fn assert_refused(o: &Output, words: &[&str]) {
     let err = stderr(o);
-    assert_eq!(o.status.code(), Some(2), "status {:?}, stderr: {err}", o.status);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "status {:?}, stderr: {err}",
+        o.status
+    );
     assert!(!err.contains("panicked"), "{err}");
     for w in words {
         assert!(err.contains(w), "`{w}` not in: {err}");
@@ -62,12 +67,25 @@ fn assert_refused(o: &Output, words: &[&str]) {
 
 #[track_caller]
 fn assert_ok(o: &Output) {
-    assert!(o.status.success(), "status {:?}, stderr: {}", o.status, stderr(o));
+    assert!(
+        o.status.success(),
+        "status {:?}, stderr: {}",
+        o.status,
+        stderr(o)
+    );
 }
 
 /// A short simulated fixed-wing flight, `name` in `dir`.
 fn flight(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
-    let mut args = vec!["simulate", "--duration", "12", "--noise-pos", "0.2", "--out", name];
+    let mut args = vec![
+        "simulate",
+        "--duration",
+        "12",
+        "--noise-pos",
+        "0.2",
+        "--out",
+        name,
+    ];
     args.extend_from_slice(extra);
     assert_ok(&run(&args, dir));
     dir.join(name)
@@ -113,14 +131,43 @@ fn positions_of_1e200_are_refused_by_the_reader_not_a_panic() {
 fn simulate_never_writes_what_its_reader_rejects() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = run(&["simulate", "--duration", "2", "--noise-pos", "1e200", "--out", "n.csv"], d);
+    let o = run(
+        &[
+            "simulate",
+            "--duration",
+            "2",
+            "--noise-pos",
+            "1e200",
+            "--out",
+            "n.csv",
+        ],
+        d,
+    );
     assert_refused(&o, &["would not read back", "north_m"]);
-    let o = run(&["simulate", "--duration", "2", "--noise-rate", "1e308", "--out", "r.csv"], d);
+    let o = run(
+        &[
+            "simulate",
+            "--duration",
+            "2",
+            "--noise-rate",
+            "1e308",
+            "--out",
+            "r.csv",
+        ],
+        d,
+    );
     assert_refused(&o, &["would not read back"]);
     let o = run(
         &[
-            "simulate", "--vehicle", "point-mass", "--duration", "2", "--launch-speed", "1e200",
-            "--out", "p.csv",
+            "simulate",
+            "--vehicle",
+            "point-mass",
+            "--duration",
+            "2",
+            "--launch-speed",
+            "1e200",
+            "--out",
+            "p.csv",
         ],
         d,
     );
@@ -165,19 +212,43 @@ fn simulate_sample_count_is_bounded_by_an_option() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let limit = Duration::from_secs(10);
-    let o = run_for(&["simulate", "--duration", "1e9", "--out", "x.csv"], d, limit);
+    let o = run_for(
+        &["simulate", "--duration", "1e9", "--out", "x.csv"],
+        d,
+        limit,
+    );
     assert_refused(&o, &["50000000001 samples", "--max-samples 2000000"]);
-    let o = run_for(&["simulate", "--duration", "1e5", "--out", "x.csv"], d, limit);
+    let o = run_for(
+        &["simulate", "--duration", "1e5", "--out", "x.csv"],
+        d,
+        limit,
+    );
     assert_refused(&o, &["--max-samples"]);
     // The option raises (and lowers) the limit.
     let o = run_for(
-        &["simulate", "--duration", "10", "--max-samples", "100", "--out", "x.csv"],
+        &[
+            "simulate",
+            "--duration",
+            "10",
+            "--max-samples",
+            "100",
+            "--out",
+            "x.csv",
+        ],
         d,
         limit,
     );
     assert_refused(&o, &["501 samples", "--max-samples 100"]);
     let o = run_for(
-        &["simulate", "--duration", "10", "--max-samples", "501", "--out", "x.csv"],
+        &[
+            "simulate",
+            "--duration",
+            "10",
+            "--max-samples",
+            "501",
+            "--out",
+            "x.csv",
+        ],
         d,
         limit,
     );
@@ -188,14 +259,30 @@ fn simulate_sample_count_is_bounded_by_an_option() {
 fn a_tiny_rate_is_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     let o = run_for(
-        &["simulate", "--duration", "10", "--rate", "1e-6", "--out", "x.csv"],
+        &[
+            "simulate",
+            "--duration",
+            "10",
+            "--rate",
+            "1e-6",
+            "--out",
+            "x.csv",
+        ],
         dir.path(),
         Duration::from_secs(10),
     );
     assert_refused(&o, &["single sample", "1/duration"]);
     // Low but sensible rates integrate in bounded steps.
     let o = run_for(
-        &["simulate", "--duration", "1e6", "--rate", "0.01", "--out", "x.csv"],
+        &[
+            "simulate",
+            "--duration",
+            "1e6",
+            "--rate",
+            "0.01",
+            "--out",
+            "x.csv",
+        ],
         dir.path(),
         Duration::from_secs(10),
     );
@@ -229,7 +316,10 @@ fn a_time_gap_cannot_make_endless_frames() {
     lines.pop();
     lines.push(&far);
     std::fs::write(dir.path().join("far.csv"), lines.join("\n") + "\n").unwrap();
-    let o = run(&["render", "--flight", "far.csv", "--frames-dir", "frames"], dir.path());
+    let o = run(
+        &["render", "--flight", "far.csv", "--frames-dir", "frames"],
+        dir.path(),
+    );
     assert_refused(&o, &["time_s", "±1e9 s"]);
 }
 
@@ -240,7 +330,11 @@ fn devices_directories_and_huge_files_are_not_read() {
     let limit = Duration::from_secs(10);
     let o = run_for(&["compare", "--data", "/dev/zero"], d, limit);
     assert_refused(&o, &["/dev/zero", "not a regular file"]);
-    let o = run_for(&["render", "--mesh", "/dev/zero", "--out", "x.svg"], d, limit);
+    let o = run_for(
+        &["render", "--mesh", "/dev/zero", "--out", "x.svg"],
+        d,
+        limit,
+    );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     std::fs::create_dir(d.join("dir.csv")).unwrap();
     let o = run_for(&["compare", "--flight", "dir.csv"], d, limit);
@@ -248,7 +342,15 @@ fn devices_directories_and_huge_files_are_not_read() {
     // Over the size limit, naming the option that raises it.
     std::fs::write(d.join("big.obj"), vec![b'#'; 3 << 20]).unwrap();
     let o = run_for(
-        &["render", "--max-input-mb", "2", "--mesh", "big.obj", "--out", "x.svg"],
+        &[
+            "render",
+            "--max-input-mb",
+            "2",
+            "--mesh",
+            "big.obj",
+            "--out",
+            "x.svg",
+        ],
         d,
         limit,
     );
@@ -260,9 +362,22 @@ fn an_os_error_is_printed_once() {
     let dir = tempfile::tempdir().unwrap();
     let o = run(&["compare", "--flight", "missing.csv"], dir.path());
     assert_refused(&o, &["missing.csv"]);
-    assert_eq!(stderr(&o).matches("os error 2").count(), 1, "{}", stderr(&o));
-    let o = run(&["render", "--mesh", "missing.obj", "--out", "x.svg"], dir.path());
-    assert_eq!(stderr(&o).matches("os error 2").count(), 1, "{}", stderr(&o));
+    assert_eq!(
+        stderr(&o).matches("os error 2").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
+    let o = run(
+        &["render", "--mesh", "missing.obj", "--out", "x.svg"],
+        dir.path(),
+    );
+    assert_eq!(
+        stderr(&o).matches("os error 2").count(),
+        1,
+        "{}",
+        stderr(&o)
+    );
 }
 
 /// A glTF with one triangle whose buffer is `uri` (12 floats: three positions).
@@ -303,19 +418,46 @@ fn gltf_buffers_stay_in_the_models_directory() {
         "/dev/zero",
     ] {
         std::fs::write(models.join("m.gltf"), gltf_with_buffer(uri, 36)).unwrap();
-        let o = run(&["render", "--mesh", "models/m.gltf", "--out", "x.svg"], dir.path());
-        assert_refused(&o, &["m.gltf", "outside the model's directory", "--allow-external-uris"]);
+        let o = run(
+            &["render", "--mesh", "models/m.gltf", "--out", "x.svg"],
+            dir.path(),
+        );
+        assert_refused(
+            &o,
+            &[
+                "m.gltf",
+                "outside the model's directory",
+                "--allow-external-uris",
+            ],
+        );
     }
     // A symbolic link inside that leads out is refused too.
     std::os::unix::fs::symlink(&outside, models.join("link.bin")).unwrap();
     std::fs::write(models.join("m.gltf"), gltf_with_buffer("link.bin", 36)).unwrap();
-    let o = run(&["render", "--mesh", "models/m.gltf", "--out", "x.svg"], dir.path());
+    let o = run(
+        &["render", "--mesh", "models/m.gltf", "--out", "x.svg"],
+        dir.path(),
+    );
     assert_refused(&o, &["symbolic link", "--allow-external-uris"]);
     // Inside the directory: read; outside with the option: read, but never a device.
     std::fs::write(models.join("m.gltf"), gltf_with_buffer("inside.bin", 36)).unwrap();
-    assert_ok(&run(&["render", "--mesh", "models/m.gltf", "--out", "x.svg"], dir.path()));
-    std::fs::write(models.join("m.gltf"), gltf_with_buffer("../outside.bin", 36)).unwrap();
-    let args = ["render", "--allow-external-uris", "--mesh", "models/m.gltf", "--out", "x.svg"];
+    assert_ok(&run(
+        &["render", "--mesh", "models/m.gltf", "--out", "x.svg"],
+        dir.path(),
+    ));
+    std::fs::write(
+        models.join("m.gltf"),
+        gltf_with_buffer("../outside.bin", 36),
+    )
+    .unwrap();
+    let args = [
+        "render",
+        "--allow-external-uris",
+        "--mesh",
+        "models/m.gltf",
+        "--out",
+        "x.svg",
+    ];
     assert_ok(&run(&args, dir.path()));
     std::fs::write(models.join("m.gltf"), gltf_with_buffer("/dev/zero", 36)).unwrap();
     let o = run_for(&args, dir.path(), Duration::from_secs(10));
@@ -332,7 +474,10 @@ fn gltf_lengths_that_lie_are_refused() {
     std::fs::write(d.join("b.bin"), &data).unwrap();
     std::fs::write(d.join("m.gltf"), gltf_with_buffer("b.bin", 24)).unwrap();
     let o = run(&["render", "--mesh", "m.gltf", "--out", "x.svg"], d);
-    assert_refused(&o, &["m.gltf", "buffer view 0 runs past the end of buffer 0"]);
+    assert_refused(
+        &o,
+        &["m.gltf", "buffer view 0 runs past the end of buffer 0"],
+    );
 
     // GLB: a header length that does not match the file.
     let glb = std::fs::read(
@@ -353,7 +498,15 @@ fn gltf_lengths_that_lie_are_refused() {
     bad[..4].copy_from_slice(b"glTX");
     std::fs::write(d.join("magic.glb"), &bad).unwrap();
     let o = run(&["render", "--mesh", "magic.glb", "--out", "x.svg"], d);
-    assert_refused(&o, &["magic.glb", "not a glTF file", "magic `glTF`", "[67 6c 54 58]"]);
+    assert_refused(
+        &o,
+        &[
+            "magic.glb",
+            "not a glTF file",
+            "magic `glTF`",
+            "[67 6c 54 58]",
+        ],
+    );
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -393,12 +546,23 @@ fn effect_and_origin_values_out_of_range_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     flight(d, "a.csv", &[]);
-    for add in ["actuator_lag:tau_s=-1", "actuator_lag:tau_s=0", "wind:north_mps=1e308"] {
+    for add in [
+        "actuator_lag:tau_s=-1",
+        "actuator_lag:tau_s=0",
+        "wind:north_mps=1e308",
+    ] {
         let o = run(&["compare", "--flight", "a.csv", "--add", add], d);
         assert_refused(&o, &["outside its range"]);
     }
-    for (opt, v) in [("--latitude", "95"), ("--longitude", "400"), ("--latitude", "-91")] {
-        let o = run(&["simulate", "--duration", "1", opt, v, "--out", "x.csv"], d);
+    for (opt, v) in [
+        ("--latitude", "95"),
+        ("--longitude", "400"),
+        ("--latitude", "-91"),
+    ] {
+        let o = run(
+            &["simulate", "--duration", "1", opt, v, "--out", "x.csv"],
+            d,
+        );
         assert_refused(&o, &["origin", "outside"]);
     }
     // The same limits where a file gives them: the data's metadata and a model file.
@@ -413,7 +577,18 @@ fn effect_and_origin_values_out_of_range_are_refused() {
         "vehicle = \"fixed-wing\"\n[origin]\nlongitude_deg = 400\n",
     )
     .unwrap();
-    let o = run(&["simulate", "--model", "m.toml", "--duration", "1", "--out", "x.csv"], d);
+    let o = run(
+        &[
+            "simulate",
+            "--model",
+            "m.toml",
+            "--duration",
+            "1",
+            "--out",
+            "x.csv",
+        ],
+        d,
+    );
     assert_refused(&o, &["m.toml", "longitude_deg"]);
 }
 
@@ -457,12 +632,24 @@ fn impossible_parameter_sets_and_trims_say_which_input() {
     };
     // Singular inertia: jxz² = jx·jz (0.824 · 1.759 = 1.449416).
     aircraft_with(d, "jxz = 0.120", "jxz = 1.2039169406");
-    assert_refused(&sim(&["--aircraft", "ac.toml"]), &["ac.toml", "inertia tensor", "singular"]);
+    assert_refused(
+        &sim(&["--aircraft", "ac.toml"]),
+        &["ac.toml", "inertia tensor", "singular"],
+    );
     aircraft_with(d, "mass_kg = 11.0", "mass_kg = 1e300");
-    assert_refused(&sim(&["--aircraft", "ac.toml"]), &["ac.toml", "mass_kg", "outside its range"]);
+    assert_refused(
+        &sim(&["--aircraft", "ac.toml"]),
+        &["ac.toml", "mass_kg", "outside its range"],
+    );
     aircraft_with(d, "k_motor = 80.0", "k_motor = 0");
-    assert_refused(&sim(&["--aircraft", "ac.toml"]), &["ac.toml", "k_motor", "outside its range"]);
-    assert_refused(&sim(&["--airspeed", "0"]), &["airspeed 0 m/s", "positive airspeed"]);
+    assert_refused(
+        &sim(&["--aircraft", "ac.toml"]),
+        &["ac.toml", "k_motor", "outside its range"],
+    );
+    assert_refused(
+        &sim(&["--airspeed", "0"]),
+        &["airspeed 0 m/s", "positive airspeed"],
+    );
     let o = sim(&["--airspeed", "-5"]);
     assert_refused(&o, &["positive airspeed"]);
 }
@@ -474,8 +661,17 @@ fn frames_dir_holds_one_runs_frames_only() {
     flight(d, "a.csv", &[]);
     let frames = |fps: &str| {
         let args = [
-            "render", "--flight", "a.csv", "--frames-dir", "frames", "--fps", fps, "--size",
-            "64x48", "--backend", "cpu",
+            "render",
+            "--flight",
+            "a.csv",
+            "--frames-dir",
+            "frames",
+            "--fps",
+            fps,
+            "--size",
+            "64x48",
+            "--backend",
+            "cpu",
         ];
         run(&args, d)
     };
@@ -519,12 +715,22 @@ fn temporaries_of_a_killed_run_are_removed_by_the_next() {
 fn sigterm_and_sigint_remove_the_temporaries() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    assert_ok(&run(&["simulate", "--duration", "600", "--out", "a.csv"], d));
+    assert_ok(&run(
+        &["simulate", "--duration", "600", "--out", "a.csv"],
+        d,
+    ));
     for (signal, status) in [(libc::SIGTERM, 143), (libc::SIGINT, 130)] {
         let child = bin()
             .args([
-                "render", "--flight", "a.csv", "--frames-dir", "frames", "--size", "320x240",
-                "--backend", "cpu",
+                "render",
+                "--flight",
+                "a.csv",
+                "--frames-dir",
+                "frames",
+                "--size",
+                "320x240",
+                "--backend",
+                "cpu",
             ])
             .current_dir(d)
             .stdout(Stdio::null())
@@ -535,13 +741,22 @@ fn sigterm_and_sigint_remove_the_temporaries() {
         let tmp = d.join(format!(".frames.tmp-{}", child.id()));
         let start = Instant::now();
         while std::fs::read_dir(&tmp).map_or(0, Iterator::count) < 2 {
-            assert!(start.elapsed() < Duration::from_secs(60), "no frames appeared");
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "no frames appeared"
+            );
             std::thread::sleep(Duration::from_millis(20));
         }
         // SAFETY: sending a signal to our own child.
         unsafe { libc::kill(child.id() as i32, signal) };
         let o = wait_for(child, Duration::from_secs(30), &["render"]);
-        assert_eq!(o.status.code(), Some(status), "{:?} {}", o.status, stderr(&o));
+        assert_eq!(
+            o.status.code(),
+            Some(status),
+            "{:?} {}",
+            o.status,
+            stderr(&o)
+        );
         assert!(!tmp.exists(), "the temporary directory is left");
         assert!(!d.join("frames").exists(), "a partial set of frames");
     }
@@ -554,14 +769,20 @@ fn plots_are_written_as_a_set() {
     flight(d, "a.csv", &[]);
     std::fs::create_dir(d.join("plots")).unwrap();
     std::fs::write(d.join("plots/keep.txt"), "mine").unwrap();
-    assert_ok(&run(&["compare", "--flight", "a.csv", "--plots", "plots"], d));
+    assert_ok(&run(
+        &["compare", "--flight", "a.csv", "--plots", "plots"],
+        d,
+    ));
     let mut names: Vec<String> = std::fs::read_dir(d.join("plots"))
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     names.sort();
     assert!(names.contains(&"keep.txt".to_string()), "{names:?}");
-    assert!(names.iter().filter(|n| n.ends_with(".png")).count() >= 2, "{names:?}");
+    assert!(
+        names.iter().filter(|n| n.ends_with(".png")).count() >= 2,
+        "{names:?}"
+    );
     let stray: Vec<_> = std::fs::read_dir(d)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -577,14 +798,23 @@ fn replacing_an_output_keeps_its_mode_and_writes_through_a_link() {
     let d = dir.path();
     std::fs::create_dir(d.join("real")).unwrap();
     std::fs::write(d.join("real/out.csv"), "old").unwrap();
-    std::fs::set_permissions(d.join("real/out.csv"), std::fs::Permissions::from_mode(0o600))
-        .unwrap();
+    std::fs::set_permissions(
+        d.join("real/out.csv"),
+        std::fs::Permissions::from_mode(0o600),
+    )
+    .unwrap();
     std::os::unix::fs::symlink("real/out.csv", d.join("out.csv")).unwrap();
     flight(d, "out.csv", &[]);
-    assert!(std::fs::symlink_metadata(d.join("out.csv")).unwrap().file_type().is_symlink());
+    assert!(std::fs::symlink_metadata(d.join("out.csv"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
     let text = std::fs::read_to_string(d.join("real/out.csv")).unwrap();
     assert!(text.contains("time_s"));
-    let mode = std::fs::metadata(d.join("real/out.csv")).unwrap().permissions().mode();
+    let mode = std::fs::metadata(d.join("real/out.csv"))
+        .unwrap()
+        .permissions()
+        .mode();
     assert_eq!(mode & 0o777, 0o600);
 }
 
@@ -598,9 +828,27 @@ fn negative_numbers_reach_the_options_own_check() {
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(2));
     assert!(err.contains("field of view -10° is outside"), "{err}");
-    let o = run(&["simulate", "--duration", "-5", "--out", "x.csv"], dir.path());
-    assert!(stderr(&o).contains("duration -5 s must be positive"), "{}", stderr(&o));
-    let o = run(&["simulate", "--height", "-50", "--duration", "1", "--out", "x.csv"], dir.path());
+    let o = run(
+        &["simulate", "--duration", "-5", "--out", "x.csv"],
+        dir.path(),
+    );
+    assert!(
+        stderr(&o).contains("duration -5 s must be positive"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(
+        &[
+            "simulate",
+            "--height",
+            "-50",
+            "--duration",
+            "1",
+            "--out",
+            "x.csv",
+        ],
+        dir.path(),
+    );
     assert_ok(&o);
 }
 
@@ -620,7 +868,15 @@ fn a_model_files_aircraft_is_found_beside_it() {
     )
     .unwrap();
     let o = run(
-        &["simulate", "--model", "models/model.toml", "--duration", "1", "--out", "x.csv"],
+        &[
+            "simulate",
+            "--model",
+            "models/model.toml",
+            "--duration",
+            "1",
+            "--out",
+            "x.csv",
+        ],
         d,
     );
     assert_ok(&o);
@@ -634,7 +890,11 @@ fn read_handle_is_not_left_open_on_a_fifo() {
     let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
     // SAFETY: a valid C string; mkfifo only creates the file.
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
-    let o = run_for(&["compare", "--flight", "f.csv"], dir.path(), Duration::from_secs(10));
+    let o = run_for(
+        &["compare", "--flight", "f.csv"],
+        dir.path(),
+        Duration::from_secs(10),
+    );
     assert_refused(&o, &["f.csv", "not a regular file"]);
 }
 
@@ -651,16 +911,29 @@ fn no_blank_images_from_huge_angles_or_scales() {
     let d = dir.path();
     let base = run(&["render", "--out", "a.svg"], d);
     assert_ok(&base);
-    let o = run(&["render", "--yaw", "1e100", "--camera", "chase", "--out", "b.svg"], d);
+    let o = run(
+        &[
+            "render", "--yaw", "1e100", "--camera", "chase", "--out", "b.svg",
+        ],
+        d,
+    );
     assert_ok(&o);
-    assert!(segments_drawn(&o) > 0, "{}", String::from_utf8_lossy(&o.stdout));
-    let o = run(&["render", "--yaw", "360", "--pitch", "-720", "--out", "c.svg"], d);
+    assert!(
+        segments_drawn(&o) > 0,
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let o = run(
+        &[
+            "render", "--yaw", "360", "--pitch", "-720", "--out", "c.svg",
+        ],
+        d,
+    );
     assert_eq!(segments_drawn(&o), segments_drawn(&base));
     // Models beyond the sizes the cameras can draw are refused, naming the limit.
-    let plane = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/plane.obj"),
-    )
-    .unwrap();
+    let plane =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/plane.obj"))
+            .unwrap();
     for (scale, ok) in [(1e20, false), (1e-31, false), (1e-6, true), (1e5, true)] {
         let scaled: Vec<String> = plane
             .lines()
@@ -677,7 +950,12 @@ fn no_blank_images_from_huge_angles_or_scales() {
             .collect();
         std::fs::write(d.join("s.obj"), scaled.join("\n")).unwrap();
         for camera in ["chase", "cockpit", "top"] {
-            let o = run(&["render", "--mesh", "s.obj", "--camera", camera, "--out", "s.svg"], d);
+            let o = run(
+                &[
+                    "render", "--mesh", "s.obj", "--camera", camera, "--out", "s.svg",
+                ],
+                d,
+            );
             if ok {
                 assert_ok(&o);
                 assert!(segments_drawn(&o) > 0, "scale {scale} {camera}: blank");

@@ -316,10 +316,9 @@ impl Compare {
             ..defaults
         };
         std::thread::spawn(move || {
-            let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
-                diagnose(&base, &data, &[], &cfg)
-            }))
-            .unwrap_or_else(|p| Err(panic_message(&*p)));
+            let outcome =
+                std::panic::catch_unwind(AssertUnwindSafe(|| diagnose(&base, &data, &[], &cfg)))
+                    .unwrap_or_else(|p| Err(panic_message(&*p)));
             let _ = tx.send(outcome);
         });
         self.fit = Fit::Running(Instant::now());

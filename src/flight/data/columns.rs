@@ -108,9 +108,7 @@ impl Quantity {
             Q::Time => (-1e9, 1e9, "±1e9 s"),
             Q::North | Q::East | Q::Down => (-1e8, 1e8, "±1e8 m"),
             Q::Roll | Q::Pitch | Q::Yaw => (-1e6, 1e6, "±1e6 rad (unwrapped angles)"),
-            Q::Vn | Q::Ve | Q::Vd | Q::U | Q::V | Q::W | Q::Airspeed => {
-                (-1e5, 1e5, "±1e5 m/s")
-            }
+            Q::Vn | Q::Ve | Q::Vd | Q::U | Q::V | Q::W | Q::Airspeed => (-1e5, 1e5, "±1e5 m/s"),
             Q::P | Q::Q | Q::R => (-1e4, 1e4, "±1e4 rad/s"),
             Q::Throttle => (0.0, 1.0, "0..1"),
             Q::Elevator | Q::Aileron | Q::Rudder => (-FRAC_PI_2, FRAC_PI_2, "±90°"),
@@ -129,9 +127,30 @@ const _: () = assert!(Quantity::Alt as usize + 1 == N_QUANTITIES);
 pub(super) const QUANTITIES: [Quantity; N_QUANTITIES] = {
     use Quantity as Q;
     [
-        Q::Time, Q::North, Q::East, Q::Down, Q::Roll, Q::Pitch, Q::Yaw, Q::Vn, Q::Ve, Q::Vd, Q::U,
-        Q::V, Q::W, Q::P, Q::Q, Q::R, Q::Airspeed, Q::Throttle, Q::Elevator, Q::Aileron,
-        Q::Rudder, Q::Lat, Q::Lon, Q::Alt,
+        Q::Time,
+        Q::North,
+        Q::East,
+        Q::Down,
+        Q::Roll,
+        Q::Pitch,
+        Q::Yaw,
+        Q::Vn,
+        Q::Ve,
+        Q::Vd,
+        Q::U,
+        Q::V,
+        Q::W,
+        Q::P,
+        Q::Q,
+        Q::R,
+        Q::Airspeed,
+        Q::Throttle,
+        Q::Elevator,
+        Q::Aileron,
+        Q::Rudder,
+        Q::Lat,
+        Q::Lon,
+        Q::Alt,
     ]
 };
 const _: () = {
