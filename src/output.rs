@@ -6,7 +6,7 @@ use std::path::Path;
 use anyhow::{bail, Context};
 
 use crate::clip::ClipStats;
-use crate::fsio::write_atomic;
+use crate::fsio::{write_atomic, StagedDir};
 use crate::pipeline::Viewport;
 use crate::render::{svg, LineScene, OutputFormat, Rasterizer};
 use crate::scene::replay::ReplayScene;
@@ -35,32 +35,55 @@ pub fn write_still(
     Ok(how)
 }
 
-/// Write one PNG per frame (`frame_00000.png`, …) of `replay` into `dir` (created if needed),
-/// one frame every 1/`fps` seconds of flight time from `t0` to `t1`. Returns the number of
-/// frames and the summed clip counts.
+/// Default most frames of one replay (`--max-frames`).
+pub const DEFAULT_MAX_FRAMES: u64 = 100_000;
+
+/// Whether a file name is one of [`write_frames`]' frames (`frame_NNNNN.png`).
+pub fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|n| n.strip_suffix(".png"))
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Write one PNG per frame (`frame_00000.png`, …) of `replay` into `dir`, one frame every
+/// 1/`fps` seconds of flight time from `t0` to `t1`, at most `max_frames` of them. The frames
+/// are written into a temporary directory that then replaces `dir` as a whole, so `dir` never
+/// holds frames of two runs, nor a partial set; `dir` may hold only earlier frames (anything
+/// else is refused, not deleted). Returns the number of frames and the summed clip counts.
 ///
 /// # Errors
-/// Bad fps, unwritable directory, drawing errors.
+/// Bad fps, more frames than `max_frames` (naming the span and `--max-frames`), a `dir`
+/// holding other files, unwritable directory, drawing errors.
 pub fn write_frames(
     replay: &mut ReplayScene<'_>,
     (t0, t1): (f64, f64),
     viewport: Viewport,
     fps: f64,
+    max_frames: u64,
     dir: &Path,
     rasterizer: &mut Rasterizer,
 ) -> anyhow::Result<(usize, ClipStats)> {
     if !(fps > 0.0 && fps <= 1000.0) {
         bail!("--fps {fps} must be in (0, 1000]");
     }
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create", dir.display()))?;
-    let frames = ((t1 - t0) * fps).floor() as usize + 1;
+    let count = ((t1 - t0) * fps).floor() + 1.0;
+    if !(count.is_finite() && count >= 1.0 && count <= max_frames as f64) {
+        bail!(
+            "{:.6e} s of flight at {fps} fps is {count:.3e} frames, more than --max-frames \
+             {max_frames} (raise it, or lower --fps)",
+            t1 - t0
+        );
+    }
+    let frames = count as usize;
+    let staged = StagedDir::new(dir)?;
     let mut total = ClipStats::default();
     for k in 0..frames {
         let (lines, stats) = replay.frame(t0 + k as f64 / fps, viewport);
         total.merge(&stats);
         let image = rasterizer.draw(lines)?;
-        let path = dir.join(format!("frame_{k:05}.png"));
+        let path = staged.path().join(format!("frame_{k:05}.png"));
         write_atomic(&path, &image.encode_png().context("encoding PNG")?)?;
     }
+    staged.commit_replace(is_frame_name)?;
     Ok((frames, total))
 }

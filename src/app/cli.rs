@@ -19,6 +19,15 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// Largest input file read (flight data, meshes and their buffers, model, parameter and
+    /// script files), MiB.
+    #[arg(long, global = true, value_name = "MIB", default_value_t = crate::fsio::DEFAULT_MAX_INPUT_MB,
+          value_parser = clap::value_parser!(u64).range(1..=1 << 24))]
+    pub max_input_mb: u64,
+    /// Let a glTF file read buffers outside its own directory (absolute paths, `file://`
+    /// URIs, `..`); by default they are refused.
+    #[arg(long, global = true)]
+    pub allow_external_uris: bool,
 }
 
 /// Subcommands.
@@ -166,6 +175,10 @@ pub struct CompareArgs {
     /// Frame size for --frames-dir, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),
+    /// Most frames --frames-dir writes (a flight with a long time gap would need more).
+    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_frames: u64,
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,
@@ -289,13 +302,13 @@ pub struct RenderArgs {
     )]
     pub mesh: String,
     /// Yaw ψ, degrees: rotation about Z (up).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub yaw: f64,
     /// Pitch θ, degrees: rotation about Y (left wing).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub pitch: f64,
     /// Roll φ, degrees: rotation about X (nose).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = finite_f64)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub roll: f64,
     /// Where the eye is.
     #[arg(long, value_enum, default_value_t = CameraArg::Chase)]
@@ -335,6 +348,10 @@ pub struct RenderArgs {
     /// Frames per second of flight time for the replay.
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub fps: f64,
+    /// Most frames the replay writes (a flight with a long time gap would need more).
+    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_frames: u64,
     /// The line clipper: blinn, cohen-sutherland, liang-barsky, cyrus-beck or
     /// sutherland-hodgman (all draw the same picture).
     #[arg(long, default_value = "blinn", value_name = "NAME")]
@@ -432,6 +449,10 @@ pub struct SimulateArgs {
     /// Output and autopilot rate, Hz.
     #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]
     pub rate: f64,
+    /// Most samples of the flight (duration × rate); bounds the run's memory and time.
+    #[arg(long, value_name = "N", default_value_t = crate::flight::simulate::DEFAULT_MAX_SAMPLES,
+          value_parser = clap::value_parser!(u64).range(2..))]
+    pub max_samples: u64,
     /// Noise seed (output is deterministic for a seed).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -865,6 +886,17 @@ pub fn finite_f64(s: &str) -> Result<f64, String> {
     } else {
         Err(format!("`{s}` is not a finite number"))
     }
+}
+
+/// An angle in degrees: finite; beyond ±360° reduced to (−180°, 180°] (the same rotation —
+/// `fmod` is exact), since the radians of 1e100° overflow the f32 that draws it.
+fn angle_deg(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v.abs() <= 360.0 {
+        return Ok(v);
+    }
+    let w = v.rem_euclid(360.0);
+    Ok(if w > 180.0 { w - 360.0 } else { w })
 }
 
 fn fov_deg(s: &str) -> Result<f64, String> {

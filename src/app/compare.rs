@@ -139,8 +139,15 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let mut rasterizer = Rasterizer::Cpu;
         let mut replay = ReplayScene::new(&data, &mesh, Clipper::Blinn)?.with_model(track);
         let span = (data.time[0], data.time[data.len() - 1]);
-        let (frames, _) =
-            write_frames(&mut replay, span, viewport, args.fps, dir, &mut rasterizer)?;
+        let (frames, _) = write_frames(
+            &mut replay,
+            span,
+            viewport,
+            args.fps,
+            args.max_frames,
+            dir,
+            &mut rasterizer,
+        )?;
         if !args.json {
             println!(
                 "wrote {frames} overlay frames to {} (measured: green, model {}: magenta)",

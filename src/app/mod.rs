@@ -15,10 +15,37 @@ pub mod view;
 
 use std::ffi::OsString;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 
-use clap::Parser;
+use clap::{CommandFactory, FromArgMatches};
 
 use cli::{Cli, Command};
+
+/// Exit status of a run that hit a bug (a panic, on any thread): distinct from 2 (bad input or
+/// a failed command) and from Rust's 101.
+pub const EXIT_BUG: u8 = 3;
+
+/// The command line: [`Cli`], with every option that takes a value accepting negative
+/// numbers (`--fov -10` reaches the option's own check instead of reading as an option).
+pub fn command() -> clap::Command {
+    let cmd = Cli::command();
+    let subcommands: Vec<String> = cmd
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    subcommands.iter().fold(cmd, |cmd, name| {
+        cmd.mut_subcommand(name, |sub| {
+            let ids: Vec<String> = sub
+                .get_arguments()
+                .filter(|a| a.get_action().takes_values() && !a.is_positional())
+                .map(|a| a.get_id().to_string())
+                .collect();
+            ids.iter().fold(sub, |sub, id| {
+                sub.mut_arg(id, |a| a.allow_negative_numbers(true))
+            })
+        })
+    })
+}
 
 /// Run the program on the given arguments (the first is the program name).
 ///
@@ -29,7 +56,12 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let cli = Cli::parse_from(args);
+    let matches = command().get_matches_from(args);
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    crate::fsio::set_input_limits(crate::fsio::InputLimits {
+        max_file_bytes: cli.max_input_mb.saturating_mul(1 << 20),
+        allow_external_uris: cli.allow_external_uris,
+    });
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
@@ -42,13 +74,51 @@ where
     }
 }
 
+/// Set when any thread panics (see [`main_with_args`]).
+static PANICKED: AtomicBool = AtomicBool::new(false);
+
 /// `main` for the `wireflight` binary: run, print the error chain once, exit 2 on failure.
+///
+/// Around the run: a closed stdout (`wireflight diagnose … | head -1`) ends the program
+/// quietly, as for any Unix filter (SIGPIPE's default action); SIGINT, SIGTERM and SIGHUP
+/// remove the temporary files before exiting; and a panic on any thread — a worker's too,
+/// which would otherwise only end that thread — is reported as a bug and makes the exit status
+/// [`EXIT_BUG`].
 pub fn main_with_args() -> ExitCode {
-    match run(std::env::args_os()) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(err) => {
+    // SAFETY: restoring the default action of SIGPIPE before any thread is started; no Rust
+    // code relies on SIGPIPE being ignored.
+    #[cfg(unix)]
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+    if let Err(e) = crate::fsio::install_signal_cleanup() {
+        eprintln!("wireflight: warning: {e:#}");
+    }
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        PANICKED.store(true, Ordering::SeqCst);
+        default_hook(info);
+        eprintln!("wireflight: internal error (a bug): please report it with the command line");
+    }));
+    let result = std::panic::catch_unwind(|| run(std::env::args_os()));
+    if crate::fsio::signalled() {
+        // The signal thread exits with the signal's status once the temporaries are gone.
+        loop {
+            std::thread::park();
+        }
+    }
+    crate::fsio::remove_temporaries();
+    let code = match result {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(err)) => {
             eprintln!("wireflight: {err:#}");
             ExitCode::from(2)
         }
+        Err(_) => ExitCode::from(EXIT_BUG),
+    };
+    if PANICKED.load(Ordering::SeqCst) {
+        ExitCode::from(EXIT_BUG)
+    } else {
+        code
     }
 }

@@ -29,8 +29,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         let mut replay = ReplayScene::new(&data, &mesh, args.clipper)
             .with_context(|| format!("{}", flight.display()))?;
         let span = (data.time[0], data.time[data.len() - 1]);
-        let (frames, stats) =
-            write_frames(&mut replay, span, viewport, args.fps, dir, &mut rasterizer)?;
+        let (frames, stats) = write_frames(
+            &mut replay,
+            span,
+            viewport,
+            args.fps,
+            args.max_frames,
+            dir,
+            &mut rasterizer,
+        )?;
         println!(
             "wrote {frames} frames of {} ({:.1} s at {} fps, {}x{}, {}) to {}",
             flight.display(),

@@ -6,7 +6,7 @@ use crate::app::cli::SimulateArgs;
 use crate::flight::autopilot::Manoeuvre;
 use crate::flight::data;
 use crate::flight::effects::Origin;
-use crate::flight::simulate::{simulate, Noise, SimSpec};
+use crate::flight::simulate::{simulate_limited, Noise, SimSpec};
 use crate::flight::spec::{EffectSpec, ModelSpec};
 use crate::flight::VehicleKind;
 
@@ -70,7 +70,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         aircraft: (spec.vehicle == VehicleKind::FixedWing).then(|| spec.aircraft.clone()),
         listed_effects: listed.clone(),
     };
-    let flight = simulate(&model, &sim).map_err(anyhow::Error::msg)?;
+    let flight = simulate_limited(&model, &sim, args.max_samples).map_err(anyhow::Error::msg)?;
     data::write(&args.out, &flight)?;
     println!(
         "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}",

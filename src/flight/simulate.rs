@@ -80,17 +80,74 @@ impl SimSpec {
 /// Longest integration step inside one output interval, s.
 pub const MAX_STEP: f64 = 0.01;
 
-/// Fly `spec` with `model` and return the (noisy) recorded flight.
+/// Default most samples of one simulated flight (`--max-samples`): 11 hours at 50 Hz.
+pub const DEFAULT_MAX_SAMPLES: u64 = 2_000_000;
+/// Integration steps allowed per sample of the limit: a low output rate integrates several
+/// steps of at most [`MAX_STEP`] per sample.
+const STEPS_PER_SAMPLE_LIMIT: u64 = 10;
+
+/// Fly `spec` with `model` and return the (noisy) recorded flight; at most
+/// [`DEFAULT_MAX_SAMPLES`] samples (see [`simulate_limited`]).
 ///
 /// # Errors
-/// Invalid spec (non-positive duration/rate), a manoeuvre for the other vehicle family, no trim
-/// at the requested airspeed, or a flight that diverged (non-finite state).
+/// As [`simulate_limited`].
 pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, String> {
+    simulate_limited(model, spec, DEFAULT_MAX_SAMPLES)
+}
+
+/// Fly `spec` with `model` and return the (noisy) recorded flight, refusing flights of more
+/// than `max_samples` samples (or `10 × max_samples` integration steps) before any work: the
+/// memory and time of a run are bounded by the limit, whatever the duration and rate.
+///
+/// # Errors
+/// Invalid spec (non-positive duration/rate, fewer than two samples, more than the limit,
+/// negative or non-finite noise), a manoeuvre for the other vehicle family, no trim at the
+/// requested airspeed, or a flight that diverged (non-finite state).
+pub fn simulate_limited(
+    model: &Model,
+    spec: &SimSpec,
+    max_samples: u64,
+) -> Result<FlightData, String> {
     if !(spec.duration_s > 0.0 && spec.duration_s.is_finite()) {
         return Err(format!("duration {} s must be positive", spec.duration_s));
     }
     if !(spec.rate_hz > 0.0 && spec.rate_hz <= 10_000.0) {
         return Err(format!("rate {} Hz must be in (0, 10000]", spec.rate_hz));
+    }
+    let n = (spec.duration_s * spec.rate_hz).round() + 1.0;
+    if n < 2.0 {
+        return Err(format!(
+            "{} s at {} Hz is a single sample: the rate must be at least 1/duration",
+            spec.duration_s, spec.rate_hz
+        ));
+    }
+    if n > max_samples as f64 {
+        return Err(format!(
+            "{} s at {} Hz is {n:.0} samples, more than --max-samples {max_samples} (raise \
+             it, or shorten --duration or lower --rate)",
+            spec.duration_s, spec.rate_hz
+        ));
+    }
+    let steps = spec.duration_s / (1.0 / spec.rate_hz).min(MAX_STEP);
+    let max_steps = max_samples.saturating_mul(STEPS_PER_SAMPLE_LIMIT);
+    if steps > max_steps as f64 {
+        return Err(format!(
+            "{} s takes {steps:.0} integration steps of at most {MAX_STEP} s, more than \
+             {STEPS_PER_SAMPLE_LIMIT} × --max-samples {max_samples} (raise it, or shorten \
+             --duration)",
+            spec.duration_s
+        ));
+    }
+    let nz = &spec.noise;
+    for (name, sigma) in [
+        ("position", nz.pos_m),
+        ("attitude", nz.att_deg),
+        ("velocity", nz.vel_mps),
+        ("rate", nz.rate_dps),
+    ] {
+        if !(sigma.is_finite() && sigma >= 0.0) {
+            return Err(format!("{name} noise {sigma} must be a finite number ≥ 0"));
+        }
     }
     let kind = model.vehicle.kind();
     if spec.manoeuvre.is_point_mass() != (kind == VehicleKind::PointMass) {
@@ -100,7 +157,8 @@ pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, String> {
         ));
     }
     let dt_out = 1.0 / spec.rate_hz;
-    let samples = (spec.duration_s * spec.rate_hz).round() as usize + 1;
+    // At most `max_samples` (checked above).
+    let samples = n as usize;
     let max_dt = dt_out.min(MAX_STEP);
 
     let mut truth = Recorder::with_capacity(samples, kind);
@@ -221,10 +279,10 @@ impl Recorder {
     fn finish(mut self, meta: Metadata, noise: &Noise, seed: u64) -> FlightData {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut gauss = |sigma: f64| -> f64 {
+            // `simulate_limited` checked every σ finite and ≥ 0, and `Normal::new` fails for
+            // nothing else; 0 stands in all the same.
             if sigma > 0.0 {
-                Normal::new(0.0, sigma)
-                    .expect("finite sigma")
-                    .sample(&mut rng)
+                Normal::new(0.0, sigma).map_or(0.0, |d| d.sample(&mut rng))
             } else {
                 0.0
             }

@@ -180,7 +180,7 @@ impl ModelSpec {
     /// Unreadable file, bad TOML, unknown keys, effects or parameters — naming the file and
     /// the field.
     pub fn load(path: &Path) -> anyhow::Result<Self> {
-        let text = std::fs::read_to_string(path)
+        let text = crate::fsio::read_text(path)
             .with_context(|| format!("{}: cannot read", path.display()))?;
         let mut spec = Self::from_toml(&text)
             .with_context(|| format!("{}: bad model file", path.display()))?;
@@ -249,11 +249,12 @@ impl ModelSpec {
                         "altitude_m" => 2,
                         _ => bail!("unknown field `origin.{k}`"),
                     };
-                    spec.origin[slot] = Some(
-                        v.as_float()
-                            .or_else(|| v.as_integer().map(|i| i as f64))
-                            .with_context(|| format!("`origin.{k}` must be a number"))?,
-                    );
+                    let v = v
+                        .as_float()
+                        .or_else(|| v.as_integer().map(|i| i as f64))
+                        .with_context(|| format!("`origin.{k}` must be a number"))?;
+                    Origin::check_field(k, v).map_err(|e| anyhow::anyhow!("`origin.{k}`: {e}"))?;
+                    spec.origin[slot] = Some(v);
                 }
             }
         }
@@ -287,6 +288,7 @@ impl ModelSpec {
     /// duplicates.
     pub fn build(&self, default_origin: Origin) -> anyhow::Result<Model> {
         let origin = self.origin(default_origin);
+        origin.check().map_err(|e| anyhow::anyhow!("origin: {e}"))?;
         let vehicle = match self.vehicle {
             VehicleKind::PointMass => Vehicle::PointMass,
             VehicleKind::FixedWing => {

@@ -69,9 +69,20 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
     if !matches!(model.vehicle, Vehicle::FixedWing(_)) {
         return Err("trim needs a fixed-wing model".into());
     }
+    if !(va.is_finite() && va > 0.0) {
+        return Err(format!(
+            "no trim at airspeed {va} m/s: level flight needs a positive airspeed"
+        ));
+    }
     let norm = |r: &[f64; N]| r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut z = [0.05, 0.0, 0.05, 0.0, -0.1, 0.0, 0.0, 0.5];
     let mut r = residuals(model, &z, va, yaw, pos_ned);
+    if !r.iter().all(|v| v.is_finite()) {
+        return Err(format!(
+            "no trim at {va} m/s: the model's accelerations are not finite there (an effect \
+             parameter such as the wind, or the parameter set, is beyond what can fly)"
+        ));
+    }
     for _ in 0..50 {
         if norm(&r) < 1e-10 {
             break;
@@ -89,7 +100,9 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
                 jac[i][j] = (rp[i] - rm[i]) / (2.0 * h);
             }
         }
-        let step = crate::numeric::solve(jac, r.map(|v| -v)).ok_or("trim Jacobian is singular")?;
+        let Some(step) = crate::numeric::solve(jac, r.map(|v| -v)) else {
+            return Err(singular_trim(&jac, va));
+        };
         // Step halving: accept the first fraction of the Newton step that reduces |r|.
         let mut lambda = 1.0;
         loop {
@@ -135,6 +148,39 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
         alpha: z[0],
         residual,
     })
+}
+
+/// Why the trim's Newton step cannot be taken: which unknowns change nothing (a zero column
+/// of the Jacobian), in words that point at the input responsible.
+fn singular_trim(jac: &[[f64; N]; N], va: f64) -> String {
+    const UNKNOWNS: [&str; N] = [
+        "the angle of attack",
+        "the sideslip",
+        "the pitch angle",
+        "the bank angle",
+        "the elevator",
+        "the aileron",
+        "the rudder",
+        "the throttle (is the thrust zero: k_motor, s_prop or c_prop?)",
+    ];
+    let size = |j: usize| (0..N).fold(0.0f64, |m, i| m.max(jac[i][j].abs()));
+    let largest = (0..N).map(size).fold(0.0f64, f64::max);
+    let dead: Vec<&str> = (0..N)
+        .filter(|&j| size(j) <= 1e-9 * largest || size(j).is_nan())
+        .map(|j| UNKNOWNS[j])
+        .collect();
+    if dead.is_empty() || dead.len() == N {
+        format!(
+            "no trim at {va} m/s: the controls and attitude hardly change the accelerations \
+             (is the mass or an inertia far too large, or the air density or wing area far too \
+             small, for this airspeed?)"
+        )
+    } else {
+        format!(
+            "no trim at {va} m/s: {} changes nothing in the equations of motion",
+            dead.join(", ")
+        )
+    }
 }
 
 #[cfg(test)]

@@ -48,16 +48,27 @@ const MAX_DEPTH: usize = 1024;
 /// a buffer that cannot be read (naming it), accessors out of range, non-finite positions, or
 /// nothing to draw.
 pub fn load(path: &Path) -> Result<EdgeMesh, MeshError> {
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    let bytes = crate::fsio::read_bytes(path).map_err(|error| MeshError::Io {
         path: path.to_path_buf(),
-        source,
+        error,
     })?;
+    parse(&bytes, path)
+}
+
+/// Load glTF (JSON) or GLB bytes already read from `path`; buffers named by URI are read from
+/// `path`'s directory, and only from there unless [`crate::fsio::InputLimits`] allow external
+/// URIs (`--allow-external-uris`).
+///
+/// # Errors
+/// As [`load`].
+pub fn parse(bytes: &[u8], path: &Path) -> Result<EdgeMesh, MeshError> {
     let malformed = |detail: String| MeshError::Malformed {
         path: path.to_path_buf(),
         detail,
     };
-    let gltf::Gltf { document, mut blob } = gltf::Gltf::from_slice_without_validation(&bytes)
-        .map_err(|e| malformed(describe_parse_error(&bytes, e)))?;
+    check_glb_header(bytes, path).map_err(malformed)?;
+    let gltf::Gltf { document, mut blob } = gltf::Gltf::from_slice_without_validation(bytes)
+        .map_err(|e| malformed(describe_parse_error(bytes, e)))?;
     let root = document.into_json();
     for ext in &root.extensions_required {
         if GEOMETRY_EXTENSIONS.contains(&ext.as_str()) {
@@ -69,31 +80,77 @@ pub fn load(path: &Path) -> Result<EdgeMesh, MeshError> {
     validate(&root).map_err(malformed)?;
     let document = gltf::Document::from_json_without_validation(root);
 
-    // What `gltf::import` does, minus the images, and naming the buffer that fails.
-    let base = path.parent().unwrap_or(Path::new("."));
+    // What `gltf::import` does, minus the images, confined to the model's directory, bounded
+    // in size, and naming the buffer that fails.
+    let base = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
     let mut buffers = Vec::new();
     for buffer in document.buffers() {
-        let what = match buffer.source() {
-            gltf::buffer::Source::Bin => "the GLB binary chunk".to_string(),
-            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => "its data URI".into(),
-            gltf::buffer::Source::Uri(uri) => format!("'{}'", base.join(uri).display()),
+        let declared = buffer.length();
+        let (data, what) = match buffer.source() {
+            gltf::buffer::Source::Bin => {
+                let data = blob.take().ok_or_else(|| {
+                    malformed(format!(
+                        "buffer {} is the GLB binary chunk, but the file has none",
+                        buffer.index()
+                    ))
+                })?;
+                // The chunk is padded to 4 bytes.
+                if data.len() < declared || data.len() > declared.saturating_add(3) {
+                    return Err(malformed(format!(
+                        "buffer {} is the GLB binary chunk of {} bytes, but its byteLength \
+                         says {declared}",
+                        buffer.index(),
+                        data.len()
+                    )));
+                }
+                (data, "the GLB binary chunk".to_string())
+            }
+            gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
+                let mut none = None;
+                let data = gltf::buffer::Data::from_source_and_blob(
+                    buffer.source(),
+                    Some(base),
+                    &mut none,
+                )
+                .map_err(|e| {
+                    malformed(format!(
+                        "buffer {} cannot be read from its data URI: {e}",
+                        buffer.index()
+                    ))
+                })?;
+                (data.0, "its data URI".to_string())
+            }
+            gltf::buffer::Source::Uri(uri) => {
+                let file = resolve_uri(base, uri).map_err(|why| {
+                    malformed(format!(
+                        "buffer {} has the URI '{uri}': {why}",
+                        buffer.index()
+                    ))
+                })?;
+                let data = crate::fsio::read_bytes(&file).map_err(|e| {
+                    malformed(format!(
+                        "buffer {} cannot be read from '{}': {e}",
+                        buffer.index(),
+                        file.display()
+                    ))
+                })?;
+                (data, format!("'{}'", file.display()))
+            }
         };
-        let data = gltf::buffer::Data::from_source_and_blob(buffer.source(), Some(base), &mut blob)
-            .map_err(|e| {
-                malformed(format!(
-                    "buffer {} cannot be read from {what}: {e}",
-                    buffer.index()
-                ))
-            })?;
-        if data.len() < buffer.length() {
+        if data.len() < declared {
             return Err(malformed(format!(
-                "buffer {} is {} bytes long, but the file says {}",
+                "buffer {} is {} bytes long ({what}), but the file says {declared}",
                 buffer.index(),
                 data.len(),
-                buffer.length()
             )));
         }
-        buffers.push(data);
+        let mut data = data;
+        // Accessors may use the declared bytes only.
+        data.truncate(declared);
+        buffers.push(gltf::buffer::Data(data));
     }
 
     // glTF nodes form trees: a node with two parents would be drawn twice per path (and a
@@ -191,6 +248,120 @@ fn validate(root: &gltf::json::Root) -> Result<(), String> {
     } else {
         Err(format!("invalid glTF:{errors}"))
     }
+}
+
+/// A GLB file's 12-byte header: magic `glTF`, version 2, and a length equal to the file's. A
+/// file named `.glb` must have it; a JSON file (starting with `{` after white space) is
+/// anything else.
+fn check_glb_header(bytes: &[u8], path: &Path) -> Result<(), String> {
+    let named_glb = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("glb"));
+    if !bytes.starts_with(b"glTF") {
+        if named_glb {
+            let shown: String = bytes
+                .iter()
+                .take(4)
+                .map(|b| format!("{b:02x}"))
+                .collect::<Vec<_>>()
+                .join(" ");
+            return Err(format!(
+                "not a glTF file: a GLB (binary glTF) file starts with the magic `glTF`, this \
+                 one with the bytes [{shown}]"
+            ));
+        }
+        return Ok(());
+    }
+    if bytes.len() < 12 {
+        return Err(format!(
+            "not a valid GLB file: {} bytes, shorter than the 12-byte header",
+            bytes.len()
+        ));
+    }
+    let word = |k: usize| u32::from_le_bytes([bytes[k], bytes[k + 1], bytes[k + 2], bytes[k + 3]]);
+    let (version, length) = (word(4), word(8));
+    if version != 2 {
+        return Err(format!(
+            "not a valid GLB file: version {version} (only glTF 2 is read)"
+        ));
+    }
+    if u64::from(length) != bytes.len() as u64 {
+        return Err(format!(
+            "not a valid GLB file: the header says {length} bytes, but the file has {}",
+            bytes.len()
+        ));
+    }
+    Ok(())
+}
+
+/// The file a buffer URI names: relative to `base` (percent-decoded), and inside it unless
+/// external URIs are allowed (`--allow-external-uris`): no absolute path, no `file:` URI, no
+/// `..` and no symbolic link leading out.
+fn resolve_uri(base: &Path, uri: &str) -> Result<std::path::PathBuf, String> {
+    let allow_external = crate::fsio::input_limits().allow_external_uris;
+    let refuse = |what: &str| {
+        Err(format!(
+            "{what} outside the model's directory is not read (allow it with \
+             --allow-external-uris)"
+        ))
+    };
+    let (decoded, is_file_uri) = match uri.strip_prefix("file://").or(uri.strip_prefix("file:")) {
+        Some(rest) => (percent_decode(rest)?, true),
+        None if uri.contains(':') => {
+            return Err("only relative paths, `file:` and `data:` URIs are supported".into())
+        }
+        None => (percent_decode(uri)?, false),
+    };
+    let rel = Path::new(&decoded);
+    if !allow_external {
+        if is_file_uri || rel.is_absolute() {
+            return refuse("a file");
+        }
+        if rel.components().any(|c| {
+            !matches!(
+                c,
+                std::path::Component::Normal(_) | std::path::Component::CurDir
+            )
+        }) {
+            return refuse("a path with `..`, naming a file");
+        }
+    }
+    let file = if rel.is_absolute() {
+        rel.to_path_buf()
+    } else {
+        base.join(rel)
+    };
+    if !allow_external {
+        // A symbolic link inside the directory may still lead out of it.
+        if let (Ok(dir), Ok(target)) = (std::fs::canonicalize(base), std::fs::canonicalize(&file)) {
+            if !target.starts_with(&dir) {
+                return refuse("a file (through a symbolic link)");
+            }
+        }
+    }
+    Ok(file)
+}
+
+/// `%XX` escapes decoded (the rest kept as it is); the result must be UTF-8.
+fn percent_decode(s: &str) -> Result<String, String> {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            let hex = b
+                .get(i + 1..i + 3)
+                .and_then(|h| std::str::from_utf8(h).ok())
+                .and_then(|h| u8::from_str_radix(h, 16).ok())
+                .ok_or_else(|| format!("bad percent escape at byte {i}"))?;
+            out.push(hex);
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).map_err(|_| "the decoded URI is not UTF-8".to_string())
 }
 
 /// A parse error with a hint of what kind of file this is not.

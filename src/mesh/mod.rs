@@ -295,18 +295,25 @@ pub enum MeshProblem {
     /// More than 2³² vertices.
     #[error("the model has more than 4294967295 vertices")]
     TooLarge,
+    /// A model too large or too small to be drawn in `f32` by every camera.
+    #[error(
+        "the model's bounding radius {0:e} m is outside {MIN_RADIUS_M:e}..={MAX_RADIUS_M:e} m, \
+         the sizes every camera can draw in f32: rescale it"
+    )]
+    OutOfScale(f32),
 }
 
 /// A model file could not be used. Always names the file.
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
-    /// The file could not be read.
-    #[error("{path}: cannot read: {source}")]
+    /// The file could not be read. (The I/O error is in the message, not a `source`, so that an
+    /// error chain prints it once.)
+    #[error("{path}: cannot read: {error}")]
     Io {
         /// The file.
         path: PathBuf,
         /// The I/O error.
-        source: std::io::Error,
+        error: std::io::Error,
     },
     /// The file's extension names no supported format.
     #[error("{path}: unknown model format (expected .obj, .gltf or .glb)")]
@@ -341,14 +348,28 @@ pub fn load(path: &Path) -> Result<EdgeMesh, MeshError> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    match ext.as_deref() {
+    let mesh = match ext.as_deref() {
         Some("obj") => obj::load(path),
         Some("gltf") | Some("glb") => gltf::load(path),
         _ => Err(MeshError::UnknownFormat {
             path: path.to_path_buf(),
         }),
+    }?;
+    let (_, radius) = mesh.bounding_sphere();
+    if !(MIN_RADIUS_M..=MAX_RADIUS_M).contains(&radius) {
+        return Err(MeshError::Content {
+            path: path.to_path_buf(),
+            problem: MeshProblem::OutOfScale(radius),
+        });
     }
+    Ok(mesh)
 }
+
+/// Smallest bounding radius of a loaded model, m (below about 1e-20 the projection underflows).
+pub const MIN_RADIUS_M: f32 = 1e-9;
+/// Largest bounding radius of a loaded model, m (the cockpit camera loses the model near 1e8,
+/// the chase camera near 1e18).
+pub const MAX_RADIUS_M: f32 = 1e6;
 
 /// The mesh named on the command line: `plane` is the built-in aircraft, anything else a
 /// file (see [`load`]).

@@ -39,13 +39,23 @@ use super::{EdgeMesh, EdgeMeshBuilder, MeshError, MeshProblem};
 /// A [`MeshError`] naming the file and the problem: unreadable file, malformed record (with its
 /// line number), index out of range, non-finite vertex, or nothing to draw.
 pub fn load(path: &Path) -> Result<EdgeMesh, MeshError> {
-    let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
+    let bytes = crate::fsio::read_bytes(path).map_err(|error| MeshError::Io {
         path: path.to_path_buf(),
-        source,
+        error,
     })?;
+    parse(&bytes, path)
+}
+
+/// Load OBJ text already read; `path` names it in errors. A UTF-8 byte-order mark at the start
+/// is skipped (it would otherwise hide the first record: every index would shift by one).
+///
+/// # Errors
+/// As [`load`], without the I/O errors.
+pub fn parse(bytes: &[u8], path: &Path) -> Result<EdgeMesh, MeshError> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     // OBJ is ASCII in practice; object and material names may be in any 8-bit encoding, and
     // we ignore them, so decode leniently rather than reject the file.
-    let text = String::from_utf8_lossy(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     let malformed = |detail: String| MeshError::Malformed {
         path: path.to_path_buf(),
         detail,

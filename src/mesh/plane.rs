@@ -1,6 +1,7 @@
 //! The built-in aircraft: a light high-performance single, about 9 m long with an 11 m span,
 //! in body axes nose **+X**, left wing **+Y**, rudder **+Z** (metres, origin near the centre of
-//! gravity). Also shipped as `assets/plane.obj` and `assets/plane.gltf`.
+//! gravity). Also shipped as `assets/plane.obj` and `assets/plane.gltf`. The builder's
+//! `expect`s below cannot fail: every point is a constant of this file.
 
 use glam::Vec3;
 

@@ -4,7 +4,8 @@
 //! hangars, hills) and a unit horizon ring that the viewer places around the eye.
 //!
 //! Pure data building: no I/O. Every mesh goes through [`EdgeMeshBuilder`], so shared edges
-//! are drawn once.
+//! are drawn once. The builder's `expect("finite")`s below cannot fail: every point is made
+//! from constants of this file (and the finite, positive sizes of [`WorldSpec`]).
 
 use std::f32::consts::{PI, TAU};
 
@@ -97,6 +98,8 @@ impl World {
 pub fn ground_grid(half: f32, spacing: f32) -> EdgeMesh {
     let n = (2.0 * half / spacing).round().max(1.0) as u32;
     let step = 2.0 * half / n as f32;
+    // `World::new` passes sizes it replaced by defaults unless finite and positive; the cell
+    // count is at least 1, so the grid has edges.
     grid_cells(Vec2::splat(-half), step, n, n).expect("a finite, positive grid has edges")
 }
 

@@ -98,6 +98,7 @@ impl Image {
             "pixel ({x}, {y}) outside image"
         );
         let i = (y as usize * self.width as usize + x as usize) * 4;
+        // A slice of exactly 4 bytes (inside the image, asserted above) converts to [u8; 4].
         self.pixels[i..i + 4].try_into().unwrap()
     }
 

@@ -121,7 +121,9 @@ fn error_strip(track: &ModelTrack, t: f64, viewport: Viewport) -> Vec<Segment2> 
     let (w, h) = (viewport.width as f32, viewport.height as f32);
     let (top, bottom) = (h * (5.0 / 6.0), h - 2.0);
     let (left, right) = (4.0, w - 4.0);
-    let (t0, t1) = (track.time[0], *track.time.last().expect("non-empty"));
+    let (Some(&t0), Some(&t1)) = (track.time.first(), track.time.last()) else {
+        return Vec::new();
+    };
     let span = (t1 - t0).max(1e-9);
     let peak = track.strip_scale_m.max(1e-9);
     let x_of = |s: f64| left + ((s - t0) / span) as f32 * (right - left);

@@ -289,6 +289,7 @@ fn split_wraps(pts: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
                 let edge = if q_un > p.1 { 180.0 } else { -180.0 };
                 let f = ((edge - p.1) / (q_un - p.1)).clamp(0.0, 1.0);
                 let t = p.0 + f * (q.0 - p.0);
+                // `out` starts with one piece and only grows: never empty.
                 out.last_mut().expect("non-empty").push((t, edge));
                 out.push(vec![(t, -edge)]);
             }

@@ -128,7 +128,9 @@ pub fn write_plots_with(
             );
         }
     }
-    std::fs::create_dir_all(dir)
+    // The set is drawn into a temporary directory and moved in together: a run that is
+    // stopped or fails leaves the directory as it was, never a partial set.
+    let staged = crate::fsio::StagedDir::new(dir)
         .with_context(|| format!("{}: cannot create the plot directory", dir.display()))?;
     let ctx = PlotContext::new(data, before, after, info);
 
@@ -140,7 +142,7 @@ pub fn write_plots_with(
         let path = dir.join(name);
         let bytes =
             render_png(size, draw).with_context(|| format!("{}: cannot draw", path.display()))?;
-        crate::fsio::write_atomic(&path, &bytes)?;
+        crate::fsio::write_atomic(&staged.path().join(name), &bytes)?;
         written.push(path);
         Ok(())
     };
@@ -155,6 +157,7 @@ pub fn write_plots_with(
             draw_error_vs_condition(root, &ctx, c)
         })?;
     }
+    staged.commit_merge()?;
     Ok(written)
 }
 

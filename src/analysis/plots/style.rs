@@ -164,22 +164,39 @@ pub(super) fn header<'a>(
     Ok(rest)
 }
 
-/// Tick labels with as many decimals as the tick spacing needs; U+2212 for minus.
-fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> String {
+/// Tick labels with as many decimals as the tick spacing needs; U+2212 for minus. Axes
+/// reaching 1e6 or more, or with steps below 1e-6, are labelled in scientific notation with
+/// the digits that tell the ticks apart (never a 100-digit number).
+pub(super) fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> String {
     // The tick step: the smallest 1, 2 or 5 × 10^k giving at most `n` ticks.
     let raw = (range.end - range.start).abs() / n.max(1) as f64;
-    let decimals = if raw > 0.0 && raw.is_finite() {
+    let step = if raw > 0.0 && raw.is_finite() {
         let mag = 10f64.powf(raw.log10().floor());
-        let step = [1.0, 2.0, 5.0, 10.0]
+        [1.0, 2.0, 5.0, 10.0]
             .iter()
             .map(|m| m * mag)
             .find(|s| *s >= raw * (1.0 - 1e-9))
-            .unwrap_or(10.0 * mag);
+            .unwrap_or(10.0 * mag)
+    } else {
+        0.0
+    };
+    let decimals = if step > 0.0 && step.is_finite() {
         (-(step.log10() + 1e-9).floor() as i32).clamp(0, 6) as usize
     } else {
         0
     };
+    let big = range.start.abs().max(range.end.abs());
+    let scientific = big.is_finite() && (big >= 1e6 || (step > 0.0 && step < 1e-6));
+    let digits = if step > 0.0 && big > 0.0 {
+        ((big / step).log10().ceil() as i32).clamp(1, 6) as usize
+    } else {
+        3
+    };
     move |v: &f64| {
+        if scientific || !v.is_finite() {
+            let s = format!("{:.*e}", digits, v);
+            return s.replace('-', "\u{2212}");
+        }
         let s = format!("{:.*}", decimals, v);
         let s = if s
             .trim_start_matches('-')
@@ -458,6 +475,22 @@ pub(super) fn fmt_score(v: f64) -> String {
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn tick_labels_stay_short_on_huge_and_tiny_axes() {
+        for (range, v) in [
+            (0.0..1e200, 1e200),
+            (-1e8..1e8, -5e7),
+            (0.0..3e-9, 1e-9),
+            (1e6..1e6 + 1.0, 1e6 + 0.5),
+        ] {
+            let label = tick_formatter(&range, 5)(&v);
+            assert!(label.chars().count() <= 12, "{range:?}: {label}");
+        }
+        assert_eq!(tick_formatter(&(0.0..10.0), 5)(&4.0), "4");
+        assert_eq!(tick_formatter(&(-1.0..1.0), 5)(&-0.5), "\u{2212}0.5");
+    }
+
     use super::*;
 
     #[test]

@@ -8,6 +8,7 @@
 //! No window code: the window reads this state, tests drive it directly ([`Compare::wait`],
 //! [`Compare::wait_fit`]).
 
+use std::panic::AssertUnwindSafe;
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 use std::time::Instant;
@@ -284,7 +285,12 @@ impl Compare {
         let cfg = self.cfg;
         let asked = Instant::now();
         std::thread::spawn(move || {
-            let _ = tx.send(evaluate(&data, &model, &effects, cfg, asked));
+            // A panic is a bug: the panel says so (and the exit status, see `app`).
+            let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                evaluate(&data, &model, &effects, cfg, asked)
+            }))
+            .unwrap_or_else(|p| Err(anyhow::anyhow!(panic_message(&*p))));
+            let _ = tx.send(outcome);
         });
         self.job = Some((rx, asked));
     }
@@ -310,7 +316,10 @@ impl Compare {
             ..defaults
         };
         std::thread::spawn(move || {
-            let _ = tx.send(diagnose(&base, &data, &[], &cfg));
+            let outcome =
+                std::panic::catch_unwind(AssertUnwindSafe(|| diagnose(&base, &data, &[], &cfg)))
+                    .unwrap_or_else(|p| Err(panic_message(&*p)));
+            let _ = tx.send(outcome);
         });
         self.fit = Fit::Running(Instant::now());
         self.fit_job = Some(rx);
@@ -507,6 +516,16 @@ pub fn bin_max(time: &[f64], values: &[f64], bins: usize) -> Vec<f32> {
         }
     }
     out
+}
+
+/// What a worker thread's panic said, as an error for the panel.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".to_string());
+    format!("internal error (a bug): {what}")
 }
 
 #[cfg(test)]

@@ -197,7 +197,7 @@ pub fn parse(text: &str, file: &str) -> Result<Script, ScriptError> {
 /// # Errors
 /// The file cannot be read, or a line is bad (file and line named).
 pub fn load(path: &Path) -> anyhow::Result<Script> {
-    let text = std::fs::read_to_string(path)
+    let text = crate::fsio::read_text(path)
         .map_err(|e| anyhow::anyhow!("{}: cannot read script: {e}", path.display()))?;
     Ok(parse(&text, &path.display().to_string())?)
 }

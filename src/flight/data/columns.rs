@@ -97,9 +97,69 @@ pub(super) enum Quantity {
     Alt,
 }
 
+impl Quantity {
+    /// The values a cell of this quantity may hold, in SI units (after the column's scale),
+    /// and the range as the error message states it. Beyond these the numbers are not a
+    /// flight (and would overflow the analysis: squares of 1e200 are infinite).
+    pub(super) fn range(self) -> (f64, f64, &'static str) {
+        use std::f64::consts::{FRAC_PI_2, PI, TAU};
+        use Quantity as Q;
+        match self {
+            Q::Time => (-1e9, 1e9, "±1e9 s"),
+            Q::North | Q::East | Q::Down => (-1e8, 1e8, "±1e8 m"),
+            Q::Roll | Q::Pitch | Q::Yaw => (-1e6, 1e6, "±1e6 rad (unwrapped angles)"),
+            Q::Vn | Q::Ve | Q::Vd | Q::U | Q::V | Q::W | Q::Airspeed => (-1e5, 1e5, "±1e5 m/s"),
+            Q::P | Q::Q | Q::R => (-1e4, 1e4, "±1e4 rad/s"),
+            Q::Throttle => (0.0, 1.0, "0..1"),
+            Q::Elevator | Q::Aileron | Q::Rudder => (-FRAC_PI_2, FRAC_PI_2, "±90°"),
+            Q::Lat => (-FRAC_PI_2, FRAC_PI_2, "±90°"),
+            Q::Lon => (-PI, TAU, "-180°..360°"),
+            Q::Alt => (-1e5, 1e8, "-1e5..1e8 m"),
+        }
+    }
+}
+
 /// Number of [`Quantity`] variants.
 pub(super) const N_QUANTITIES: usize = 24;
 const _: () = assert!(Quantity::Alt as usize + 1 == N_QUANTITIES);
+
+/// Every [`Quantity`], indexed by its value.
+pub(super) const QUANTITIES: [Quantity; N_QUANTITIES] = {
+    use Quantity as Q;
+    [
+        Q::Time,
+        Q::North,
+        Q::East,
+        Q::Down,
+        Q::Roll,
+        Q::Pitch,
+        Q::Yaw,
+        Q::Vn,
+        Q::Ve,
+        Q::Vd,
+        Q::U,
+        Q::V,
+        Q::W,
+        Q::P,
+        Q::Q,
+        Q::R,
+        Q::Airspeed,
+        Q::Throttle,
+        Q::Elevator,
+        Q::Aileron,
+        Q::Rudder,
+        Q::Lat,
+        Q::Lon,
+        Q::Alt,
+    ]
+};
+const _: () = {
+    let mut k = 0;
+    while k < N_QUANTITIES {
+        assert!(QUANTITIES[k] as usize == k);
+        k += 1;
+    }
+};
 
 /// The attitude columns (a set).
 pub(super) const ATTITUDE: [Quantity; 3] = [Quantity::Roll, Quantity::Pitch, Quantity::Yaw];

@@ -148,8 +148,9 @@ pub struct DataError {
 #[derive(Debug, thiserror::Error)]
 #[non_exhaustive]
 pub enum DataErrorKind {
-    /// The file could not be read.
-    #[error("cannot read the file: {0}")]
+    /// The file could not be read. (The OS error is the [`source`](std::error::Error::source),
+    /// not in the message, so that an error chain prints it once.)
+    #[error("cannot read the file")]
     Unreadable(std::io::Error),
     /// The file is not UTF-8 text (the line is where the first bad byte is).
     #[error("not UTF-8 text")]
@@ -195,6 +196,14 @@ pub enum DataErrorKind {
     NonFinite {
         /// The cell as written.
         value: String,
+    },
+    /// A number outside what the quantity can be in a flight (see the reader's ranges).
+    #[error("`{value}` is outside the range of a flight: {range}")]
+    OutOfRange {
+        /// The cell as written.
+        value: String,
+        /// The range, with its unit.
+        range: &'static str,
     },
     /// A row with more or fewer cells than the header.
     #[error("the row has {found} cells but the header has {expected}")]

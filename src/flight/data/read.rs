@@ -16,7 +16,7 @@ use glam::DVec3;
 
 use super::columns::{
     column_label, jsbsim_column, native_column, Dialect, Quantity, ATTITUDE, CONTROLS, GROUPS,
-    N_QUANTITIES,
+    N_QUANTITIES, QUANTITIES,
 };
 use super::{DataError, DataErrorKind, FlightData, Metadata, EARTH_RADIUS_M};
 use crate::euler::EulerZyx;
@@ -30,7 +30,7 @@ use crate::flight::{Controls, VehicleKind};
 /// everything [`parse`] rejects.
 pub fn read(path: &Path) -> Result<FlightData, DataError> {
     let file = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| DataError {
+    let bytes = crate::fsio::read_bytes(path).map_err(|e| DataError {
         file: file.clone(),
         line: None,
         column: None,
@@ -146,9 +146,15 @@ fn parse_metadata(rest: &str, meta: &mut Metadata) -> Result<(), DataErrorKind> 
     match key {
         "vehicle" => meta.vehicle = Some(value.parse::<VehicleKind>().map_err(bad)?),
         "aircraft" => meta.aircraft = Some(value.to_string()),
-        "latitude_deg" => meta.latitude_deg = Some(number()?),
-        "longitude_deg" => meta.longitude_deg = Some(number()?),
-        "altitude_m" => meta.altitude_m = Some(number()?),
+        "latitude_deg" | "longitude_deg" | "altitude_m" => {
+            let v = number()?;
+            crate::flight::effects::Origin::check_field(key, v).map_err(bad)?;
+            match key {
+                "latitude_deg" => meta.latitude_deg = Some(v),
+                "longitude_deg" => meta.longitude_deg = Some(v),
+                _ => meta.altitude_m = Some(v),
+            }
+        }
         "mass_kg" => meta.mass_kg = Some(number()?),
         "reference_area_m2" => meta.reference_area_m2 = Some(number()?),
         "source" => meta.source = Some(value.to_string()),
@@ -411,8 +417,15 @@ fn read_rows<'t>(
         }
         for &(q, column) in &used {
             let v = parse_cell(cells[column.index])
-                .map_err(|k| errors.at(n, Some(names[column.index]), k))?;
-            values[q].push(v * column.scale);
+                .map_err(|k| errors.at(n, Some(names[column.index]), k))?
+                * column.scale;
+            let (lo, hi, range) = QUANTITIES[q].range();
+            if !(lo..=hi).contains(&v) {
+                let value = cells[column.index].trim().to_string();
+                let kind = DataErrorKind::OutOfRange { value, range };
+                return Err(errors.at(n, Some(names[column.index]), kind));
+            }
+            values[q].push(v);
         }
         let t = values[Quantity::Time as usize]
             .last()

@@ -25,7 +25,13 @@ pub fn write(path: &Path, data: &FlightData) -> anyhow::Result<()> {
     if data.is_empty() {
         anyhow::bail!("{}: cannot write flight data: no samples", path.display());
     }
-    crate::fsio::write_atomic(path, to_csv_string(data).as_bytes())
+    // Never write a file that the reader rejects (`inf` from huge noise, positions beyond the
+    // reader's ranges): say so now rather than when the file is read.
+    let text = to_csv_string(data);
+    if let Err(e) = super::read::parse(&text, &path.display().to_string()) {
+        anyhow::bail!("cannot write flight data that would not read back: {e}");
+    }
+    crate::fsio::write_atomic(path, text.as_bytes())
 }
 
 /// The wireflight CSV text of `data`: metadata lines, the header, one row per sample. Writes

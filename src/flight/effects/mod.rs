@@ -83,6 +83,39 @@ pub struct Origin {
     pub altitude_m: f64,
 }
 
+impl Origin {
+    /// The range of each field, by its name in files and options: latitude within ±90°,
+    /// longitude −180°..360°, altitude −1e4..1e8 m.
+    pub const RANGES: [(&'static str, f64, f64); 3] = [
+        ("latitude_deg", -90.0, 90.0),
+        ("longitude_deg", -180.0, 360.0),
+        ("altitude_m", -1e4, 1e8),
+    ];
+
+    /// Check one field's value (`key` as in [`Origin::RANGES`]; other keys pass).
+    ///
+    /// # Errors
+    /// The value is outside the field's range (the message names both).
+    pub fn check_field(key: &str, value: f64) -> Result<(), String> {
+        match Self::RANGES.iter().find(|(k, _, _)| *k == key) {
+            Some(&(_, lo, hi)) if !(lo..=hi).contains(&value) => {
+                Err(format!("{key} = {value} is outside {lo}..={hi}"))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Check every field ([`Origin::check_field`]).
+    ///
+    /// # Errors
+    /// The first field out of its range.
+    pub fn check(&self) -> Result<(), String> {
+        Self::check_field("latitude_deg", self.latitude_deg)?;
+        Self::check_field("longitude_deg", self.longitude_deg)?;
+        Self::check_field("altitude_m", self.altitude_m)
+    }
+}
+
 impl Default for Origin {
     fn default() -> Self {
         Self {

@@ -135,8 +135,7 @@ pub fn set(p: &mut FixedWingParams, name: &str, value: f64) -> Result<(), String
     if let Some(slot) = slot(&mut next, name) {
         *slot = value;
     }
-    let m = &next.mass;
-    if m.jx * m.jz - m.jxz * m.jxz <= 0.0 {
+    if !next.mass.inertia_is_regular() {
         return Err(format!(
             "aircraft parameter `{name}` = {value} makes the inertia tensor singular \
              (Jx·Jz ≤ Jxz²)"

@@ -132,24 +132,28 @@ impl FixedWingParams {
     pub fn from_toml(text: &str, origin: &str) -> anyhow::Result<Self> {
         let p: FixedWingParams =
             toml::from_str(text).with_context(|| format!("{origin}: bad parameter set"))?;
-        let positive = [
-            ("mass.mass_kg", p.mass.mass_kg),
-            ("mass.jx", p.mass.jx),
-            ("mass.jy", p.mass.jy),
-            ("mass.jz", p.mass.jz),
-            ("geometry.s_wing", p.geometry.s_wing),
-            ("geometry.b", p.geometry.b),
-            ("geometry.c", p.geometry.c),
-            ("geometry.e", p.geometry.e),
-            ("geometry.rho", p.geometry.rho),
-        ];
-        for (field, v) in positive {
-            if !(v.is_finite() && v > 0.0) {
-                anyhow::bail!("{origin}: {field} = {v} must be a positive number");
+        // Every number within its key's range (the ranges `--add aircraft:KEY` fits within):
+        // positive sizes, finite coefficients.
+        for k in keys::KEYS {
+            let v = keys::get(&p, k.name).unwrap_or(f64::NAN);
+            let (lo, hi) = k.range;
+            if !(v.is_finite() && v >= lo && v <= hi) {
+                anyhow::bail!(
+                    "{origin}: {}.{} = {v} is outside its range [{lo:e}, {hi:e}] {}",
+                    k.table,
+                    k.name,
+                    k.unit
+                );
             }
         }
-        if p.mass.jx * p.mass.jz - p.mass.jxz * p.mass.jxz <= 0.0 {
-            anyhow::bail!("{origin}: inertia tensor is not positive definite (Jx·Jz ≤ Jxz²)");
+        if !p.mass.inertia_is_regular() {
+            anyhow::bail!(
+                "{origin}: the inertia tensor is singular or not positive definite (Jx·Jz ≤ \
+                 Jxz², to 1e-9 relative): jx = {}, jz = {}, jxz = {}",
+                p.mass.jx,
+                p.mass.jz,
+                p.mass.jxz
+            );
         }
         Ok(p)
     }
@@ -168,7 +172,7 @@ impl FixedWingParams {
                 "unknown aircraft `{name_or_path}` (built in: aerosonde; or a .toml file)"
             );
         }
-        let text = std::fs::read_to_string(path)
+        let text = crate::fsio::read_text(path)
             .with_context(|| format!("{}: cannot read", path.display()))?;
         Self::from_toml(&text, &path.display().to_string())
     }
@@ -176,6 +180,15 @@ impl FixedWingParams {
     /// The Aerosonde UAV.
     pub fn aerosonde() -> Self {
         Self::from_toml(AEROSONDE_TOML, "aerosonde").expect("the shipped set is valid")
+    }
+}
+
+impl Mass {
+    /// Whether the inertia tensor is positive definite with room to spare: Jx·Jz − Jxz² above
+    /// 1e-9 of Jx·Jz (the Γ constants divide by it; closer to singular they are unbounded).
+    pub fn inertia_is_regular(&self) -> bool {
+        let gamma = self.jx * self.jz - self.jxz * self.jxz;
+        gamma.is_finite() && gamma > 1e-9 * (self.jx * self.jz).abs()
     }
 }
 

@@ -1,0 +1,2 @@
+//! The view's script parser and what it names.
+pub mod view;
