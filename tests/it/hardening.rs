@@ -646,6 +646,12 @@ fn impossible_parameter_sets_and_trims_say_which_input() {
         &sim(&["--aircraft", "ac.toml"]),
         &["ac.toml", "k_motor", "outside its range"],
     );
+    // In range but without thrust: the throttle is named.
+    aircraft_with(d, "k_motor = 80.0", "k_motor = 1e-9");
+    assert_refused(
+        &sim(&["--aircraft", "ac.toml"]),
+        &["no trim at 25 m/s", "the throttle", "k_motor"],
+    );
     assert_refused(
         &sim(&["--airspeed", "0"]),
         &["airspeed 0 m/s", "positive airspeed"],
