@@ -38,6 +38,7 @@
 
 mod columns;
 mod read;
+pub mod ulog;
 mod write;
 
 use std::fmt;
