@@ -7,6 +7,9 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::analysis::compare::CompareConfig;
 use crate::camera::CameraPreset;
 use crate::clip::Clipper;
+use crate::flight::data::mapped::ColumnMap;
+use crate::flight::data::px4::UlogOptions;
+use crate::flight::data::LoadOptions;
 use crate::flight::spec::{EffectSpec, ModelChoice};
 use crate::flight::VehicleKind;
 use crate::render::Backend;
@@ -33,6 +36,80 @@ pub enum Command {
     Diagnose(DiagnoseArgs),
     /// Fly through a wireframe world in a window (winit + wgpu, egui HUD).
     View(ViewArgs),
+    /// Read a PX4 log or any CSV through a column map, say what was found, write flight data.
+    Import(ImportArgs),
+}
+
+/// How a flight-data file is read (shared by every command that reads one): the project's
+/// CSV and JSBSim's as they are, a PX4 ULog (`.ulg`) resampled, anything else through a
+/// column map.
+#[derive(Clone, Debug, Args)]
+pub struct DataArgs {
+    /// Read the flight file as CSV through this column map: `QUANTITY=COLUMN[:UNIT[:OFFSET]],…`
+    /// (e.g. `time=t_us:us,north=x,east=y,down=z,roll=phi:deg,…`) or a .toml file.
+    #[arg(long, value_name = "MAP|FILE.toml", value_parser = parse_columns)]
+    pub columns: Option<ColumnMap>,
+    /// PX4 ULog: resample onto this rate, Hz [default: a round rate (50, 25, 20, 10, 5, 2, 1)
+    /// not above the position's and attitude's].
+    #[arg(long, value_name = "HZ", value_parser = resample_rate)]
+    pub resample: Option<f64>,
+    /// PX4 ULog: surface deflection of a full (±1) PX4 roll/pitch/yaw command, degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 25.0, value_parser = positive)]
+    pub surface_max: f64,
+}
+
+impl DataArgs {
+    /// The reader settings these options choose.
+    pub fn options(&self) -> LoadOptions {
+        LoadOptions {
+            columns: self.columns.clone(),
+            ulog: UlogOptions {
+                rate_hz: self.resample,
+                surface_max_deg: self.surface_max,
+            },
+        }
+    }
+}
+
+fn parse_columns(s: &str) -> Result<ColumnMap, String> {
+    ColumnMap::from_arg(s).map_err(|e| e.to_string())
+}
+
+fn resample_rate(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v > 0.0 && v <= 10_000.0 {
+        Ok(v)
+    } else {
+        Err(format!("rate {v} Hz is outside (0, 10000]"))
+    }
+}
+
+const IMPORT_EXAMPLES: &str = "\
+Examples:
+  wireflight import --flight tests/data/px4-sitl-takeoff.ulg --out takeoff.csv
+  wireflight import --flight log.ulg --resample 25 --out flight.csv --json
+  wireflight import --flight logger.csv --columns 'time=t_us:us,north=x,east=y,down=z' --out f.csv
+
+Prints what was found (channels, sources, rates, anything doubtful) and writes the flight in
+the project's CSV (atomically). Every command that takes --flight reads these files the same
+way; import is for looking at a log and keeping the result.";
+
+/// `wireflight import` options.
+#[derive(Debug, Args)]
+#[command(after_help = IMPORT_EXAMPLES)]
+pub struct ImportArgs {
+    /// The log: a PX4 ULog (.ulg), or a CSV (with --columns unless it is the project's own).
+    #[arg(long, value_name = "FILE")]
+    pub flight: PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Write the flight data here (project CSV, atomically).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
+    /// The report as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Which model to run against data (shared by compare and diagnose).
@@ -136,9 +213,13 @@ least-squares estimate of the state, and its prediction compared with the measur
 #[derive(Debug, Args)]
 #[command(after_help = COMPARE_EXAMPLES)]
 pub struct CompareArgs {
-    /// Flight data (CSV). (`--data` is an old spelling of this option.)
-    #[arg(long, alias = "data", value_name = "FILE.csv")]
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns. (`--data` is an old
+    /// spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE")]
     pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// The model.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -177,9 +258,13 @@ decides whether that is more than fitting noise would give.";
 #[derive(Debug, Args)]
 #[command(after_help = DIAGNOSE_EXAMPLES)]
 pub struct DiagnoseArgs {
-    /// Flight data (CSV). (`--data` is an old spelling of this option.)
-    #[arg(long, alias = "data", value_name = "FILE.csv")]
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns. (`--data` is an old
+    /// spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE")]
     pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// The model to start from.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -263,14 +348,18 @@ pub struct RenderArgs {
     /// clipped segments). Written atomically.
     #[arg(long, value_name = "FILE", required_unless_present = "flight")]
     pub out: Option<PathBuf>,
-    /// Replay a recorded flight (CSV) instead: one PNG per frame into --frames-dir.
+    /// Replay a recorded flight (CSV, PX4 ULog, or CSV with --columns) instead: one PNG per
+    /// frame into --frames-dir.
     #[arg(
         long,
-        value_name = "FILE.csv",
+        value_name = "FILE",
         requires = "frames_dir",
         conflicts_with = "out"
     )]
     pub flight: Option<PathBuf>,
+    /// How to read the --flight file.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// Directory for the replay's frames (`frame_00000.png`, ...).
     #[arg(long, value_name = "DIR")]
     pub frames_dir: Option<PathBuf>,
@@ -452,9 +541,12 @@ pub struct ViewArgs {
     /// Fly from a script of timed control inputs instead of the keys (format below).
     #[arg(long, value_name = "FILE", conflicts_with = "flight")]
     pub script: Option<PathBuf>,
-    /// Replay a recorded flight (CSV) with its trail.
-    #[arg(long, value_name = "FILE.csv")]
+    /// Replay a recorded flight (CSV, PX4 ULog, or CSV with --columns) with its trail.
+    #[arg(long, value_name = "FILE")]
     pub flight: Option<PathBuf>,
+    /// How to read the --flight file.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// Draw this many frames, each advancing the flight by --dt, then exit.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     pub frames: Option<u64>,
@@ -481,6 +573,17 @@ pub struct ViewArgs {
         requires = "compare"
     )]
     pub model: Option<PathBuf>,
+    /// With --compare: the vehicle family, for data without `# vehicle:` (e.g. a PX4 log).
+    #[arg(long, value_parser = parse_vehicle, requires = "compare", conflicts_with = "model")]
+    pub vehicle: Option<VehicleKind>,
+    /// With --compare: the parameter set of a fixed wing (`aerosonde` or a .toml file).
+    #[arg(
+        long,
+        value_name = "NAME|FILE.toml",
+        requires = "compare",
+        conflicts_with = "model"
+    )]
+    pub aircraft: Option<String>,
     /// With --compare: effects in the base model, comma-separated (parameters at their
     /// defaults; always on).
     #[arg(long, value_name = "A,B", requires = "compare")]

@@ -58,7 +58,7 @@ impl Findings {
 /// # Errors
 /// Bad data or model, bad effects, plot or output errors.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let data = crate::flight::data::read(&args.flight)?;
+    let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let base = args.model.choice().build(&args.flight, &data)?;
     let cfg = args.windows.config(base.vehicle.kind());
     let prep = Prepared::new(&data, cfg);

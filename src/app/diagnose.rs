@@ -14,7 +14,7 @@ use crate::app::cli::DiagnoseArgs;
 /// # Errors
 /// Bad data or model.
 pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
-    let data = crate::flight::data::read(&args.flight)?;
+    let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let mut base = args.model.choice().build(&args.flight, &data)?;
     let cfg = DiagnoseConfig {
         compare: args.windows.config(base.vehicle.kind()),

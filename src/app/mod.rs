@@ -5,7 +5,9 @@
 
 pub mod cli;
 pub mod compare;
+pub mod data;
 pub mod diagnose;
+pub mod import;
 pub mod render;
 pub mod simulate;
 pub mod view;
@@ -33,6 +35,7 @@ where
         Command::Compare(args) => compare::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
         Command::View(args) => view::run(&args),
+        Command::Import(args) => import::run(&args),
     }
 }
 

@@ -23,7 +23,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         height: args.size.1,
     };
     if let (Some(flight), Some(dir)) = (&args.flight, &args.frames_dir) {
-        let data = crate::flight::data::read(flight)?;
+        let data = crate::app::data::load_flight(flight, &args.data)?;
         let mut rasterizer = Rasterizer::choose(args.backend.into())?;
         let mut replay = ReplayScene::new(&data, &mesh, args.clipper)
             .with_context(|| format!("{}", flight.display()))?;

@@ -95,10 +95,11 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         Some(path) if args.compare => {
             let choice = ModelChoice {
                 model_file: args.model.clone(),
+                vehicle: args.vehicle,
+                aircraft: args.aircraft.clone(),
                 effects: args.effects.clone(),
-                ..ModelChoice::default()
             };
-            let data = crate::flight::data::read(path)?;
+            let data = crate::app::data::load_flight(path, &args.data)?;
             let base = choice.build(path, &data)?;
             let data = Arc::new(data);
             let compare = Compare::new(Arc::clone(&data), base, &args.add)
@@ -108,7 +109,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
                 .with_compare(compare)
         }
         Some(path) => {
-            let data = crate::flight::data::read(path)?;
+            let data = crate::app::data::load_flight(path, &args.data)?;
             Session::replay(mesh, data, camera, fov_y)
                 .with_context(|| format!("{}: cannot replay", path.display()))?
         }
