@@ -17,6 +17,7 @@ mod flight_model;
 mod golden;
 mod gpu_backend;
 mod independent;
+mod logs;
 mod mesh_loaders;
 mod mk82;
 mod overlay;
