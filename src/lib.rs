@@ -19,5 +19,6 @@ pub mod mesh;
 pub mod numeric;
 pub mod output;
 pub mod pipeline;
+pub mod progress;
 pub mod render;
 pub mod scene;

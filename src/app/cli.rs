@@ -21,6 +21,10 @@ pub struct Cli {
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
+    /// No progress bars and no report of what a log held (errors and results still print).
+    /// Progress is drawn only when stderr is a terminal, and never with --json.
+    #[arg(long, short = 'q', global = true)]
+    pub quiet: bool,
 }
 
 /// Subcommands.
@@ -203,6 +207,7 @@ Examples:
   wireflight compare --flight windy.csv
   wireflight compare --flight windy.csv --add wind --plots plots/
   wireflight compare --flight windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
+  wireflight compare --flight windy.csv --add wind --out compare.gif --fps 5 --size 480x360
   wireflight compare --flight test.csv --model my-model.toml --json
 
 The model is restarted from the data every --window seconds (multiple shooting) from a
@@ -233,10 +238,13 @@ pub struct CompareArgs {
     /// with the `--add` effects when given), with the error over time, into this directory.
     #[arg(long, value_name = "DIR")]
     pub frames_dir: Option<std::path::PathBuf>,
-    /// Frames per second of flight time for --frames-dir.
+    /// Write the replay (as --frames-dir draws it) as one animated GIF (atomically).
+    #[arg(long, value_name = "FILE.gif")]
+    pub out: Option<std::path::PathBuf>,
+    /// Frames per second of flight time for --frames-dir and --out.
     #[arg(long, default_value_t = 10.0, value_parser = positive)]
     pub fps: f64,
-    /// Frame size for --frames-dir, WIDTHxHEIGHT.
+    /// Frame size for --frames-dir and --out, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Machine-readable output (JSON) on stdout.
@@ -297,6 +305,7 @@ Examples:
   wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
   wireflight render --flight test.csv --frames-dir frames --fps 10   # replay a flight
+  wireflight render --flight log.ulg --out flight.gif --fps 10 --size 480x360  # animated
 
 Angles are z-y-x Tait-Bryan in degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll), about the body axes
 nose +X, left wing +Y, rudder +Z (Z up): positive yaw turns the nose left, positive pitch
@@ -345,25 +354,21 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
     pub backend: BackendArg,
     /// Output file; the extension picks the format: `.png` raster, `.svg` vector (the exact
-    /// clipped segments). Written atomically.
+    /// clipped segments); with --flight, `.gif`: the replay animated. Written atomically.
     #[arg(long, value_name = "FILE", required_unless_present = "flight")]
     pub out: Option<PathBuf>,
     /// Replay a recorded flight (CSV, PX4 ULog, or CSV with --columns) instead: one PNG per
-    /// frame into --frames-dir.
-    #[arg(
-        long,
-        value_name = "FILE",
-        requires = "frames_dir",
-        conflicts_with = "out"
-    )]
+    /// frame into --frames-dir, or an animated GIF with --out FILE.gif.
+    #[arg(long, value_name = "FILE")]
     pub flight: Option<PathBuf>,
     /// How to read the --flight file.
     #[command(flatten)]
     pub data: DataArgs,
     /// Directory for the replay's frames (`frame_00000.png`, ...).
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", requires = "flight", conflicts_with = "out")]
     pub frames_dir: Option<PathBuf>,
-    /// Frames per second of flight time for the replay.
+    /// Frames per second of flight time for the replay (a GIF rounds the frame time to whole
+    /// hundredths of a second).
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub fps: f64,
     /// The line clipper.

@@ -29,6 +29,7 @@ where
     T: Into<OsString> + Clone,
 {
     let cli = Cli::parse_from(args);
+    crate::progress::set_quiet(cli.quiet);
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
