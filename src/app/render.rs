@@ -1,12 +1,14 @@
 //! `wireflight render`: one oriented mesh → clipped wireframe → PNG or SVG; or, with
 //! `--flight`, the frames of a recorded flight.
 
-use anyhow::Context;
+use std::path::Path;
+
+use anyhow::{bail, Context};
 
 use crate::app::cli::{ProjectionArg, RenderArgs};
 use crate::clip::DepthRange;
 use crate::euler::EulerZyx;
-use crate::output::{write_frames, write_still};
+use crate::output::{write_frames, write_still, FrameOut};
 use crate::pipeline::Viewport;
 use crate::render::{OutputFormat, Rasterizer};
 use crate::scene::replay::ReplayScene;
@@ -22,25 +24,52 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         width: args.size.0,
         height: args.size.1,
     };
-    if let (Some(flight), Some(dir)) = (&args.flight, &args.frames_dir) {
+    if let Some(flight) = &args.flight {
+        let out = match (&args.frames_dir, &args.out) {
+            (Some(dir), _) => FrameOut::Pngs(dir),
+            (None, Some(gif)) if is_gif(gif) => FrameOut::Gif(gif),
+            (None, Some(other)) => bail!(
+                "{}: a replay is written as frames (--frames-dir DIR) or an animated GIF (--out \
+                 FILE.gif)",
+                other.display()
+            ),
+            (None, None) => bail!("--flight needs --frames-dir DIR or --out FILE.gif"),
+        };
         let data = crate::app::data::load_flight(flight, &args.data)?;
         let mut rasterizer = Rasterizer::choose(args.backend.into())?;
         let mut replay = ReplayScene::new(&data, &mesh, args.clipper)
             .with_context(|| format!("{}", flight.display()))?;
         let span = (data.time[0], data.time[data.len() - 1]);
-        let (frames, stats) =
-            write_frames(&mut replay, span, viewport, args.fps, dir, &mut rasterizer)?;
+        let w = write_frames(
+            &mut replay,
+            span,
+            viewport,
+            args.fps,
+            out,
+            &mut rasterizer,
+            false,
+        )?;
+        let (what, to) = match out {
+            FrameOut::Pngs(dir) => ("frames", dir),
+            FrameOut::Gif(gif) => ("GIF frames", gif),
+        };
         println!(
-            "wrote {frames} frames of {} ({:.1} s at {} fps, {}x{}, {}) to {}",
+            "wrote {} {what} of {} ({:.1} s at {} fps, {}x{}, {}) to {}{}",
+            w.frames,
             flight.display(),
             data.duration(),
-            args.fps,
+            w.fps,
             viewport.width,
             viewport.height,
             rasterizer.describe(),
-            dir.display()
+            to.display(),
+            if matches!(out, FrameOut::Gif(_)) {
+                format!(" ({} kB)", w.bytes.div_ceil(1000))
+            } else {
+                String::new()
+            }
         );
-        println!("clip, all frames: {stats}");
+        println!("clip, all frames: {}", w.stats);
         return Ok(());
     }
     let out = args.out.as_deref().context("--out is required")?;
@@ -76,4 +105,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// True for a `.gif` file name (any case).
+fn is_gif(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
 }
