@@ -15,8 +15,11 @@
 //! [`crate::output`]'s.
 
 pub mod builder;
+pub mod overlay;
 pub mod palette;
 pub mod replay;
+pub mod still;
+pub mod text;
 pub mod track;
 
 use crate::camera::{CameraPreset, Projection, Subject};

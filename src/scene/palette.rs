@@ -26,3 +26,7 @@ pub const STRUCTURE: Rgba = [255, 150, 60, 255];
 pub const HILL: Rgba = [170, 120, 255, 255];
 /// The horizon ring.
 pub const HORIZON: Rgba = [110, 200, 255, 255];
+/// Text over a frame: time stamps, labels.
+pub const TEXT: Rgba = [220, 220, 220, 255];
+/// The raw samples under a smoothed trail: faint.
+pub const SAMPLE_DOTS: Rgba = [120, 100, 50, 255];
