@@ -301,6 +301,7 @@ Examples:
   wireflight render --out plane.png
   wireflight render --yaw 30 --pitch -15 --roll 40 --camera chase --out banked.png
   wireflight render --camera cockpit --size 1280x720 --backend cpu --out cockpit.png
+  wireflight render --camera cockpit --roll 30 --world grid --out banked.png  # horizon tilts
   wireflight render --mesh assets/plane.gltf --camera top --out top.svg
   wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
@@ -374,6 +375,31 @@ pub struct RenderArgs {
     /// The line clipper.
     #[arg(long, default_value = "blinn", value_name = "NAME")]
     pub clipper: Clipper,
+    /// What surrounds the model in a still: `none`, `grid` (the ground below and the
+    /// horizon, so attitude shows), `full` (the window's world of landmarks).
+    #[arg(long, value_enum, default_value_t = WorldArg::Grid)]
+    pub world: WorldArg,
+}
+
+/// What surrounds the model in a still (see [`crate::scene::still::StillWorld`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WorldArg {
+    /// The model alone.
+    None,
+    /// Ground grid and horizon.
+    Grid,
+    /// The fly-through world.
+    Full,
+}
+
+impl From<WorldArg> for crate::scene::still::StillWorld {
+    fn from(w: WorldArg) -> Self {
+        match w {
+            WorldArg::None => Self::None,
+            WorldArg::Grid => Self::Grid,
+            WorldArg::Full => Self::Full,
+        }
+    }
 }
 
 const SIMULATE_EXAMPLES: &str = "\

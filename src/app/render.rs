@@ -12,7 +12,8 @@ use crate::output::{write_frames, write_still, FrameOut};
 use crate::pipeline::Viewport;
 use crate::render::{OutputFormat, Rasterizer};
 use crate::scene::replay::ReplayScene;
-use crate::scene::{frame, ViewSpec};
+use crate::scene::still::still;
+use crate::scene::ViewSpec;
 
 /// Run `wireflight render`.
 ///
@@ -83,7 +84,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         pan: args.pan,
         clipper: args.clipper,
     };
-    let (scene, stats) = frame(&mesh, &spec);
+    let (scene, stats) = still(&mesh, &spec, args.world.into());
     // Only a raster image needs a rasterizer (and the GPU's start-up).
     let mut rasterizer = match OutputFormat::of(out)? {
         OutputFormat::Png => Rasterizer::choose(args.backend.into())?,
