@@ -30,6 +30,9 @@ where
 {
     let cli = Cli::parse_from(args);
     crate::progress::set_quiet(cli.quiet);
+    if !matches!(cli.command, Command::View(_)) {
+        quiet_mesa_device_select();
+    }
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
@@ -37,6 +40,20 @@ where
         Command::Diagnose(args) => diagnose::run(&args),
         Command::View(args) => view::run(&args),
         Command::Import(args) => import::run(&args),
+    }
+}
+
+/// Mesa's Vulkan device-selection layer connects to Wayland to rank the GPUs and, where
+/// `XDG_RUNTIME_DIR` is unset or not a directory (containers, CI, ssh), prints `error:
+/// XDG_RUNTIME_DIR is invalid or not set in the environment.` twice per instance. Offscreen
+/// drawing needs no display, so the layer is turned off there (`NODEVICE_SELECT=1`, its own
+/// switch) unless the user set that variable. Called once, before any thread is started.
+fn quiet_mesa_device_select() {
+    let runtime_dir_ok = std::env::var_os("XDG_RUNTIME_DIR")
+        .map(std::path::PathBuf::from)
+        .is_some_and(|d| d.is_absolute() && d.is_dir());
+    if !runtime_dir_ok && std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }
 
