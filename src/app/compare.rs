@@ -248,7 +248,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         fixed(floor, 3)
     );
     for f in &fitted {
-        println!("  fitted {}: {}", f.effect, fmt_params(f));
+        let params = fmt_params(f);
+        if params.is_empty() {
+            println!("  added {} (no parameters to fit)", f.effect);
+        } else {
+            println!("  fitted {}: {params}", f.effect);
+        }
     }
     println!("\nwhere (predicted − measured, over all windows):");
     print!("{}", axes_text(b, a));
