@@ -21,5 +21,6 @@ mod logs;
 mod mesh_loaders;
 mod mk82;
 mod overlay;
+mod pictures;
 mod plots;
 mod view;
