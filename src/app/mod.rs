@@ -30,9 +30,7 @@ where
 {
     let cli = Cli::parse_from(args);
     crate::progress::set_quiet(cli.quiet);
-    if !matches!(cli.command, Command::View(_)) {
-        quiet_mesa_device_select();
-    }
+    quiet_mesa_device_select();
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
@@ -45,9 +43,10 @@ where
 
 /// Mesa's Vulkan device-selection layer connects to Wayland to rank the GPUs and, where
 /// `XDG_RUNTIME_DIR` is unset or not a directory (containers, CI, ssh), prints `error:
-/// XDG_RUNTIME_DIR is invalid or not set in the environment.` twice per instance. Offscreen
-/// drawing needs no display, so the layer is turned off there (`NODEVICE_SELECT=1`, its own
-/// switch) unless the user set that variable. Called once, before any thread is started.
+/// XDG_RUNTIME_DIR is invalid or not set in the environment.` twice per instance. Without a
+/// runtime directory there is no Wayland session for it to ask, so the layer is turned off
+/// then (`NODEVICE_SELECT=1`, its own switch) unless the user set that variable; the Vulkan
+/// loader's own order is used. Called once, before any thread is started.
 fn quiet_mesa_device_select() {
     let runtime_dir_ok = std::env::var_os("XDG_RUNTIME_DIR")
         .map(std::path::PathBuf::from)
