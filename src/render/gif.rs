@@ -102,8 +102,16 @@ fn indexed(image: &Image) -> Option<(Vec<u8>, Vec<u8>)> {
     let mut index: HashMap<[u8; 3], u8> = HashMap::new();
     let mut palette = Vec::new();
     let mut pixels = Vec::with_capacity(image.pixels.len() / 4);
+    // Most neighbours share a colour (the background): look the colour up only when it changes.
+    let mut last: Option<([u8; 3], u8)> = None;
     for p in image.pixels.chunks_exact(4) {
         let rgb = [p[0], p[1], p[2]];
+        if let Some((c, i)) = last {
+            if c == rgb {
+                pixels.push(i);
+                continue;
+            }
+        }
         let i = match index.get(&rgb) {
             Some(&i) => i,
             None => {
@@ -113,6 +121,7 @@ fn indexed(image: &Image) -> Option<(Vec<u8>, Vec<u8>)> {
                 i
             }
         };
+        last = Some((rgb, i));
         pixels.push(i);
     }
     Some((pixels, palette))
