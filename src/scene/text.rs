@@ -68,6 +68,7 @@ fn glyph(c: char) -> Option<&'static str> {
         '<' => "45-03-41",
         '|' => "20-26",
         '\'' => "25-26",
+        '`' => "16-25",
         '_' => "00-40",
         ' ' => "",
         _ => return None,
@@ -122,7 +123,7 @@ mod tests {
 
     #[test]
     fn every_glyph_stays_in_its_box() {
-        let all = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ.,-+=:/()%×°<>|'_ –−?";
+        let all = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ.,-+=:/()%×°<>|'`_ –−?";
         let mut out = Vec::new();
         draw_text(all, Vec2::new(10.0, 20.0), 12.0, &mut out);
         let w = text_width(all, 12.0);

@@ -41,7 +41,7 @@ use crate::render::{OutputFormat, Rasterizer};
 use cameras::CameraMode;
 use compare::Compare;
 use flight::Start;
-use hud::{compare_summary, draw_compare, draw_help, draw_hud, HudData, Meter};
+use hud::{compare_summary, draw_compare, draw_help, draw_hud, screenshot_scene, HudData, Meter};
 use session::{Held, Session, Source, SEEK_S};
 use surface::{HudFrame, Presented, WindowRenderer};
 
@@ -308,7 +308,7 @@ impl App {
                 break p;
             }
         };
-        let note = match write_screenshot(self.session.scene(), &path) {
+        let note = match write_screenshot(&screenshot_scene(&self.session), &path) {
             Ok(()) => {
                 println!("wrote {}", path.display());
                 format!("saved {}", path.display())
@@ -419,7 +419,7 @@ impl App {
         if let Some(n) = self.options.frames {
             if self.meter.frames >= n {
                 if let Some(path) = self.options.screenshot.clone() {
-                    write_screenshot(self.session.scene(), &path)?;
+                    write_screenshot(&screenshot_scene(&self.session), &path)?;
                     println!(
                         "wrote {} ({}x{}, {})",
                         path.display(),
