@@ -20,5 +20,6 @@ pub mod mesh;
 pub mod numeric;
 pub mod output;
 pub mod pipeline;
+pub mod progress;
 pub mod render;
 pub mod scene;

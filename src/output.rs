@@ -1,4 +1,5 @@
-//! Pictures to files: a still as PNG or SVG, and the frames of a replay as numbered PNGs.
+//! Pictures to files: a still as PNG or SVG, and the frames of a replay as numbered PNGs or
+//! one animated GIF.
 //! Every file is written atomically ([`crate::fsio::write_atomic`]).
 
 use std::path::Path;
@@ -8,6 +9,8 @@ use anyhow::{bail, Context};
 use crate::clip::ClipStats;
 use crate::fsio::{write_atomic, StagedDir};
 use crate::pipeline::Viewport;
+use crate::progress::Progress;
+use crate::render::gif::GifAnimation;
 use crate::render::{svg, LineScene, OutputFormat, Rasterizer};
 use crate::scene::replay::ReplayScene;
 
@@ -45,24 +48,48 @@ pub fn is_frame_name(name: &str) -> bool {
         .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
 }
 
-/// Write one PNG per frame (`frame_00000.png`, …) of `replay` into `dir`, one frame every
-/// 1/`fps` seconds of flight time from `t0` to `t1`, at most `max_frames` of them. The frames
-/// are written into a temporary directory that then replaces `dir` as a whole, so `dir` never
-/// holds frames of two runs, nor a partial set; `dir` may hold only earlier frames (anything
-/// else is refused, not deleted). Returns the number of frames and the summed clip counts.
+/// Where the frames of a replay go.
+#[derive(Clone, Copy, Debug)]
+pub enum FrameOut<'a> {
+    /// One PNG per frame (`frame_00000.png`, …) in this directory (created if needed).
+    Pngs(&'a Path),
+    /// One animated GIF (written atomically when every frame is drawn).
+    Gif(&'a Path),
+}
+
+/// What [`write_frames`] did.
+#[derive(Clone, Debug)]
+pub struct FramesWritten {
+    /// Frames drawn.
+    pub frames: usize,
+    /// Summed clip counts.
+    pub stats: ClipStats,
+    /// Frames per second as written (a GIF's frame times are whole hundredths of a second).
+    pub fps: f64,
+    /// Bytes written (the GIF; the PNGs together).
+    pub bytes: usize,
+}
+
+/// Draws the frames of `replay`, one every 1/`fps` seconds of flight time from `t0` to `t1`
+/// (at most `max_frames` of them), into `out`, with a progress bar on stderr (hidden when
+/// `quiet_progress`, under `--quiet`, or when stderr is not a terminal). PNG frames are
+/// written into a temporary directory that then replaces the directory as a whole, so it
+/// never holds frames of two runs, nor a partial set; it may hold only earlier frames
+/// (anything else is refused, not deleted). A GIF is written atomically.
 ///
 /// # Errors
-/// Bad fps, more frames than `max_frames` (naming the span and `--max-frames`), a `dir`
-/// holding other files, unwritable directory, drawing errors.
+/// Bad fps, more frames than `max_frames` (naming the span and `--max-frames`), a directory
+/// holding other files, unwritable directory or file, drawing errors.
 pub fn write_frames(
     replay: &mut ReplayScene<'_>,
     (t0, t1): (f64, f64),
     viewport: Viewport,
     fps: f64,
     max_frames: u64,
-    dir: &Path,
+    out: FrameOut<'_>,
     rasterizer: &mut Rasterizer,
-) -> anyhow::Result<(usize, ClipStats)> {
+    quiet_progress: bool,
+) -> anyhow::Result<FramesWritten> {
     if !(fps > 0.0 && fps <= 1000.0) {
         bail!("--fps {fps} must be in (0, 1000]");
     }
@@ -75,15 +102,67 @@ pub fn write_frames(
         );
     }
     let frames = count as usize;
-    let staged = StagedDir::new(dir)?;
     let mut total = ClipStats::default();
+    let progress = Progress::bar(frames as u64, "frames", quiet_progress);
+    let mut bytes = 0;
+    let mut gif = None;
+    let mut staged = None;
+    match out {
+        FrameOut::Pngs(dir) => staged = Some(StagedDir::new(dir)?),
+        FrameOut::Gif(path) => {
+            if fps > 100.0 {
+                bail!(
+                    "{}: a GIF shows at most 100 frames per second",
+                    path.display()
+                );
+            }
+            gif = Some(
+                GifAnimation::new(
+                    viewport.width,
+                    viewport.height,
+                    GifAnimation::delay_for(fps),
+                )
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
+            );
+        }
+    }
     for k in 0..frames {
         let (lines, stats) = replay.frame(t0 + k as f64 / fps, viewport);
         total.merge(&stats);
         let image = rasterizer.draw(lines)?;
-        let path = staged.path().join(format!("frame_{k:05}.png"));
-        write_atomic(&path, &image.encode_png().context("encoding PNG")?)?;
+        match (out, gif.as_mut()) {
+            (FrameOut::Gif(path), Some(g)) => g
+                .push(&image)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
+            (FrameOut::Pngs(_), _) | (FrameOut::Gif(_), None) => {
+                let Some(staged) = staged.as_ref() else {
+                    bail!("internal: no staging directory for PNG frames");
+                };
+                let path = staged.path().join(format!("frame_{k:05}.png"));
+                let png = image.encode_png().context("encoding PNG")?;
+                bytes += png.len();
+                write_atomic(&path, &png)?;
+            }
+        }
+        progress.inc(1);
     }
-    staged.commit_replace(is_frame_name)?;
-    Ok((frames, total))
+    drop(progress);
+    if let Some(staged) = staged {
+        staged.commit_replace(is_frame_name)?;
+    }
+    let mut fps_written = fps;
+    if let (FrameOut::Gif(path), Some(g)) = (out, gif) {
+        let data = g
+            .finish()
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        bytes = data.len();
+        write_atomic(path, &data)?;
+        fps_written = 100.0 / GifAnimation::delay_for(fps) as f64;
+    }
+    Ok(FramesWritten {
+        frames,
+        stats: total,
+        fps: fps_written,
+        bytes,
+    })
 }

@@ -11,8 +11,10 @@ use super::conditions::Condition;
 use super::diagnose::{Candidate, Diagnosis, Verdict};
 use crate::flight::model::Model;
 
-/// A text table whose columns line up: the first column left-aligned, the others
-/// right-aligned, widths measured in characters (so °, ± and → count as one).
+/// A text table whose columns line up: numbers right-aligned, names and words left-aligned
+/// (the first column always left; another column right when every cell under its header is
+/// a number: it starts with a digit, a sign or `±`, or is `n/a`, `—` or empty), widths
+/// measured in characters (so °, ± and → count as one).
 #[derive(Clone, Debug, Default)]
 pub struct Table {
     rows: Vec<Vec<String>>,
@@ -41,6 +43,12 @@ impl Table {
                 *w = (*w).max(c.chars().count());
             }
         }
+        let right: Vec<bool> = (0..cols)
+            .map(|k| {
+                let mut body = self.rows.iter().skip(1).filter_map(|r| r.get(k));
+                k > 0 && body.all(|c| is_numeric_cell(c))
+            })
+            .collect();
         let mut out = String::new();
         for r in &self.rows {
             let mut line = " ".repeat(indent);
@@ -48,6 +56,10 @@ impl Table {
                 let cell = r.get(k).map(String::as_str).unwrap_or("");
                 let pad = w - cell.chars().count();
                 if k == 0 {
+                    line.push_str(cell);
+                    line.push_str(&" ".repeat(pad));
+                } else if !right[k] {
+                    line.push_str("  ");
                     line.push_str(cell);
                     line.push_str(&" ".repeat(pad));
                 } else {
@@ -61,6 +73,17 @@ impl Table {
         }
         out
     }
+}
+
+/// A cell that reads as a number (for alignment): it starts with a digit, possibly after a
+/// sign or `±`, or is `n/a`, `—` or empty.
+fn is_numeric_cell(c: &str) -> bool {
+    let c = c.trim();
+    if c.is_empty() || c == "n/a" || c == "—" {
+        return true;
+    }
+    let c = c.trim_start_matches(['+', '-', '−', '±']);
+    c.starts_with(|ch: char| ch.is_ascii_digit())
 }
 
 /// Four significant digits, in scientific notation when small (drag's k is ~1e-4) or large;
@@ -501,5 +524,27 @@ pub fn verdict_text(d: &Diagnosis) -> String {
             }
             s
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tables_put_numbers_right_and_words_left() {
+        let mut t = Table::new(["candidate", "error", "significant", "r"]);
+        t.row(["wind", "0.123", "yes", "+0.50"]);
+        t.row(["ground_effect", "12.5", "no", "n/a"]);
+        assert_eq!(
+            t.render(2),
+            "  candidate      error  significant      r\n\
+             \x20 wind           0.123  yes          +0.50\n\
+             \x20 ground_effect   12.5  no             n/a\n"
+        );
+        assert_eq!(fixed(-0.0004, 2), "0.00");
+        assert_eq!(signed(-0.0004, 1), "+0.0");
+        assert_eq!(count(1, "window"), "1 window");
+        assert_eq!(count(3, "window"), "3 windows");
     }
 }

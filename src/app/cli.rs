@@ -8,6 +8,9 @@ use crate::analysis::compare::CompareConfig;
 use crate::camera::CameraPreset;
 use crate::clip::Clipper;
 use crate::euler::{Convention, Sequence};
+use crate::flight::data::mapped::ColumnMap;
+use crate::flight::data::px4::UlogOptions;
+use crate::flight::data::LoadOptions;
 use crate::flight::spec::{EffectSpec, ModelChoice};
 use crate::flight::VehicleKind;
 use crate::render::Backend;
@@ -28,6 +31,10 @@ pub struct Cli {
     /// URIs, `..`); by default they are refused.
     #[arg(long, global = true)]
     pub allow_external_uris: bool,
+    /// No progress bars and no report of what a log held (errors and results still print).
+    /// Progress is drawn only when stderr is a terminal, and never with --json.
+    #[arg(long, short = 'q', global = true)]
+    pub quiet: bool,
 }
 
 /// Subcommands.
@@ -50,6 +57,80 @@ pub enum Command {
     Euler(EulerArgs),
     /// Clip edges from a CSV file with a chosen algorithm (the clipping lab).
     Clip(crate::app::clip::ClipArgs),
+    /// Read a PX4 log or any CSV through a column map, say what was found, write flight data.
+    Import(ImportArgs),
+}
+
+/// How a flight-data file is read (shared by every command that reads one): the project's
+/// CSV and JSBSim's as they are, a PX4 ULog (`.ulg`) resampled, anything else through a
+/// column map.
+#[derive(Clone, Debug, Args)]
+pub struct DataArgs {
+    /// Read the flight file as CSV through this column map: `QUANTITY=COLUMN[:UNIT[:OFFSET]],…`
+    /// (e.g. `time=t_us:us,north=x,east=y,down=z,roll=phi:deg,…`) or a .toml file.
+    #[arg(long, value_name = "MAP|FILE.toml", value_parser = parse_columns)]
+    pub columns: Option<ColumnMap>,
+    /// PX4 ULog: resample onto this rate, Hz [default: a round rate (50, 25, 20, 10, 5, 2, 1)
+    /// not above the position's and attitude's].
+    #[arg(long, value_name = "HZ", value_parser = resample_rate)]
+    pub resample: Option<f64>,
+    /// PX4 ULog: surface deflection of a full (±1) PX4 roll/pitch/yaw command, degrees.
+    #[arg(long, value_name = "DEG", default_value_t = 25.0, value_parser = positive)]
+    pub surface_max: f64,
+}
+
+impl DataArgs {
+    /// The reader settings these options choose.
+    pub fn options(&self) -> LoadOptions {
+        LoadOptions {
+            columns: self.columns.clone(),
+            ulog: UlogOptions {
+                rate_hz: self.resample,
+                surface_max_deg: self.surface_max,
+            },
+        }
+    }
+}
+
+fn parse_columns(s: &str) -> Result<ColumnMap, String> {
+    ColumnMap::from_arg(s).map_err(|e| e.to_string())
+}
+
+fn resample_rate(s: &str) -> Result<f64, String> {
+    let v = finite_f64(s)?;
+    if v > 0.0 && v <= 10_000.0 {
+        Ok(v)
+    } else {
+        Err(format!("rate {v} Hz is outside (0, 10000]"))
+    }
+}
+
+const IMPORT_EXAMPLES: &str = "\
+Examples:
+  wireflight import --flight tests/data/px4-sitl-takeoff.ulg --out takeoff.csv
+  wireflight import --flight log.ulg --resample 25 --out flight.csv --json
+  wireflight import --flight logger.csv --columns 'time=t_us:us,north=x,east=y,down=z' --out f.csv
+
+Prints what was found (channels, sources, rates, anything doubtful) and writes the flight in
+the project's CSV (atomically). Every command that takes --flight reads these files the same
+way; import is for looking at a log and keeping the result.";
+
+/// `wireflight import` options.
+#[derive(Debug, Args)]
+#[command(after_help = IMPORT_EXAMPLES)]
+pub struct ImportArgs {
+    /// The log: a PX4 ULog (.ulg), or a CSV (with --columns unless it is the project's own).
+    #[arg(long, value_name = "FILE")]
+    pub flight: PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// Write the flight data here (project CSV, atomically).
+    #[arg(long, value_name = "FILE.csv")]
+    pub out: Option<PathBuf>,
+    /// The report as JSON on stdout.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Which model to run against data (shared by compare and diagnose).
@@ -143,6 +224,7 @@ Examples:
   wireflight compare --flight windy.csv
   wireflight compare --flight windy.csv --add wind --plots plots/
   wireflight compare --flight windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
+  wireflight compare --flight windy.csv --add wind --out compare.gif --fps 5 --size 480x360
   wireflight compare --flight test.csv --model my-model.toml --json
 
 The model is restarted from the data every --window seconds (multiple shooting) from a
@@ -153,9 +235,13 @@ least-squares estimate of the state, and its prediction compared with the measur
 #[derive(Debug, Args)]
 #[command(after_help = COMPARE_EXAMPLES)]
 pub struct CompareArgs {
-    /// Flight data (CSV). (`--data` is an old spelling of this option.)
-    #[arg(long, alias = "data", value_name = "FILE.csv")]
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns. (`--data` is an old
+    /// spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE")]
     pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// The model.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -169,10 +255,13 @@ pub struct CompareArgs {
     /// with the `--add` effects when given), with the error over time, into this directory.
     #[arg(long, value_name = "DIR")]
     pub frames_dir: Option<std::path::PathBuf>,
-    /// Frames per second of flight time for --frames-dir.
+    /// Write the replay (as --frames-dir draws it) as one animated GIF (atomically).
+    #[arg(long, value_name = "FILE.gif")]
+    pub out: Option<std::path::PathBuf>,
+    /// Frames per second of flight time for --frames-dir and --out.
     #[arg(long, default_value_t = 10.0, value_parser = positive)]
     pub fps: f64,
-    /// Frame size for --frames-dir, WIDTHxHEIGHT.
+    /// Frame size for --frames-dir and --out, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Most frames --frames-dir writes (a flight with a long time gap would need more).
@@ -198,9 +287,13 @@ decides whether that is more than fitting noise would give.";
 #[derive(Debug, Args)]
 #[command(after_help = DIAGNOSE_EXAMPLES)]
 pub struct DiagnoseArgs {
-    /// Flight data (CSV). (`--data` is an old spelling of this option.)
-    #[arg(long, alias = "data", value_name = "FILE.csv")]
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns. (`--data` is an old
+    /// spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE")]
     pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// The model to start from.
     #[command(flatten)]
     pub model: ModelArgs,
@@ -277,12 +370,14 @@ Examples:
   wireflight render --out plane.png
   wireflight render --yaw 30 --pitch -15 --roll 40 --camera chase --out banked.png
   wireflight render --camera cockpit --size 1280x720 --backend cpu --out cockpit.png
+  wireflight render --camera cockpit --roll 30 --world grid --out banked.png  # horizon tilts
   wireflight render --mesh assets/plane.gltf --camera top --out top.svg
   wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
   wireflight render --flight test.csv --frames-dir frames --fps 10   # replay a flight
   wireflight render --clip-plane 0,1,0,0 --out left-half.png   # cut-away: keep y >= 0 (body axes)
   wireflight render --mesh cube.obj --hidden-line --out cube.png    # back faces culled
+  wireflight render --flight log.ulg --out flight.gif --fps 10 --size 480x360  # animated
 
 Angles are z-y-x Tait-Bryan in degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll), about the body axes
 nose +X, left wing +Y, rudder +Z (Z up): positive yaw turns the nose left, positive pitch
@@ -331,21 +426,21 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value_t = BackendArg::Auto)]
     pub backend: BackendArg,
     /// Output file; the extension picks the format: `.png` raster, `.svg` vector (the exact
-    /// clipped segments). Written atomically.
+    /// clipped segments); with --flight, `.gif`: the replay animated. Written atomically.
     #[arg(long, value_name = "FILE", required_unless_present = "flight")]
     pub out: Option<PathBuf>,
-    /// Replay a recorded flight (CSV) instead: one PNG per frame into --frames-dir.
-    #[arg(
-        long,
-        value_name = "FILE.csv",
-        requires = "frames_dir",
-        conflicts_with = "out"
-    )]
+    /// Replay a recorded flight (CSV, PX4 ULog, or CSV with --columns) instead: one PNG per
+    /// frame into --frames-dir, or an animated GIF with --out FILE.gif.
+    #[arg(long, value_name = "FILE")]
     pub flight: Option<PathBuf>,
+    /// How to read the --flight file.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// Directory for the replay's frames (`frame_00000.png`, ...).
-    #[arg(long, value_name = "DIR")]
+    #[arg(long, value_name = "DIR", requires = "flight", conflicts_with = "out")]
     pub frames_dir: Option<PathBuf>,
-    /// Frames per second of flight time for the replay.
+    /// Frames per second of flight time for the replay (a GIF rounds the frame time to whole
+    /// hundredths of a second).
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub fps: f64,
     /// Most frames the replay writes (a flight with a long time gap would need more).
@@ -359,13 +454,39 @@ pub struct RenderArgs {
     /// Extra clip plane for a cut-away view, `A,B,C,D` in the model's body axes (nose +X,
     /// left wing +Y, up +Z; metres): keeps the part where A·x + B·y + C·z + D ≥ 0, fixed to
     /// the model at any attitude. Repeatable (at most 8), e.g. `--clip-plane 0,1,0,0` keeps
-    /// the left half.
+    /// the left half. Draws the model alone (no --world).
     #[arg(long = "clip-plane", value_name = "A,B,C,D", allow_hyphen_values = true, value_parser = parse_plane)]
     pub clip_plane: Vec<[f32; 4]>,
     /// Hidden-line drawing of a closed mesh with faces (OBJ, glTF): only edges of faces
-    /// turned toward the eye are drawn (back-face culling).
+    /// turned toward the eye are drawn (back-face culling). Draws the model alone (no
+    /// --world).
     #[arg(long)]
     pub hidden_line: bool,
+    /// What surrounds the model in a still: `none`, `grid` (the ground below and the
+    /// horizon, so attitude shows), `full` (the window's world of landmarks).
+    #[arg(long, value_enum, default_value_t = WorldArg::Grid)]
+    pub world: WorldArg,
+}
+
+/// What surrounds the model in a still (see [`crate::scene::still::StillWorld`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum WorldArg {
+    /// The model alone.
+    None,
+    /// Ground grid and horizon.
+    Grid,
+    /// The fly-through world.
+    Full,
+}
+
+impl From<WorldArg> for crate::scene::still::StillWorld {
+    fn from(w: WorldArg) -> Self {
+        match w {
+            WorldArg::None => Self::None,
+            WorldArg::Grid => Self::Grid,
+            WorldArg::Full => Self::Full,
+        }
+    }
 }
 
 /// Parse a plane `A,B,C,D` (four finite numbers, not all of A, B, C zero).
@@ -571,9 +692,12 @@ pub struct ViewArgs {
     /// Fly from a script of timed control inputs instead of the keys (format below).
     #[arg(long, value_name = "FILE", conflicts_with = "flight")]
     pub script: Option<PathBuf>,
-    /// Replay a recorded flight (CSV) with its trail.
-    #[arg(long, value_name = "FILE.csv")]
+    /// Replay a recorded flight (CSV, PX4 ULog, or CSV with --columns) with its trail.
+    #[arg(long, value_name = "FILE")]
     pub flight: Option<PathBuf>,
+    /// How to read the --flight file.
+    #[command(flatten)]
+    pub data: DataArgs,
     /// Draw this many frames, each advancing the flight by --dt, then exit.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=10_000_000))]
     pub frames: Option<u64>,
@@ -600,6 +724,17 @@ pub struct ViewArgs {
         requires = "compare"
     )]
     pub model: Option<PathBuf>,
+    /// With --compare: the vehicle family, for data without `# vehicle:` (e.g. a PX4 log).
+    #[arg(long, value_parser = parse_vehicle, requires = "compare", conflicts_with = "model")]
+    pub vehicle: Option<VehicleKind>,
+    /// With --compare: the parameter set of a fixed wing (`aerosonde` or a .toml file).
+    #[arg(
+        long,
+        value_name = "NAME|FILE.toml",
+        requires = "compare",
+        conflicts_with = "model"
+    )]
+    pub aircraft: Option<String>,
     /// With --compare: effects in the base model, comma-separated (parameters at their
     /// defaults; always on).
     #[arg(long, value_name = "A,B", requires = "compare")]

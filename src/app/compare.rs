@@ -16,7 +16,7 @@ use crate::app::cli::CompareArgs;
 use crate::clip::Clipper;
 use crate::flight::data::FlightData;
 use crate::flight::model::Model;
-use crate::output::write_frames;
+use crate::output::{write_frames, FrameOut};
 use crate::render::Rasterizer;
 use crate::scene::replay::ReplayScene;
 use crate::scene::track::ModelTrack;
@@ -58,7 +58,18 @@ impl Findings {
 /// # Errors
 /// Bad data or model, bad effects, plot or output errors.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
-    let data = crate::flight::data::read(&args.flight)?;
+    if let Some(out) = &args.out {
+        if !out
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+        {
+            anyhow::bail!(
+                "{}: --out writes an animated GIF (a .gif name)",
+                out.display()
+            );
+        }
+    }
+    let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let base = args.model.choice().build(&args.flight, &data)?;
     let cfg = args.windows.config(base.vehicle.kind());
     let prep = Prepared::new(&data, cfg);
@@ -71,6 +82,10 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             cfg.window_s
         );
     }
+    let progress = crate::progress::Progress::spinner(
+        &format!("comparing over {:.0} s of data", data.duration()),
+        args.json,
+    );
     let before = Findings::of(&base, &data, &prep);
     let mut after_model = base.clone();
     let fitted = add_fitted(
@@ -90,6 +105,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         None => (&base, &before),
     };
     let floor = noise_floor(final_model, &prep);
+    drop(progress);
     let label = format!("+ {}", args.model.add.join(" + "));
 
     if let Some(dir) = &args.plots {
@@ -121,7 +137,11 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         }
     }
 
-    if let Some(dir) = &args.frames_dir {
+    let frame_outs = [
+        args.frames_dir.as_deref().map(FrameOut::Pngs),
+        args.out.as_deref().map(FrameOut::Gif),
+    ];
+    for out in frame_outs.into_iter().flatten() {
         let mut track = ModelTrack::from_comparison(&data, &last.comparison)?;
         // One scale for before and after, so the strip shows the error fall.
         let b = &before.comparison.prediction;
@@ -139,19 +159,25 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let mut rasterizer = Rasterizer::Cpu;
         let mut replay = ReplayScene::new(&data, &mesh, Clipper::Blinn)?.with_model(track);
         let span = (data.time[0], data.time[data.len() - 1]);
-        let (frames, _) = write_frames(
+        let w = write_frames(
             &mut replay,
             span,
             viewport,
             args.fps,
             args.max_frames,
-            dir,
+            out,
             &mut rasterizer,
+            args.json,
         )?;
         if !args.json {
+            let (what, to) = match out {
+                FrameOut::Pngs(dir) => ("overlay frames", dir),
+                FrameOut::Gif(gif) => ("GIF frames", gif),
+            };
             println!(
-                "wrote {frames} overlay frames to {} (measured: green, model {}: magenta)",
-                dir.display(),
+                "wrote {} {what} to {} (measured: green, model {}: magenta)",
+                w.frames,
+                to.display(),
                 model_label(final_model)
             );
         }
@@ -224,7 +250,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         fixed(floor, 3)
     );
     for f in &fitted {
-        println!("  fitted {}: {}", f.effect, fmt_params(f));
+        let params = fmt_params(f);
+        if params.is_empty() {
+            println!("  added {} (no parameters to fit)", f.effect);
+        } else {
+            println!("  fitted {}: {params}", f.effect);
+        }
     }
     println!("\nwhere (predicted − measured, over all windows):");
     print!("{}", axes_text(b, a));

@@ -14,7 +14,7 @@ use crate::app::cli::DiagnoseArgs;
 /// # Errors
 /// Bad data or model.
 pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
-    let data = crate::flight::data::read(&args.flight)?;
+    let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let mut base = args.model.choice().build(&args.flight, &data)?;
     let cfg = DiagnoseConfig {
         compare: args.windows.config(base.vehicle.kind()),
@@ -24,9 +24,14 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         let prep = Prepared::new(&data, cfg.compare);
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg).map_err(anyhow::Error::msg)?;
     }
+    let progress = crate::progress::Progress::spinner(
+        &format!("diagnosing {:.0} s of data", data.duration()),
+        args.json,
+    );
     if args.iterate {
         let (ladder, _) = diagnose::iterate(&base, &data, &[], &cfg, 5)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?;
+        drop(progress);
         let last = &ladder[ladder.len() - 1].diagnosis;
         if args.json {
             let v = json!({
@@ -75,6 +80,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     }
     let d = diagnose::diagnose(&base, &data, &[], &cfg)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?;
+    drop(progress);
     if args.json {
         println!("{}", serde_json::to_string_pretty(&diagnosis_json(&d))?);
     } else {

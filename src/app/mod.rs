@@ -6,9 +6,11 @@
 pub mod cli;
 pub mod clip;
 pub mod compare;
+pub mod data;
 pub mod diagnose;
 pub mod euler;
 pub mod identify;
+pub mod import;
 pub mod render;
 pub mod simulate;
 pub mod view;
@@ -62,6 +64,8 @@ where
         max_file_bytes: cli.max_input_mb.saturating_mul(1 << 20),
         allow_external_uris: cli.allow_external_uris,
     });
+    crate::progress::set_quiet(cli.quiet);
+    quiet_mesa_device_select();
     match cli.command {
         Command::Render(args) => render::run(&args),
         Command::Simulate(args) => simulate::run(&args),
@@ -71,6 +75,22 @@ where
         Command::View(args) => view::run(&args),
         Command::Euler(args) => euler::run(&args),
         Command::Clip(args) => clip::run(&args),
+        Command::Import(args) => import::run(&args),
+    }
+}
+
+/// Mesa's Vulkan device-selection layer connects to Wayland to rank the GPUs and, where
+/// `XDG_RUNTIME_DIR` is unset or not a directory (containers, CI, ssh), prints `error:
+/// XDG_RUNTIME_DIR is invalid or not set in the environment.` twice per instance. Without a
+/// runtime directory there is no Wayland session for it to ask, so the layer is turned off
+/// then (`NODEVICE_SELECT=1`, its own switch) unless the user set that variable; the Vulkan
+/// loader's own order is used. Called once, before any thread is started.
+fn quiet_mesa_device_select() {
+    let runtime_dir_ok = std::env::var_os("XDG_RUNTIME_DIR")
+        .map(std::path::PathBuf::from)
+        .is_some_and(|d| d.is_absolute() && d.is_dir());
+    if !runtime_dir_ok && std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }
 

@@ -1,15 +1,18 @@
 //! `wireflight render`: one oriented mesh → clipped wireframe → PNG or SVG; or, with
 //! `--flight`, the frames of a recorded flight.
 
-use anyhow::Context;
+use std::path::Path;
+
+use anyhow::{bail, Context};
 
 use crate::app::cli::{ProjectionArg, RenderArgs};
 use crate::clip::{DepthRange, PlaneSet};
 use crate::euler::EulerZyx;
-use crate::output::{write_frames, write_still};
+use crate::output::{write_frames, write_still, FrameOut};
 use crate::pipeline::Viewport;
 use crate::render::{OutputFormat, Rasterizer};
 use crate::scene::replay::ReplayScene;
+use crate::scene::still::still;
 use crate::scene::{frame, ViewSpec};
 use glam::Vec4;
 
@@ -23,32 +26,53 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         width: args.size.0,
         height: args.size.1,
     };
-    if let (Some(flight), Some(dir)) = (&args.flight, &args.frames_dir) {
-        let data = crate::flight::data::read(flight)?;
+    if let Some(flight) = &args.flight {
+        let out = match (&args.frames_dir, &args.out) {
+            (Some(dir), _) => FrameOut::Pngs(dir),
+            (None, Some(gif)) if is_gif(gif) => FrameOut::Gif(gif),
+            (None, Some(other)) => bail!(
+                "{}: a replay is written as frames (--frames-dir DIR) or an animated GIF (--out \
+                 FILE.gif)",
+                other.display()
+            ),
+            (None, None) => bail!("--flight needs --frames-dir DIR or --out FILE.gif"),
+        };
+        let data = crate::app::data::load_flight(flight, &args.data)?;
         let mut rasterizer = Rasterizer::choose(args.backend.into())?;
         let mut replay = ReplayScene::new(&data, &mesh, args.clipper)
             .with_context(|| format!("{}", flight.display()))?;
         let span = (data.time[0], data.time[data.len() - 1]);
-        let (frames, stats) = write_frames(
+        let w = write_frames(
             &mut replay,
             span,
             viewport,
             args.fps,
             args.max_frames,
-            dir,
+            out,
             &mut rasterizer,
+            false,
         )?;
+        let (what, to) = match out {
+            FrameOut::Pngs(dir) => ("frames", dir),
+            FrameOut::Gif(gif) => ("GIF frames", gif),
+        };
         println!(
-            "wrote {frames} frames of {} ({:.1} s at {} fps, {}x{}, {}) to {}",
+            "wrote {} {what} of {} ({:.1} s at {} fps, {}x{}, {}) to {}{}",
+            w.frames,
             flight.display(),
             data.duration(),
-            args.fps,
+            w.fps,
             viewport.width,
             viewport.height,
             rasterizer.describe(),
-            dir.display()
+            to.display(),
+            if matches!(out, FrameOut::Gif(_)) {
+                format!(" ({} kB)", w.bytes.div_ceil(1000))
+            } else {
+                String::new()
+            }
         );
-        println!("clip, all frames: {stats}");
+        println!("clip, all frames: {}", w.stats);
         return Ok(());
     }
     let out = args.out.as_deref().context("--out is required")?;
@@ -76,7 +100,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         clip_planes,
         hidden_line: args.hidden_line,
     };
-    let (scene, stats) = frame(&mesh, &spec);
+    // A cut-away or hidden-line view is of the model alone: the world's ground and horizon
+    // are not cut by the model's planes nor made of faces.
+    let (scene, stats) = if spec.clip_planes.is_empty() && !spec.hidden_line {
+        still(&mesh, &spec, args.world.into())
+    } else {
+        frame(&mesh, &spec)
+    };
     // Only a raster image needs a rasterizer (and the GPU's start-up).
     let mut rasterizer = match OutputFormat::of(out)? {
         OutputFormat::Png => Rasterizer::choose(args.backend.into())?,
@@ -98,4 +128,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// True for a `.gif` file name (any case).
+fn is_gif(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
 }

@@ -70,7 +70,12 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         aircraft: (spec.vehicle == VehicleKind::FixedWing).then(|| spec.aircraft.clone()),
         listed_effects: listed.clone(),
     };
+    let progress = crate::progress::Progress::spinner(
+        &format!("simulating {:.0} s of flight", args.duration),
+        false,
+    );
     let flight = simulate_limited(&model, &sim, args.max_samples).map_err(anyhow::Error::msg)?;
+    drop(progress);
     data::write(&args.out, &flight)?;
     println!(
         "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}",

@@ -13,6 +13,7 @@
 //! [`crate::output`]'s job.
 
 pub mod cpu;
+pub mod gif;
 pub mod gpu;
 pub mod rasterizer;
 pub mod svg;

@@ -19,8 +19,11 @@
 
 pub mod builder;
 pub mod euler;
+pub mod label;
+pub mod overlay;
 pub mod palette;
 pub mod replay;
+pub mod still;
 pub mod text;
 pub mod track;
 

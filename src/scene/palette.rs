@@ -50,3 +50,7 @@ pub const CAPTION: Rgba = [225, 225, 225, 255];
 pub const CAPTION_DIM: Rgba = [150, 155, 165, 255];
 /// Lines between the panels of a sheet.
 pub const SEPARATOR: Rgba = [60, 66, 84, 255];
+/// Text over a frame: time stamps, labels.
+pub const TEXT: Rgba = [220, 220, 220, 255];
+/// The raw samples under a smoothed trail: faint.
+pub const SAMPLE_DOTS: Rgba = [120, 100, 50, 255];

@@ -5,31 +5,40 @@
 //! [`crate::output`]. Pure: no I/O.
 
 use anyhow::Context;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 
 use super::builder::{FrameSpec, Layer, Placement, SceneBuilder};
+use super::overlay::{
+    edge_arrow, error_strip, label_number, locate, sample_dots, smooth_path, time_stamp,
+};
 use super::palette;
 use super::track::{model_frame, pose_at, ModelTrack};
 use crate::camera::{CameraPreset, Subject};
-use crate::clip::{ClipStats, Clipper};
+use crate::clip::{ClipStats, Clipper, DepthRange};
 use crate::euler::viewer_from_ned;
 use crate::flight::data::FlightData;
 use crate::mesh::world::grid_around;
 use crate::mesh::EdgeMesh;
 use crate::pipeline::Viewport;
-use crate::render::{LineBatch, LineScene, Segment2};
+use crate::render::{LineBatch, LineScene};
 
 /// Cells of the ground grid along the longer side of the flight.
 const GRID_CELLS: u32 = 60;
 /// Vertical field of view of the chase camera, degrees.
 const CHASE_FOV_DEG: f32 = 55.0;
+/// Half-width of the trail's smoothing window, s.
+const TRAIL_SMOOTHING_S: f64 = 0.3;
+/// Most raw samples drawn as dots (the latest).
+const MAX_DOTS: usize = 3000;
 
 /// Everything needed to draw frames of one flight.
 pub struct ReplayScene<'a> {
     data: &'a FlightData,
     builder: SceneBuilder,
-    /// Flight path in the viewer frame, one point per sample.
+    /// Flight path in the viewer frame, one point per sample, as measured.
     path: Vec<Vec3>,
+    /// The same smoothed (the trail follows it; the raw samples are dots).
+    smooth: Vec<Vec3>,
     ground_z: f32,
     model: Option<ModelTrack>,
 }
@@ -68,6 +77,7 @@ impl<'a> ReplayScene<'a> {
         Ok(Self {
             data,
             builder: SceneBuilder::new(aircraft.clone(), layers, clipper),
+            smooth: smooth_path(&data.time, &path, TRAIL_SMOOTHING_S),
             path,
             ground_z: min.z.min(0.0) - 1.0,
             model: None,
@@ -80,9 +90,11 @@ impl<'a> ReplayScene<'a> {
         self
     }
 
-    /// The frame at time `t`: grid, trail up to `t`, aircraft; chase camera. With a model
-    /// track: also the model's trail (broken at window restarts) and aircraft, and a strip
-    /// along the bottom plotting its position error over time with a cursor at `t`.
+    /// The frame at time `t`: grid, trail up to `t` (smoothed, the raw samples as faint dots),
+    /// aircraft; chase camera; the time stamp. With a model track: also the model's trail
+    /// (broken at window restarts) and aircraft (an arrow at the edge points to it when it is
+    /// out of sight), and a labelled strip along the bottom plotting its position error over
+    /// time with a cursor at `t`.
     pub fn frame(&mut self, t: f64, viewport: Viewport) -> (&LineScene, ClipStats) {
         let (pos, attitude) = pose_at(self.data, t);
         let (centre, radius) = self.builder.aircraft().bounding_sphere();
@@ -94,69 +106,60 @@ impl<'a> ReplayScene<'a> {
         };
         let camera = CameraPreset::Chase.camera(&subject, CHASE_FOV_DEG.to_radians());
         let upto = self.data.time.partition_point(|&s| s <= t);
+        let model = self.model.as_ref().map(|track| model_frame(track, t));
         let stats = self.builder.build(&FrameSpec {
             camera: &camera,
             viewport,
             aircraft_position: pos.as_vec3(),
             aircraft_attitude: attitude,
             ground_z: self.ground_z,
-            trail: &self.path[..upto],
-            model: self.model.as_ref().map(|track| model_frame(track, t)),
+            trail: &self.smooth[..upto],
+            model,
         });
-        if let Some(track) = &self.model {
-            let strip = error_strip(track, t, viewport);
-            self.builder.scene_mut().batches.push(LineBatch {
-                color: palette::ERROR_STRIP,
-                segments: strip,
-            });
+        let clip_from_world = camera.clip_from_world(viewport.aspect(), DepthRange::ZeroToOne);
+        let mut dots = Vec::new();
+        sample_dots(
+            &self.path[upto.saturating_sub(MAX_DOTS)..upto],
+            clip_from_world,
+            viewport,
+            &mut dots,
+        );
+        let mut text = Vec::new();
+        let (t0, t1) = (self.data.time[0], self.data.time[self.data.len() - 1]);
+        time_stamp(t - t0, t1 - t0, viewport, &mut text);
+        let mut strip = Vec::new();
+        let mut arrow = Vec::new();
+        if let (Some(track), Some(m)) = (&self.model, model) {
+            error_strip(
+                &track.time,
+                &track.error_m,
+                track.strip_scale_m,
+                t,
+                viewport,
+                "POSITION ERROR, M (MODEL - MEASURED)",
+                &mut strip,
+            );
+            if let Err(direction) = locate(m.position, clip_from_world, viewport) {
+                let away = (m.position - pos.as_vec3()).length();
+                edge_arrow(
+                    direction,
+                    &format!("MODEL {} M", label_number(f64::from(away))),
+                    viewport,
+                    &mut arrow,
+                );
+            }
+        }
+        let scene = self.builder.scene_mut();
+        for (color, segments) in [
+            (palette::SAMPLE_DOTS, dots),
+            (palette::ERROR_STRIP, strip),
+            (palette::MODEL_AIRCRAFT, arrow),
+            (palette::TEXT, text),
+        ] {
+            if !segments.is_empty() {
+                scene.batches.push(LineBatch { color, segments });
+            }
         }
         (self.builder.scene(), stats)
     }
-}
-
-/// The position error over the whole flight as a polyline in the bottom sixth of the frame
-/// (0 m at the bottom edge, `strip_scale_m` at the top of the strip), a baseline, and a
-/// vertical cursor at `t`. Pixel coordinates; one segment per pixel column at most.
-fn error_strip(track: &ModelTrack, t: f64, viewport: Viewport) -> Vec<Segment2> {
-    let (w, h) = (viewport.width as f32, viewport.height as f32);
-    let (top, bottom) = (h * (5.0 / 6.0), h - 2.0);
-    let (left, right) = (4.0, w - 4.0);
-    let (Some(&t0), Some(&t1)) = (track.time.first(), track.time.last()) else {
-        return Vec::new();
-    };
-    let span = (t1 - t0).max(1e-9);
-    let peak = track.strip_scale_m.max(1e-9);
-    let x_of = |s: f64| left + ((s - t0) / span) as f32 * (right - left);
-    let y_of = |e: f64| bottom - (e / peak).min(1.0) as f32 * (bottom - top);
-    let mut out = Vec::with_capacity(viewport.width as usize + 2);
-    out.push(Segment2 {
-        a: Vec2::new(left, bottom),
-        b: Vec2::new(right, bottom),
-    });
-    // Per pixel column, the largest error in it: spikes survive any decimation.
-    let columns = (right - left).max(1.0) as usize;
-    let mut column_max = vec![f64::NAN; columns + 1];
-    for (s, e) in track.time.iter().zip(&track.error_m) {
-        let c = ((x_of(*s) - left) as usize).min(columns);
-        if column_max[c].is_nan() || *e > column_max[c] {
-            column_max[c] = *e;
-        }
-    }
-    let mut last: Option<Vec2> = None;
-    for (c, e) in column_max.iter().enumerate() {
-        if e.is_nan() {
-            continue;
-        }
-        let p = Vec2::new(left + c as f32, y_of(*e));
-        if let Some(q) = last {
-            out.push(Segment2 { a: q, b: p });
-        }
-        last = Some(p);
-    }
-    let x = x_of(t.clamp(t0, t1));
-    out.push(Segment2 {
-        a: Vec2::new(x, top),
-        b: Vec2::new(x, bottom),
-    });
-    out
 }

@@ -88,6 +88,8 @@ fn svg_lists_exactly_the_clipped_segments() {
         "35",
         "--pan",
         "1.4,0.3",
+        "--world",
+        "none",
         "--size",
         "640x480",
         "--out",

@@ -586,3 +586,70 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
         });
     changes
 }
+
+/// The scene of a screenshot: the window's line scene with what the HUD and the compare panel
+/// say written over it in the stroke font (egui's panels are drawn by the GPU and are not in
+/// the line scene the CPU rasterizer draws).
+pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
+    use crate::pipeline::Viewport;
+    use crate::scene::label::draw_text;
+    use crate::scene::overlay::text_height;
+    let mut scene = session.scene().clone();
+    let viewport = Viewport {
+        width: scene.width,
+        height: scene.height,
+    };
+    let h = text_height(viewport);
+    let r = session.readout();
+    let aero = r.angles.to_aerospace().to_degrees().map(|a| a + 0.0);
+    let state = match (r.replay, session.paused) {
+        (Some(_), true) => "replay paused",
+        (Some(_), false) => "replay",
+        (None, true) => "paused",
+        (None, false) => "flying",
+    };
+    let mut lines = vec![
+        format!("camera {}, {state}", session.rig.mode),
+        format!(
+            "yaw {:.1}°  pitch {:.1}°  roll {:.1}°  (aerospace, +pitch nose up)",
+            aero[0], aero[1], aero[2]
+        ),
+    ];
+    let mut speed = format!("speed {:.1} m/s  altitude {:.1} m", r.speed, r.altitude);
+    if let Some(t) = r.throttle {
+        speed += &format!("  throttle {:.0}%", 100.0 * t);
+    }
+    lines.push(speed);
+    lines.push(match r.replay {
+        Some((t, t0, t1)) => format!("t {:.2} s of {:.2}..{:.2} s", t, t0, t1),
+        None => format!("flight time {:.2} s", r.time),
+    });
+    if let Some(c) = session.compare() {
+        let label = |effects: &[String]| {
+            if effects.is_empty() {
+                "base model".to_string()
+            } else {
+                format!("+ {}", effects.join(" + "))
+            }
+        };
+        for (what, o) in [("before", &c.before), ("now", &c.now)] {
+            lines.push(format!(
+                "{what} ({}): total {:.3}, position {:.3} m",
+                label(&o.effects),
+                o.total,
+                o.channels.position_m
+            ));
+        }
+        lines.push(c.verdict_line().replace('…', "..."));
+    }
+    let mut segments = Vec::new();
+    for (k, line) in lines.iter().enumerate() {
+        let y = h + k as f32 * 1.6 * h;
+        draw_text(line, glam::Vec2::new(h, y), h, &mut segments);
+    }
+    scene.batches.push(crate::render::LineBatch {
+        color: crate::scene::palette::TEXT,
+        segments,
+    });
+    scene
+}

@@ -45,7 +45,8 @@ use cameras::CameraMode;
 use compare::Compare;
 use flight::Start;
 use hud::{
-    compare_summary, draw_compare, draw_euler, draw_help, draw_hud, EulerChanges, HudData, Meter,
+    compare_summary, draw_compare, draw_euler, draw_help, draw_hud, screenshot_scene, EulerChanges,
+    HudData, Meter,
 };
 use session::{Held, Session, Source, SEEK_S};
 use surface::{HudFrame, Presented, WindowRenderer};
@@ -105,10 +106,11 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         Some(path) if args.compare => {
             let choice = ModelChoice {
                 model_file: args.model.clone(),
+                vehicle: args.vehicle,
+                aircraft: args.aircraft.clone(),
                 effects: args.effects.clone(),
-                ..ModelChoice::default()
             };
-            let data = crate::flight::data::read(path)?;
+            let data = crate::app::data::load_flight(path, &args.data)?;
             let base = choice.build(path, &data)?;
             let data = Arc::new(data);
             let compare = Compare::new(Arc::clone(&data), base, &args.add)
@@ -118,7 +120,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
                 .with_compare(compare)
         }
         Some(path) => {
-            let data = crate::flight::data::read(path)?;
+            let data = crate::app::data::load_flight(path, &args.data)?;
             Session::replay(mesh, data, camera, fov_y)
                 .with_context(|| format!("{}: cannot replay", path.display()))?
         }
@@ -330,7 +332,7 @@ impl App {
                 break p;
             }
         };
-        let note = match write_screenshot(self.session.scene(), &path) {
+        let note = match write_screenshot(&screenshot_scene(&self.session), &path) {
             Ok(()) => {
                 println!("wrote {}", path.display());
                 format!("saved {}", path.display())
@@ -458,7 +460,7 @@ impl App {
         if let Some(n) = self.options.frames {
             if self.meter.frames >= n {
                 if let Some(path) = self.options.screenshot.clone() {
-                    write_screenshot(self.session.scene(), &path)?;
+                    write_screenshot(&screenshot_scene(&self.session), &path)?;
                     println!(
                         "wrote {} ({}x{}, {})",
                         path.display(),

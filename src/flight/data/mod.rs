@@ -37,7 +37,11 @@
 //! [`crate::flight::derive`] and are re-exported here.
 
 mod columns;
+pub mod import;
+pub mod mapped;
+pub mod px4;
 mod read;
+pub mod ulog;
 mod write;
 
 use std::fmt;
@@ -49,6 +53,7 @@ use super::{Controls, VehicleKind};
 use crate::euler::EulerZyx;
 
 pub use self::columns::JSBSIM_COLUMNS;
+pub use self::import::{load, ImportReport, LoadOptions, Loaded};
 pub use self::read::{parse, read};
 pub use self::write::{to_csv_string, write};
 pub use super::derive::{

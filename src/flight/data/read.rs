@@ -124,7 +124,7 @@ fn read_metadata<'t>(
 }
 
 /// One metadata line (after the `#`).
-fn parse_metadata(rest: &str, meta: &mut Metadata) -> Result<(), DataErrorKind> {
+pub(super) fn parse_metadata(rest: &str, meta: &mut Metadata) -> Result<(), DataErrorKind> {
     let Some((key, value)) = rest.split_once(':') else {
         return Ok(()); // a comment
     };
@@ -535,7 +535,7 @@ fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightDa
 /// first, on a flat earth of radius [`EARTH_RADIUS_M`]: north = (lat − lat0)·R,
 /// east = (lon − lon0)·R·cos lat0 (the longitude difference taken across the antimeridian
 /// where shorter), down = −(h − h0).
-fn flat_earth_ned(lat: &[f64], lon: &[f64], alt: &[f64]) -> Vec<DVec3> {
+pub(super) fn flat_earth_ned(lat: &[f64], lon: &[f64], alt: &[f64]) -> Vec<DVec3> {
     let (lat0, lon0, h0) = (lat[0], lon[0], alt[0]);
     let coslat0 = lat0.cos();
     lat.iter()

@@ -317,3 +317,4 @@ pub fn mk82() -> wireflight::flight::data::FlightData {
     wireflight::flight::data::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 pub mod refsim;
+pub mod ulog;

@@ -1,0 +1,44 @@
+//! `wireflight import`: read a PX4 log or a column-mapped CSV, say what was found, and keep
+//! the result as the project's CSV.
+
+use crate::app::cli::ImportArgs;
+use crate::flight::data::{load, Loaded};
+
+/// Run `wireflight import`.
+///
+/// # Errors
+/// The reader's error (naming the file and where in it), write errors.
+pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
+    let Loaded { data, report } = load(&args.flight, &args.data.options())?;
+    if let Some(out) = &args.out {
+        crate::flight::data::write(out, &data)?;
+    }
+    if args.json {
+        let mut v = match &report {
+            Some(r) => r.to_json(),
+            None => serde_json::json!({
+                "file": args.flight.display().to_string(),
+                "format": "wireflight CSV",
+                "samples": data.len(),
+                "duration_s": data.duration(),
+            }),
+        };
+        v["derived"] = serde_json::json!(data.derived);
+        v["out"] = serde_json::json!(args.out.as_ref().map(|p| p.display().to_string()));
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    match &report {
+        Some(r) => print!("{r}"),
+        None => println!(
+            "{} (flight-data CSV): {} samples over {:.1} s",
+            args.flight.display(),
+            data.len(),
+            data.duration()
+        ),
+    }
+    if let Some(out) = &args.out {
+        println!("wrote {} ({} samples)", out.display(), data.len());
+    }
+    Ok(())
+}

@@ -1,0 +1,890 @@
+//! CSV in anyone's column names, read through a column map: which column gives which quantity,
+//! in which unit, with which offset.
+//!
+//! # The map
+//! Inline (`--columns`): comma-separated `QUANTITY=COLUMN[:SCALE[:OFFSET]]`, e.g.
+//!
+//! ```text
+//! time=t_us:us,north=x,east=y,down=z,roll=phi:deg,pitch=theta:deg,yaw=psi:deg,airspeed=tas:kt
+//! ```
+//!
+//! or a TOML file (`--columns map.toml`), which can also name columns with `,` `:` or `=` in
+//! them and set the delimiter:
+//!
+//! ```toml
+//! delimiter = ";"            # default: `,` (or `;` / tab when the header has no comma)
+//! [columns]
+//! time = { column = "t_us", unit = "us", offset = -12.5 }
+//! north = "x"                # a bare string: the column, in SI units
+//! lat = { column = "lat_e7", scale = 1e-7, unit = "deg" }
+//! ```
+//!
+//! SCALE is a unit name ([`UNITS`]: `us`, `deg`, `ft`, `kt`, `deg/s`, `%`, …), a number, or
+//! both as `NUMBER*UNIT` (`1e-7*deg`); it converts the column to SI units (seconds, metres,
+//! radians, m/s, rad/s, throttle 0..1). OFFSET (SI, added after scaling) shifts a column, e.g.
+//! the time: `time=t:s:-120` makes 120 s read as 0. A unit of the wrong kind for its quantity
+//! (`roll=phi:ft`) is an error.
+//!
+//! Quantities ([`QUANTITIES`]): `time`; the position as `north, east, down` (or `height` for
+//! −down) or geodetic `lat, lon, alt` (made local NED about the first row on a flat earth, the
+//! origin going into the metadata); `roll, pitch, yaw`; `vn, ve, vd`; `u, v, w`; `p, q, r`;
+//! `airspeed`; `throttle, elevator, aileron, rudder`. Sets come whole (all of
+//! `roll, pitch, yaw` or none), as in the project's CSV.
+//!
+//! # The file
+//! `#` lines before the header are metadata (`# vehicle: fixed-wing`), as in the project's
+//! CSV; the header is the first other line; unmapped columns are ignored (their cells are not
+//! parsed). Errors name the file, the line and the column, as the CSV reader's do.
+
+use std::collections::BTreeMap;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::fmt;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::import::ImportReport;
+use super::read::{flat_earth_ned, parse_metadata};
+use super::{DataError, DataErrorKind, FlightData, Metadata, METRES_PER_FOOT, MPS_PER_KNOT};
+use crate::euler::EulerZyx;
+use crate::flight::Controls;
+
+/// Largest file read, bytes.
+pub const MAX_MAPPED_BYTES: u64 = 1 << 30;
+
+/// Kinds of quantity, for checking units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dimension {
+    /// s
+    Time,
+    /// m
+    Length,
+    /// rad
+    Angle,
+    /// m/s
+    Speed,
+    /// rad/s
+    AngularRate,
+    /// 0..1
+    Fraction,
+}
+
+impl Dimension {
+    fn name(self) -> &'static str {
+        match self {
+            Self::Time => "a time",
+            Self::Length => "a length",
+            Self::Angle => "an angle",
+            Self::Speed => "a speed",
+            Self::AngularRate => "an angular rate",
+            Self::Fraction => "a fraction",
+        }
+    }
+}
+
+/// The units a map may name: name, factor to SI, dimension.
+pub const UNITS: &[(&str, f64, Dimension)] = &[
+    ("s", 1.0, Dimension::Time),
+    ("ms", 1e-3, Dimension::Time),
+    ("us", 1e-6, Dimension::Time),
+    ("µs", 1e-6, Dimension::Time),
+    ("ns", 1e-9, Dimension::Time),
+    ("min", 60.0, Dimension::Time),
+    ("h", 3600.0, Dimension::Time),
+    ("m", 1.0, Dimension::Length),
+    ("mm", 1e-3, Dimension::Length),
+    ("cm", 1e-2, Dimension::Length),
+    ("km", 1e3, Dimension::Length),
+    ("ft", METRES_PER_FOOT, Dimension::Length),
+    ("rad", 1.0, Dimension::Angle),
+    ("deg", PI / 180.0, Dimension::Angle),
+    ("m/s", 1.0, Dimension::Speed),
+    ("mps", 1.0, Dimension::Speed),
+    ("km/h", 1.0 / 3.6, Dimension::Speed),
+    ("kmh", 1.0 / 3.6, Dimension::Speed),
+    ("kt", MPS_PER_KNOT, Dimension::Speed),
+    ("kts", MPS_PER_KNOT, Dimension::Speed),
+    ("ft/s", METRES_PER_FOOT, Dimension::Speed),
+    ("fps", METRES_PER_FOOT, Dimension::Speed),
+    ("mph", 0.44704, Dimension::Speed),
+    ("rad/s", 1.0, Dimension::AngularRate),
+    ("radps", 1.0, Dimension::AngularRate),
+    ("deg/s", PI / 180.0, Dimension::AngularRate),
+    ("dps", PI / 180.0, Dimension::AngularRate),
+    ("%", 0.01, Dimension::Fraction),
+];
+
+/// Quantities a map may give: name, dimension, what it is.
+pub const QUANTITIES: &[(&str, Dimension, &str)] = &[
+    ("time", Dimension::Time, "time"),
+    ("north", Dimension::Length, "north position"),
+    ("east", Dimension::Length, "east position"),
+    ("down", Dimension::Length, "down position"),
+    ("height", Dimension::Length, "height (−down)"),
+    ("lat", Dimension::Angle, "latitude"),
+    ("lon", Dimension::Angle, "longitude"),
+    ("alt", Dimension::Length, "altitude"),
+    ("roll", Dimension::Angle, "roll φ"),
+    ("pitch", Dimension::Angle, "pitch θ"),
+    ("yaw", Dimension::Angle, "yaw ψ"),
+    ("vn", Dimension::Speed, "north velocity"),
+    ("ve", Dimension::Speed, "east velocity"),
+    ("vd", Dimension::Speed, "down velocity"),
+    ("u", Dimension::Speed, "body velocity u"),
+    ("v", Dimension::Speed, "body velocity v"),
+    ("w", Dimension::Speed, "body velocity w"),
+    ("p", Dimension::AngularRate, "roll rate p"),
+    ("q", Dimension::AngularRate, "pitch rate q"),
+    ("r", Dimension::AngularRate, "yaw rate r"),
+    ("airspeed", Dimension::Speed, "airspeed"),
+    ("throttle", Dimension::Fraction, "throttle 0..1"),
+    ("elevator", Dimension::Angle, "elevator"),
+    ("aileron", Dimension::Angle, "aileron"),
+    ("rudder", Dimension::Angle, "rudder"),
+];
+
+/// Sets that come whole.
+const SETS: &[(&str, &[&str])] = &[
+    ("attitude", &["roll", "pitch", "yaw"]),
+    ("NED velocity", &["vn", "ve", "vd"]),
+    ("body velocity", &["u", "v", "w"]),
+    ("body rates", &["p", "q", "r"]),
+    ("controls", &["throttle", "elevator", "aileron", "rudder"]),
+];
+
+/// A column map that cannot be used.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ColumnMapError(pub String);
+
+impl fmt::Display for ColumnMapError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "column map: {}", self.0)
+    }
+}
+
+impl std::error::Error for ColumnMapError {}
+
+/// One quantity's source.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapEntry {
+    /// The quantity (a name of [`QUANTITIES`]).
+    pub quantity: &'static str,
+    /// The column, as in the header.
+    pub column: String,
+    /// Factor to SI.
+    pub scale: f64,
+    /// Added after scaling, SI.
+    pub offset: f64,
+    /// The unit as written (for the report), or empty.
+    pub unit: String,
+}
+
+/// Which column gives which quantity (see the module docs).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ColumnMap {
+    /// The entries, one per quantity.
+    pub entries: Vec<MapEntry>,
+    /// The cell separator (`None`: `,`, or `;` / tab when the header has no comma).
+    pub delimiter: Option<char>,
+}
+
+/// The scale of `text`: a unit, a number, or `NUMBER*UNIT`; checked against the dimension.
+fn parse_scale(text: &str, quantity: &str, dim: Dimension) -> Result<(f64, String), String> {
+    let text = text.trim();
+    let unit = |u: &str| -> Result<f64, String> {
+        let (_, f, d) = UNITS.iter().find(|(n, _, _)| *n == u).ok_or_else(|| {
+            let known: Vec<&str> = UNITS
+                .iter()
+                .filter(|(_, _, d)| *d == dim)
+                .map(|(n, _, _)| *n)
+                .collect();
+            format!(
+                "unknown unit `{u}` (units of {}: {})",
+                dim.name(),
+                known.join(", ")
+            )
+        })?;
+        if *d != dim {
+            return Err(format!(
+                "`{u}` is {} but {quantity} is {}",
+                d.name(),
+                dim.name()
+            ));
+        }
+        Ok(*f)
+    };
+    let number = |n: &str| -> Result<f64, String> {
+        match n.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() && v != 0.0 => Ok(v),
+            Ok(_) => Err(format!("scale `{n}` must be a finite number other than 0")),
+            Err(_) => Err(format!("`{n}` is neither a unit nor a number")),
+        }
+    };
+    if let Some((n, u)) = text.split_once('*') {
+        return Ok((number(n)? * unit(u.trim())?, text.to_string()));
+    }
+    if UNITS.iter().any(|(n, _, _)| *n == text) {
+        return Ok((unit(text)?, text.to_string()));
+    }
+    if text.parse::<f64>().is_ok() {
+        return Ok((number(text)?, text.to_string()));
+    }
+    // Neither: say which units there are.
+    unit(text).map(|f| (f, text.to_string()))
+}
+
+impl ColumnMap {
+    /// The map of `--columns VALUE`: a `.toml` file's, or the inline form.
+    ///
+    /// # Errors
+    /// An unreadable file, and everything [`parse`](Self::parse) and
+    /// [`from_toml`](Self::from_toml) reject.
+    pub fn from_arg(value: &str) -> Result<Self, ColumnMapError> {
+        if value.trim_end().to_ascii_lowercase().ends_with(".toml") {
+            let text = std::fs::read_to_string(value)
+                .map_err(|e| ColumnMapError(format!("{value}: cannot read: {e}")))?;
+            return Self::from_toml(&text).map_err(|e| ColumnMapError(format!("{value}: {}", e.0)));
+        }
+        Self::parse(value)
+    }
+
+    /// The inline form: `QUANTITY=COLUMN[:SCALE[:OFFSET]],…`.
+    ///
+    /// # Errors
+    /// An entry without `=`, an unknown quantity, a quantity given twice, a bad scale or
+    /// offset, a unit of the wrong kind; then what [`check`](Self::check) rejects.
+    pub fn parse(spec: &str) -> Result<Self, ColumnMapError> {
+        let mut map = ColumnMap::default();
+        for entry in spec.split(',').map(str::trim).filter(|e| !e.is_empty()) {
+            let bad = |why: String| ColumnMapError(format!("entry `{entry}`: {why}"));
+            let (q, rest) = entry
+                .split_once('=')
+                .ok_or_else(|| bad("not QUANTITY=COLUMN[:SCALE[:OFFSET]]".into()))?;
+            let mut parts = rest.splitn(3, ':');
+            let column = parts.next().unwrap_or("").trim();
+            let scale = parts.next();
+            let offset = parts.next();
+            map.add(q.trim(), column, scale, offset).map_err(bad)?;
+        }
+        map.check()?;
+        Ok(map)
+    }
+
+    /// The TOML form (module docs).
+    ///
+    /// # Errors
+    /// TOML syntax, unknown keys, and what [`parse`](Self::parse) rejects.
+    pub fn from_toml(text: &str) -> Result<Self, ColumnMapError> {
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct File {
+            delimiter: Option<String>,
+            columns: BTreeMap<String, Source>,
+        }
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Source {
+            Column(String),
+            Full(Full),
+        }
+        #[derive(serde::Deserialize)]
+        #[serde(deny_unknown_fields)]
+        struct Full {
+            column: String,
+            unit: Option<String>,
+            scale: Option<f64>,
+            offset: Option<f64>,
+        }
+        let file: File = toml::from_str(text).map_err(|e| ColumnMapError(e.to_string()))?;
+        let mut map = ColumnMap::default();
+        if let Some(d) = file.delimiter {
+            let mut chars = d.chars();
+            match (chars.next(), chars.next()) {
+                (Some(c), None) if c != '"' && c != '\n' => map.delimiter = Some(c),
+                _ => {
+                    return Err(ColumnMapError(format!(
+                        "delimiter `{d}` must be one character"
+                    )))
+                }
+            }
+        }
+        for (q, source) in &file.columns {
+            let bad = |why: String| ColumnMapError(format!("columns.{q}: {why}"));
+            match source {
+                Source::Column(c) => map.add(q, c, None, None).map_err(bad)?,
+                Source::Full(f) => {
+                    let scale = match (&f.unit, f.scale) {
+                        (Some(u), Some(s)) => Some(format!("{s}*{u}")),
+                        (Some(u), None) => Some(u.clone()),
+                        (None, Some(s)) => Some(format!("{s}")),
+                        (None, None) => None,
+                    };
+                    let offset = f.offset.map(|o| format!("{o}"));
+                    map.add(q, &f.column, scale.as_deref(), offset.as_deref())
+                        .map_err(bad)?;
+                }
+            }
+        }
+        map.check()?;
+        Ok(map)
+    }
+
+    fn add(
+        &mut self,
+        quantity: &str,
+        column: &str,
+        scale: Option<&str>,
+        offset: Option<&str>,
+    ) -> Result<(), String> {
+        let (name, dim, _) = QUANTITIES
+            .iter()
+            .find(|(n, _, _)| *n == quantity)
+            .ok_or_else(|| {
+                let names: Vec<&str> = QUANTITIES.iter().map(|(n, _, _)| *n).collect();
+                format!(
+                    "unknown quantity `{quantity}` (quantities: {})",
+                    names.join(", ")
+                )
+            })?;
+        if self.entries.iter().any(|e| e.quantity == *name) {
+            return Err(format!("{name} is mapped twice"));
+        }
+        if column.is_empty() {
+            return Err("no column name".into());
+        }
+        let (scale, unit) = match scale.map(str::trim).filter(|s| !s.is_empty()) {
+            Some(s) => parse_scale(s, name, *dim)?,
+            None => (1.0, String::new()),
+        };
+        let offset = match offset.map(str::trim).filter(|s| !s.is_empty()) {
+            Some(o) => match o.parse::<f64>() {
+                Ok(v) if v.is_finite() => v,
+                _ => return Err(format!("offset `{o}` is not a finite number")),
+            },
+            None => 0.0,
+        };
+        self.entries.push(MapEntry {
+            quantity: name,
+            column: column.to_string(),
+            scale,
+            offset,
+            unit,
+        });
+        Ok(())
+    }
+
+    /// The entry of `quantity`.
+    pub fn get(&self, quantity: &str) -> Option<&MapEntry> {
+        self.entries.iter().find(|e| e.quantity == quantity)
+    }
+
+    fn has(&self, quantity: &str) -> bool {
+        self.get(quantity).is_some()
+    }
+
+    /// Time and a position are mapped (local or geodetic, not both), and sets are whole.
+    ///
+    /// # Errors
+    /// Which quantities are missing or clash.
+    pub fn check(&self) -> Result<(), ColumnMapError> {
+        let bad = |s: String| Err(ColumnMapError(s));
+        if !self.has("time") {
+            return bad("no `time` (e.g. time=t_s, or time=t_us:us)".into());
+        }
+        if self.has("down") && self.has("height") {
+            return bad("`down` and `height` both given: give one".into());
+        }
+        let local = ["north", "east"].iter().any(|q| self.has(q));
+        let geo = ["lat", "lon", "alt"].iter().any(|q| self.has(q));
+        let vertical = self.has("down") || self.has("height");
+        match (local, geo) {
+            (true, true) => {
+                return bad(
+                    "both a local position (north, east) and a geodetic one (lat, lon): give one"
+                        .into(),
+                )
+            }
+            (false, false) => {
+                return bad(
+                    "no position: map north, east and down (or height), or lat, lon and alt".into(),
+                )
+            }
+            (true, false) => {
+                let miss: Vec<&str> = ["north", "east"]
+                    .into_iter()
+                    .filter(|q| !self.has(q))
+                    .chain((!vertical).then_some("down (or height)"))
+                    .collect();
+                if !miss.is_empty() {
+                    return bad(format!("the position needs {} too", miss.join(", ")));
+                }
+            }
+            (false, true) => {
+                let miss: Vec<&str> = ["lat", "lon"]
+                    .into_iter()
+                    .filter(|q| !self.has(q))
+                    .chain((!self.has("alt") && !vertical).then_some("alt (or height)"))
+                    .collect();
+                if !miss.is_empty() {
+                    return bad(format!(
+                        "the geodetic position needs {} too",
+                        miss.join(", ")
+                    ));
+                }
+                if self.has("alt") && vertical {
+                    return bad("`alt` and `down`/`height` both given: give one".into());
+                }
+            }
+        }
+        for (set, names) in SETS {
+            let have: Vec<&str> = names.iter().copied().filter(|q| self.has(q)).collect();
+            if !have.is_empty() && have.len() < names.len() {
+                let miss: Vec<&str> = names.iter().copied().filter(|q| !self.has(q)).collect();
+                return bad(format!(
+                    "{set} comes as a set: `{}` is mapped, so map {} too",
+                    have[0],
+                    miss.join(", ")
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Reads a CSV file through `map` (derived channels filled in) and says what was found.
+///
+/// # Errors
+/// [`DataError`]s (inside the `anyhow::Error`) naming the file, line and column: unreadable or non-UTF-8 file, no header,
+/// a mapped column missing from the header, non-numeric or non-finite cells, rows of the
+/// wrong length, times that do not increase, latitudes beyond ±90°.
+pub fn read(path: &Path, map: &ColumnMap) -> anyhow::Result<(FlightData, ImportReport)> {
+    let file = path.display().to_string();
+    let whole = |kind| DataError {
+        file: file.clone(),
+        line: None,
+        column: None,
+        kind,
+    };
+    let size = std::fs::metadata(path)
+        .map_err(|e| whole(DataErrorKind::Unreadable(e)))?
+        .len();
+    if size > MAX_MAPPED_BYTES {
+        return Err(
+            whole(DataErrorKind::Unreadable(std::io::Error::other(format!(
+                "{size} bytes is more than the {MAX_MAPPED_BYTES} read here"
+            ))))
+            .into(),
+        );
+    }
+    let bytes = std::fs::read(path).map_err(|e| whole(DataErrorKind::Unreadable(e)))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        DataError {
+            line: Some(good.iter().filter(|&&b| b == b'\n').count() + 1),
+            ..whole(DataErrorKind::NotUtf8)
+        }
+    })?;
+    parse(&text, &file, map)
+}
+
+/// [`read`] on text; `file` names it in errors.
+///
+/// # Errors
+/// As [`read`], less the reading.
+pub fn parse(
+    text: &str,
+    file: &str,
+    map: &ColumnMap,
+) -> anyhow::Result<(FlightData, ImportReport)> {
+    let at = |line: usize, column: Option<&str>, kind| {
+        anyhow::Error::new(DataError {
+            file: file.to_string(),
+            line: Some(line),
+            column: column.map(str::to_string),
+            kind,
+        })
+    };
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    // Metadata, then the header.
+    let mut meta = Metadata::default();
+    let mut header = None;
+    let mut last = 1;
+    for (n, l) in lines.by_ref() {
+        last = n;
+        if l.is_empty() {
+            continue;
+        }
+        if let Some(rest) = l.strip_prefix('#') {
+            parse_metadata(rest, &mut meta).map_err(|k| at(n, None, k))?;
+            continue;
+        }
+        header = Some((n, l));
+        break;
+    }
+    let (header_line, header_text) = header.ok_or_else(|| at(last, None, DataErrorKind::Empty))?;
+    let delimiter = map.delimiter.unwrap_or_else(|| {
+        if header_text.contains(',') {
+            ','
+        } else if header_text.contains(';') {
+            ';'
+        } else if header_text.contains('\t') {
+            '\t'
+        } else {
+            ','
+        }
+    });
+    let names: Vec<&str> = header_text.split(delimiter).map(unquote).collect();
+    // Each entry's column index.
+    let mut index = Vec::with_capacity(map.entries.len());
+    for e in &map.entries {
+        match names.iter().position(|n| *n == e.column) {
+            Some(i) => index.push(i),
+            None => {
+                let shown: Vec<&str> = names.iter().take(40).copied().collect();
+                let more = if names.len() > 40 { ", …" } else { "" };
+                return Err(at(
+                    header_line,
+                    Some(&e.column),
+                    DataErrorKind::MissingColumn {
+                        names: vec![format!("`{}` (for {})", e.column, e.quantity)],
+                        why: format!(
+                            "the column map names it but the header has {}{more}",
+                            shown.join(", ")
+                        ),
+                    },
+                ));
+            }
+        }
+    }
+    // Rows.
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); map.entries.len()];
+    let time_k = map
+        .entries
+        .iter()
+        .position(|e| e.quantity == "time")
+        .unwrap_or(0);
+    let mut prev: Option<(f64, usize)> = None;
+    let mut cells: Vec<&str> = Vec::with_capacity(names.len());
+    for (n, l) in lines {
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        cells.clear();
+        cells.extend(l.split(delimiter));
+        if cells.len() != names.len() {
+            return Err(at(
+                n,
+                None,
+                DataErrorKind::RowLength {
+                    expected: names.len(),
+                    found: cells.len(),
+                },
+            ));
+        }
+        for (k, e) in map.entries.iter().enumerate() {
+            let cell = unquote(cells[index[k]]);
+            let v = match cell.parse::<f64>() {
+                Ok(v) if v.is_finite() => v,
+                Ok(_) => {
+                    return Err(at(
+                        n,
+                        Some(&e.column),
+                        DataErrorKind::NonFinite {
+                            value: cell.to_string(),
+                        },
+                    ))
+                }
+                Err(_) => {
+                    return Err(at(
+                        n,
+                        Some(&e.column),
+                        DataErrorKind::NonNumeric {
+                            value: cell.to_string(),
+                        },
+                    ))
+                }
+            };
+            values[k].push(v * e.scale + e.offset);
+        }
+        let t = values[time_k][values[time_k].len() - 1];
+        if let Some((previous, previous_line)) = prev {
+            if t <= previous {
+                return Err(at(
+                    n,
+                    Some(&map.entries[time_k].column),
+                    DataErrorKind::NonIncreasingTime {
+                        previous,
+                        previous_line,
+                        current: t,
+                    },
+                ));
+            }
+        }
+        prev = Some((t, n));
+    }
+    if values[time_k].is_empty() {
+        return Err(at(header_line, None, DataErrorKind::NoRows));
+    }
+    let take = |q: &str| -> Option<Vec<f64>> {
+        map.entries
+            .iter()
+            .position(|e| e.quantity == q)
+            .map(|k| values[k].clone())
+    };
+    let vec3 = |a: &str, b: &str, c: &str| -> Option<Vec<DVec3>> {
+        let (x, y, z) = (take(a)?, take(b)?, take(c)?);
+        Some((0..x.len()).map(|i| DVec3::new(x[i], y[i], z[i])).collect())
+    };
+    let time = take("time").unwrap_or_default();
+    let n = time.len();
+    let down = take("down").or_else(|| take("height").map(|h| h.iter().map(|v| -v).collect()));
+    let mut report = ImportReport::new(file, "CSV with a column map");
+    let pos_ned = match take("lat") {
+        Some(lat) => {
+            let lon = take("lon").unwrap_or_else(|| vec![0.0; n]);
+            if let Some(i) = lat.iter().position(|la| la.abs() > FRAC_PI_2 + 1e-12) {
+                let c = map.get("lat").map_or("lat", |e| e.column.as_str());
+                anyhow::bail!(
+                    "{file}: row {} (after the header), column `{c}`: latitude {} rad is beyond \
+                     ±90° (degrees? map it as lat={c}:deg)",
+                    i + 1,
+                    lat[i]
+                );
+            }
+            // Heights: alt above sea level, or height above the origin.
+            let alt = take("alt").or_else(|| down.as_ref().map(|d| d.iter().map(|v| -v).collect()));
+            let alt = alt.unwrap_or_else(|| vec![0.0; n]);
+            meta.latitude_deg = meta.latitude_deg.or(Some(lat[0].to_degrees()));
+            meta.longitude_deg = meta.longitude_deg.or(Some(lon[0].to_degrees()));
+            if map.has("alt") {
+                meta.altitude_m = meta.altitude_m.or(Some(alt[0]));
+            }
+            flat_earth_ned(&lat, &lon, &alt)
+        }
+        None => {
+            let (north, east) = (
+                take("north").unwrap_or_default(),
+                take("east").unwrap_or_default(),
+            );
+            let down = down.unwrap_or_default();
+            (0..n)
+                .map(|i| DVec3::new(north[i], east[i], down[i]))
+                .collect()
+        }
+    };
+    let mut data = FlightData::new(meta, time, pos_ned);
+    data.attitude = vec3("yaw", "pitch", "roll").map(|v| {
+        v.into_iter()
+            .map(|a| EulerZyx::new(a.x, a.y, a.z))
+            .collect()
+    });
+    data.vel_ned = vec3("vn", "ve", "vd");
+    data.vel_body = vec3("u", "v", "w");
+    data.rates_body = vec3("p", "q", "r");
+    data.airspeed = take("airspeed");
+    data.controls = match (
+        take("throttle"),
+        take("elevator"),
+        take("aileron"),
+        take("rudder"),
+    ) {
+        (Some(t), Some(e), Some(a), Some(r)) => Some(
+            (0..n)
+                .map(|i| Controls {
+                    throttle: t[i],
+                    elevator: e[i],
+                    aileron: a[i],
+                    rudder: r[i],
+                })
+                .collect(),
+        ),
+        _ => None,
+    };
+    if data.meta.source.is_none() {
+        data.meta.source = Some(format!(
+            "{} (column map)",
+            Path::new(file)
+                .file_name()
+                .map_or(file.to_string(), |f| f.to_string_lossy().into_owned())
+        ));
+    }
+    data.derive_missing();
+
+    // The report: one line per channel, with its columns and units.
+    let rate = median_rate(&data.time);
+    let describe = |qs: &[&str]| -> String {
+        qs.iter()
+            .filter_map(|q| map.get(q))
+            .map(|e| {
+                let mut s = e.column.clone();
+                if !e.unit.is_empty() {
+                    s.push_str(&format!(" [{}]", e.unit));
+                }
+                if e.offset != 0.0 {
+                    s.push_str(&format!(" {:+}", e.offset));
+                }
+                s
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let channels: [(&str, &[&str]); 9] = [
+        ("time", &["time"]),
+        (
+            "position",
+            &["north", "east", "down", "height", "lat", "lon", "alt"],
+        ),
+        ("attitude", &["roll", "pitch", "yaw"]),
+        ("NED velocity", &["vn", "ve", "vd"]),
+        ("body velocity", &["u", "v", "w"]),
+        ("body rates", &["p", "q", "r"]),
+        ("airspeed", &["airspeed"]),
+        ("controls", &["throttle", "elevator", "aileron", "rudder"]),
+        ("derived", &[]),
+    ];
+    for (name, qs) in &channels[..8] {
+        if qs.iter().any(|q| map.has(q)) {
+            let note = if *name == "position" && map.has("lat") {
+                "local NED about the first row (flat earth)"
+            } else {
+                ""
+            };
+            report.channel(name, describe(qs), n, rate, true, note);
+        }
+    }
+    if !data.derived.is_empty() {
+        report.note(format!("derived: {}", data.derived.join(", ")));
+    }
+    let unused = names.len() - {
+        let mut used = index.clone();
+        used.sort_unstable();
+        used.dedup();
+        used.len()
+    };
+    if unused > 0 {
+        let s = if unused == 1 { "" } else { "s" };
+        report.note(format!("{unused} column{s} not mapped (ignored)"));
+    }
+    if let Some(c) = &data.controls {
+        if c.iter().any(|c| !(0.0..=1.0).contains(&c.throttle)) {
+            report.note("throttle outside 0..1 (a percentage? map it as throttle=COL:%)");
+        }
+    }
+    report.samples = n;
+    report.duration_s = data.duration();
+    Ok((data, report))
+}
+
+/// A cell or name trimmed, with surrounding double quotes removed.
+fn unquote(c: &str) -> &str {
+    let c = c.trim();
+    c.strip_prefix('"')
+        .and_then(|c| c.strip_suffix('"'))
+        .unwrap_or(c)
+        .trim()
+}
+
+/// Median sample rate of increasing times, Hz.
+fn median_rate(t: &[f64]) -> Option<f64> {
+    let mut dt: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    if dt.is_empty() {
+        return None;
+    }
+    let mid = dt.len() / 2;
+    let (_, m, _) = dt.select_nth_unstable_by(mid, f64::total_cmp);
+    (*m > 0.0).then(|| 1.0 / *m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn inline_maps_with_units_numbers_and_offsets() {
+        let m = ColumnMap::parse(
+            "time=t_us:us:-2, north=x, east=y, height=h:ft, roll=phi:deg,pitch=th:deg,\
+             yaw=psi:0.5, airspeed=tas:kt",
+        )
+        .unwrap();
+        let t = m.get("time").unwrap();
+        assert_eq!((t.column.as_str(), t.scale, t.offset), ("t_us", 1e-6, -2.0));
+        assert_eq!(m.get("height").unwrap().scale, METRES_PER_FOOT);
+        assert_eq!(m.get("yaw").unwrap().scale, 0.5);
+        let m = ColumnMap::parse("time=t,lat=la:1e-7*deg,lon=lo:1e-7*deg,alt=a:mm").unwrap();
+        assert!((m.get("lat").unwrap().scale - 1e-7 * PI / 180.0).abs() < 1e-20);
+    }
+
+    #[test]
+    fn bad_maps_say_what_is_wrong() {
+        let cases = [
+            ("north=x", "no `time`"),
+            ("time=t", "no position"),
+            ("time=t,north=x,east=y", "needs down (or height) too"),
+            (
+                "time=t,north=x,east=y,down=z,roll=r",
+                "attitude comes as a set",
+            ),
+            (
+                "time=t,north=x,east=y,down=z,roll=r:ft",
+                "`ft` is a length but roll is an angle",
+            ),
+            (
+                "time=t,north=x,east=y,down=z,roll=r:degs",
+                "unknown unit `degs`",
+            ),
+            ("time=t:0", "other than 0"),
+            ("time=t,time=u", "time is mapped twice"),
+            ("time=t,speed=s", "unknown quantity `speed`"),
+            ("time", "not QUANTITY=COLUMN"),
+            ("time=t:s:x", "offset `x`"),
+            ("time=t,north=x,east=y,down=z,lat=a", "give one"),
+        ];
+        for (spec, want) in cases {
+            let e = ColumnMap::parse(spec).unwrap_err().to_string();
+            assert!(e.contains(want), "{spec}: {e}");
+        }
+    }
+
+    #[test]
+    fn toml_maps() {
+        let m = ColumnMap::from_toml(
+            r#"
+            delimiter = ";"
+            [columns]
+            time = { column = "t, µs", unit = "us", offset = 1.5 }
+            north = "x"
+            east = "y"
+            down = { column = "z", scale = -1 }
+            "#,
+        )
+        .unwrap();
+        assert_eq!(m.delimiter, Some(';'));
+        assert_eq!(m.get("time").unwrap().column, "t, µs");
+        assert_eq!(m.get("down").unwrap().scale, -1.0);
+        let e = ColumnMap::from_toml("[columns]\ntime = { column = \"t\", units = \"s\" }")
+            .unwrap_err();
+        assert!(e.to_string().contains("column map"), "{e}");
+    }
+
+    #[test]
+    fn reads_mapped_rows() {
+        let map = ColumnMap::parse(
+            "time=ms:ms:-1,north=n,east=e,height=h,roll=r:deg,pitch=p:deg,yaw=y:deg",
+        )
+        .unwrap();
+        let text = "# vehicle: point-mass\nms,n,e,h,r,p,y,junk\n1000,0,0,10,0,0,90,x\n1100,1,0,10,0,0,90,y\n1200,2,0,11,0,0,90,z\n";
+        let (d, report) = parse(text, "m.csv", &map).unwrap();
+        assert!(
+            (d.time[1] - 0.1).abs() < 1e-12 && d.time[0] == 0.0,
+            "{:?}",
+            d.time
+        );
+        assert_eq!(d.pos_ned[2], DVec3::new(2.0, 0.0, -11.0));
+        assert!((d.attitude.as_ref().unwrap()[0].yaw - FRAC_PI_2).abs() < 1e-12);
+        assert!(d.vel_ned.is_some() && d.is_derived(super::super::DERIVED_VEL_NED));
+        let text = report.to_string();
+        assert!(text.contains("time      ms [ms] -1"), "{text}");
+        assert!(text.contains("1 column not mapped"), "{text}");
+    }
+}

@@ -1,0 +1,521 @@
+//! Real flight logs in: PX4 ULog (real sample logs from PX4's pyulog, cut down; synthetic
+//! files for the paths the samples do not take) and CSV through a column map. Good files give
+//! the numbers an independent reader gives; broken files give errors naming the file and the
+//! place, never a panic.
+
+use std::f64::consts::PI;
+use std::path::Path;
+use std::process::{Command, Output};
+
+use wireflight::flight::data::mapped::ColumnMap;
+use wireflight::flight::data::px4::{self, UlogOptions};
+use wireflight::flight::data::ulog::UlogFile;
+use wireflight::flight::data::{load, LoadOptions, EARTH_RADIUS_M};
+use wireflight::flight::VehicleKind;
+
+use crate::support::data_file;
+use crate::support::ulog::UlogWriter;
+use crate::support::Rng;
+
+fn wireflight(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wireflight"))
+        .args(args)
+        .output()
+        .expect("run wireflight")
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn ulog_bytes(name: &str) -> Vec<u8> {
+    std::fs::read(data_file(name)).unwrap()
+}
+
+fn from_bytes(bytes: &[u8]) -> Result<wireflight::flight::data::FlightData, String> {
+    let log =
+        UlogFile::parse(bytes, "x.ulg", |t| px4::TOPICS.contains(&t)).map_err(|e| e.to_string())?;
+    px4::from_ulog(&log, "x.ulg", &UlogOptions::default())
+        .map(|(d, _)| d)
+        .map_err(|e| e.to_string())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Real PX4 logs
+
+/// PX4 SITL quadrotor taking off to about 2 m and landing (pyulog's `sample_px4_events.ulg`).
+/// The values at 5, 15 and 25 s are pyulog's, interpolated linearly at the same times.
+#[test]
+fn px4_sitl_log_matches_pyulog() {
+    let loaded = load(&data_file("px4-sitl-hop.ulg"), &LoadOptions::default()).unwrap();
+    let d = &loaded.data;
+    // Position and attitude overlap from 0.088 s to 31.088 s; 20 Hz (attitude 20.8 Hz).
+    assert_eq!(d.len(), 621);
+    assert!((d.time[1] - 0.05).abs() < 1e-12);
+    for (k, z, x) in [
+        (100, -0.033887953425829224, -7.202928617726484e-05),
+        (300, -0.04205239392243899, 0.019029540941119194),
+        (500, -0.4834666561621884, 0.00759859755635261),
+    ] {
+        assert!(
+            (d.pos_ned[k].z - z).abs() < 1e-6,
+            "{k}: {} vs {z}",
+            d.pos_ned[k].z
+        );
+        assert!(
+            (d.pos_ned[k].x - x).abs() < 1e-6,
+            "{k}: {} vs {x}",
+            d.pos_ned[k].x
+        );
+    }
+    let lowest = d.pos_ned.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    assert!((-2.16..-1.9).contains(&lowest), "{lowest}");
+    assert_eq!(d.meta.latitude_deg, Some(47.3977418));
+    assert_eq!(d.meta.longitude_deg, Some(8.5455939));
+    assert!((d.meta.altitude_m.unwrap() - 487.957).abs() < 1e-3);
+    // Measured attitude, rates and velocity: nothing derived.
+    assert!(d.attitude.is_some() && d.rates_body.is_some() && d.vel_ned.is_some());
+    assert_eq!(d.derived, ["vel_body"]);
+    let yaw_max = d
+        .attitude
+        .as_ref()
+        .unwrap()
+        .iter()
+        .map(|a| a.yaw.to_degrees())
+        .fold(f64::MIN, f64::max);
+    assert!((1.4..1.6).contains(&yaw_max), "{yaw_max}");
+    assert_eq!(d.meta.vehicle, None, "a quadrotor is no model family");
+    let report = loaded.report.unwrap().to_string();
+    for want in [
+        "MAV_TYPE 2 (quadrotor)",
+        "vehicle_local_position x, y, z",
+        "xy_valid false in 31 % of samples; 1 estimator reset (jumps)",
+        "vehicle_attitude q[0..4]",
+        "vehicle_angular_velocity xyz[0..3]",
+        "not used: PWM per output",
+        "621 samples at 20 Hz over 31.0 s",
+        "give --vehicle",
+    ] {
+        assert!(report.contains(want), "{want}\n{report}");
+    }
+}
+
+/// A VTOL on the ground (pyulog's `sample_log_small.ulg`): airspeed and actuator controls, a
+/// dropout, 400 Hz rates resampled to 50 Hz, no global reference.
+#[test]
+fn px4_vtol_log_has_airspeed_controls_and_notes() {
+    let (d, report) =
+        px4::read(&data_file("px4-vtol-ground.ulg"), &UlogOptions::default()).unwrap();
+    assert_eq!(d.len(), 325);
+    assert!((d.time[1] - 0.02).abs() < 1e-12);
+    assert!(d.airspeed.is_some() && d.controls.is_some());
+    assert_eq!(d.meta.latitude_deg, None);
+    let r = report.to_string();
+    for want in [
+        "MAV_TYPE 22 (VTOL)",
+        "readings down to -3.6 m/s",
+        "actuator_controls_0 control[0..4]",
+        "no global reference: origin unknown",
+        "1 logger dropout",
+        "325 samples at 50 Hz over 6.5 s",
+    ] {
+        assert!(r.contains(want), "{want}\n{r}");
+    }
+    // A slower time base on request.
+    let (slow, _) = px4::read(
+        &data_file("px4-vtol-ground.ulg"),
+        &UlogOptions {
+            rate_hz: Some(10.0),
+            ..UlogOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(slow.len(), 65);
+}
+
+/// Every prefix of a real log: a header or definitions section cut short is an error naming
+/// the byte; a data section cut short keeps what came before and says so. Never a panic.
+#[test]
+fn truncated_ulog_files() {
+    let bytes = ulog_bytes("px4-sitl-hop.ulg");
+    let e = from_bytes(&bytes[..10]).unwrap_err();
+    assert_eq!(
+        e,
+        "x.ulg: byte 0: the file is cut short in the header: the 16-byte header needs 16 bytes, 10 are left"
+    );
+    let e = from_bytes(&bytes[..500]).unwrap_err();
+    assert!(
+        e.starts_with("x.ulg: byte ") && e.contains("cut short in the definitions section"),
+        "{e}"
+    );
+    // Cut in the data: the flight up to the cut, with a note.
+    let cut = bytes.len() * 2 / 3;
+    let log = UlogFile::parse(&bytes[..cut], "x.ulg", |t| px4::TOPICS.contains(&t)).unwrap();
+    assert!(log.truncated_at.is_some());
+    let (d, report) = px4::from_ulog(&log, "x.ulg", &UlogOptions::default()).unwrap();
+    assert!((15.0..25.0).contains(&d.duration()), "{}", d.duration());
+    assert!(report.to_string().contains("the file is cut short at byte"));
+    // Many cut points, none panics.
+    for k in 0..300 {
+        let _ = from_bytes(&bytes[..k * bytes.len() / 300]);
+    }
+}
+
+/// Random bytes overwritten: errors or notes, never a panic.
+#[test]
+fn corrupted_ulog_files_never_panic() {
+    let bytes = ulog_bytes("px4-vtol-ground.ulg");
+    let mut rng = Rng::new(16);
+    for _ in 0..60 {
+        let mut b = bytes.clone();
+        for _ in 0..1 + rng.below(20) {
+            let i = rng.below(b.len());
+            b[i] = rng.next_u64() as u8;
+        }
+        let _ = from_bytes(&b);
+    }
+    let e = from_bytes(b"time_s,north_m\n0,0\n").unwrap_err();
+    assert!(e.contains("not a ULog file"), "{e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Synthetic ULog files for the other paths
+
+const LOCAL: &str = "vehicle_local_position:uint64_t timestamp;float x;float y;float z;";
+const ATT: &str = "vehicle_attitude:uint64_t timestamp;float[4] q;";
+
+/// A file with local position at 100 Hz (moving north at 10 m/s) and level attitude at 50 Hz,
+/// heading `yaw_deg`.
+fn simple_log(yaw_deg: f64) -> UlogWriter {
+    let mut w = UlogWriter::new(Some([0; 8]));
+    w.format(LOCAL);
+    w.format(ATT);
+    w.param_i32("MAV_TYPE", 1);
+    let p = w.subscribe("vehicle_local_position");
+    let a = w.subscribe("vehicle_attitude");
+    let h = (yaw_deg.to_radians() / 2.0) as f32;
+    for k in 0..=200u64 {
+        let t = 1_000_000 + k * 10_000;
+        w.data_f32(p, t, &[(k as f32) * 0.1, 0.0, -50.0]);
+        if k % 2 == 0 {
+            w.data_f32(a, t, &[h.cos(), 0.0, 0.0, h.sin()]);
+        }
+    }
+    w
+}
+
+#[test]
+fn synthetic_ulog_resampled_onto_one_time_base() {
+    let d = from_bytes(&simple_log(90.0).bytes).unwrap();
+    // 2 s at 50 Hz (the faster of 100 Hz and 50 Hz, capped): 101 samples.
+    assert_eq!(d.len(), 101);
+    for k in [0, 37, 100] {
+        assert!((d.pos_ned[k].x - 10.0 * d.time[k]).abs() < 1e-5);
+        assert!((d.attitude.as_ref().unwrap()[k].yaw - PI / 2.0).abs() < 1e-6);
+    }
+    // Velocity derived from positions; no controls, so MAV_TYPE 1 stays without a vehicle.
+    assert!(d.is_derived("vel_ned"));
+    assert_eq!(d.meta.vehicle, None);
+}
+
+#[test]
+fn synthetic_ulog_errors_name_topic_and_field() {
+    // A local position without `z`.
+    let mut w = UlogWriter::new(None);
+    w.format("vehicle_local_position:uint64_t timestamp;float x;float y;");
+    let p = w.subscribe("vehicle_local_position");
+    w.data_f32(p, 1000, &[0.0, 0.0]);
+    let e = from_bytes(&w.bytes).unwrap_err();
+    assert_eq!(
+        e,
+        "x.ulg: topic `vehicle_local_position`, field `z`: no such field (the topic has timestamp, x, y)"
+    );
+    // No position at all.
+    let mut w = UlogWriter::new(None);
+    w.format(ATT);
+    let a = w.subscribe("vehicle_attitude");
+    w.data_f32(a, 1000, &[1.0, 0.0, 0.0, 0.0]);
+    let e = from_bytes(&w.bytes).unwrap_err();
+    assert!(
+        e.contains("no position: the log has none of vehicle_local_position"),
+        "{e}"
+    );
+    // Incompatible flags this reader does not know.
+    let w = UlogWriter::new(Some([2, 0, 0, 0, 0, 0, 0, 0]));
+    let e = from_bytes(&w.bytes).unwrap_err();
+    assert!(e.contains("incompatible flag bits 0x02 in byte 0"), "{e}");
+    // A subscription to a topic whose format is not defined.
+    let mut w = UlogWriter::new(None);
+    w.subscribe("vehicle_attitude");
+    let e = from_bytes(&w.bytes).unwrap_err();
+    assert!(
+        e.contains("topic `vehicle_attitude`: bad format: no format definition `vehicle_attitude`"),
+        "{e}"
+    );
+    // One sample only.
+    let mut w = UlogWriter::new(None);
+    w.format(LOCAL);
+    let p = w.subscribe("vehicle_local_position");
+    w.data_f32(p, 1000, &[0.0, 0.0, 0.0]);
+    let e = from_bytes(&w.bytes).unwrap_err();
+    assert!(e.contains("too short"), "{e}");
+}
+
+#[test]
+fn synthetic_ulog_global_position_becomes_local_ned() {
+    let mut w = UlogWriter::new(None);
+    w.format("vehicle_global_position:uint64_t timestamp;double lat;double lon;float alt;");
+    let g = w.subscribe("vehicle_global_position");
+    for k in 0..=10u64 {
+        let mut p = g.to_le_bytes().to_vec();
+        p.extend_from_slice(&(1_000_000 + k * 100_000).to_le_bytes());
+        p.extend_from_slice(&(45.0 + k as f64 * 1e-5).to_le_bytes());
+        p.extend_from_slice(&(7.0f64).to_le_bytes());
+        p.extend_from_slice(&(100.0f32 + k as f32).to_le_bytes());
+        w.message(b'D', &p);
+    }
+    let d = from_bytes(&w.bytes).unwrap();
+    assert_eq!(d.meta.latitude_deg, Some(45.0));
+    let last = d.pos_ned[d.len() - 1];
+    let north = (1e-4f64).to_radians() * EARTH_RADIUS_M;
+    assert!((last.x - north).abs() < 1e-6, "{last}");
+    assert!((last.z + 10.0).abs() < 1e-4, "{last}");
+}
+
+#[test]
+fn synthetic_ulog_rates_and_control_signs() {
+    let mut w = simple_log(0.0);
+    w.format("vehicle_angular_velocity:uint64_t timestamp;float[3] xyz;");
+    w.format("actuator_controls_0:uint64_t timestamp;float[8] control;");
+    let r = w.subscribe("vehicle_angular_velocity");
+    let c = w.subscribe("actuator_controls_0");
+    for k in 0..=20u64 {
+        let t = 1_000_000 + k * 100_000;
+        w.data_f32(r, t, &[0.1, 0.2, 0.3]);
+        // Roll right, pitch up, yaw right, 60 % throttle.
+        w.data_f32(c, t, &[0.5, 0.5, 0.5, 0.6, 0.0, 0.0, 0.0, 0.0]);
+    }
+    let d = from_bytes(&w.bytes).unwrap();
+    let ctl = d.controls.as_ref().unwrap()[50];
+    let k = 25f64.to_radians();
+    assert!((ctl.aileron - 0.5 * k).abs() < 1e-7, "{ctl:?}");
+    assert!((ctl.elevator + 0.5 * k).abs() < 1e-7, "{ctl:?}");
+    assert!((ctl.rudder + 0.5 * k).abs() < 1e-7, "{ctl:?}");
+    assert!((ctl.throttle - 0.6).abs() < 1e-7, "{ctl:?}");
+    assert!((d.rates_body.as_ref().unwrap()[10].y - 0.2).abs() < 1e-7);
+    // MAV_TYPE 1 with attitude and controls: a fixed wing.
+    assert_eq!(d.meta.vehicle, Some(VehicleKind::FixedWing));
+}
+
+// ---------------------------------------------------------------------------------------------
+// CSV through a column map
+
+const LOGGER_CSV: &str = "\
+# vehicle: point-mass
+stamp_us;x_ft;y_ft;alt_ft;speed_kt;extra
+5000000;0;0;1000;100;a
+5100000;10;0;1001;100;b
+5200000;20;0;1002;100;c
+5300000;30;0;1003;100;d
+";
+
+#[test]
+fn column_map_reads_units_offsets_and_delimiter() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("logger.csv");
+    std::fs::write(&csv, LOGGER_CSV).unwrap();
+    let map = ColumnMap::parse(
+        "time=stamp_us:us:-5,north=x_ft:ft,east=y_ft:ft,height=alt_ft:ft,airspeed=speed_kt:kt",
+    )
+    .unwrap();
+    let loaded = load(
+        &csv,
+        &LoadOptions {
+            columns: Some(map),
+            ..LoadOptions::default()
+        },
+    )
+    .unwrap();
+    let d = loaded.data;
+    assert_eq!(d.time[0], 0.0);
+    assert!((d.time[3] - 0.3).abs() < 1e-9);
+    assert!((d.pos_ned[3].x - 30.0 * 0.3048).abs() < 1e-12);
+    assert!((d.pos_ned[3].z + 1003.0 * 0.3048).abs() < 1e-9);
+    assert!((d.airspeed.unwrap()[0] - 100.0 * 1852.0 / 3600.0).abs() < 1e-9);
+    assert_eq!(d.meta.vehicle, Some(VehicleKind::PointMass));
+    let r = loaded.report.unwrap().to_string();
+    assert!(r.contains("stamp_us [us] -5"), "{r}");
+    assert!(r.contains("1 column not mapped"), "{r}");
+}
+
+#[test]
+fn column_map_errors_name_file_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("logger.csv");
+    let opts = |spec: &str| LoadOptions {
+        columns: Some(ColumnMap::parse(spec).unwrap()),
+        ..LoadOptions::default()
+    };
+    std::fs::write(&csv, LOGGER_CSV).unwrap();
+    let e = load(&csv, &opts("time=t,north=x_ft,east=y_ft,down=alt_ft"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("logger.csv: line 2, column `t`: missing required column `t` (for time): the column map names it but the header has stamp_us, x_ft"),
+        "{e}"
+    );
+    std::fs::write(&csv, LOGGER_CSV.replace("5200000;20", "5200000;2O")).unwrap();
+    let e = load(
+        &csv,
+        &opts("time=stamp_us,north=x_ft,east=y_ft,down=alt_ft"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("logger.csv: line 5, column `x_ft`: not a number: `2O`"),
+        "{e}"
+    );
+    std::fs::write(&csv, LOGGER_CSV.replace("5300000", "5100000")).unwrap();
+    let e = load(
+        &csv,
+        &opts("time=stamp_us,north=x_ft,east=y_ft,down=alt_ft"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("line 6, column `stamp_us`: time 5100000 s is not after 5200000 s"),
+        "{e}"
+    );
+    // Latitudes in degrees read as radians.
+    std::fs::write(&csv, "t,la,lo,h\n0,47.1,8.5,400\n1,47.2,8.5,400\n").unwrap();
+    let e = load(&csv, &opts("time=t,lat=la,lon=lo,alt=h"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("map it as lat=la:deg"), "{e}");
+    let d = load(&csv, &opts("time=t,lat=la:deg,lon=lo:deg,alt=h"))
+        .unwrap()
+        .data;
+    assert!((d.pos_ned[1].x - 0.1f64.to_radians() * EARTH_RADIUS_M).abs() < 1e-6);
+    // A column map on a ULog file.
+    let e = load(
+        &data_file("px4-sitl-hop.ulg"),
+        &opts("time=t,north=a,east=b,down=c"),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("a column map is for CSV files"), "{e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// The commands
+
+#[test]
+fn commands_read_ulog_and_mapped_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("hop.csv");
+    let hop = data_file("px4-sitl-hop.ulg");
+    let o = wireflight(&[
+        "import",
+        "--flight",
+        hop.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let (so, se) = text(&o);
+    assert!(o.status.success(), "{se}");
+    assert!(
+        so.contains("621 samples at 20 Hz") && so.contains("wrote"),
+        "{so}"
+    );
+    let back = wireflight::flight::data::read(&out).unwrap();
+    assert_eq!(back.len(), 621);
+
+    // compare and diagnose need a vehicle for a quadrotor log; the report goes to stderr.
+    let o = wireflight(&["compare", "--flight", hop.to_str().unwrap(), "--json"]);
+    let (_, se) = text(&o);
+    assert!(!o.status.success());
+    assert!(
+        se.contains("no `# vehicle:` metadata; say which model with --vehicle"),
+        "{se}"
+    );
+    let o = wireflight(&[
+        "compare",
+        "--flight",
+        hop.to_str().unwrap(),
+        "--vehicle",
+        "point-mass",
+        "--json",
+    ]);
+    let (so, se) = text(&o);
+    assert!(o.status.success(), "{se}");
+    assert!(se.contains("PX4 ULog"), "{se}");
+    let v: serde_json::Value = serde_json::from_str(&so).expect("stdout is JSON only");
+    assert!(v["error"]["total"].as_f64().unwrap() > 0.0, "{v}");
+
+    let csv = dir.path().join("logger.csv");
+    std::fs::write(&csv, LOGGER_CSV).unwrap();
+    let o = wireflight(&[
+        "diagnose",
+        "--flight",
+        csv.to_str().unwrap(),
+        "--columns",
+        "time=stamp_us:us,north=x_ft:ft,east=y_ft:ft,height=alt_ft:ft",
+        "--window",
+        "0.2",
+        "--json",
+    ]);
+    let (so, se) = text(&o);
+    assert!(
+        so.is_empty() || serde_json::from_str::<serde_json::Value>(&so).is_ok(),
+        "{so}"
+    );
+    assert!(se.contains("CSV with a column map"), "{se}");
+
+    // A bad column map is refused before anything is read, naming the entry.
+    let o = wireflight(&[
+        "render",
+        "--flight",
+        csv.to_str().unwrap(),
+        "--frames-dir",
+        dir.path().join("f").to_str().unwrap(),
+        "--columns",
+        "time=stamp_us:furlongs,north=x_ft",
+    ]);
+    let (_, se) = text(&o);
+    assert!(!o.status.success());
+    assert!(
+        se.contains("column map: entry `time=stamp_us:furlongs`: unknown unit `furlongs`"),
+        "{se}"
+    );
+    assert!(!Path::new(&dir.path().join("f")).exists());
+}
+
+/// The README's quoted import report is what `import` prints (lines the README cuts short with
+/// `…` are compared up to the cut).
+#[test]
+fn readme_report_matches_the_command() {
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    let start = readme
+        .find("```text\ntests/data/px4-sitl-hop.ulg (PX4 ULog)")
+        .expect("the README quotes the report");
+    let block = &readme[start + "```text\n".len()..];
+    let block = &block[..block.find("```").unwrap()];
+    let o = wireflight(&["import", "--flight", "tests/data/px4-sitl-hop.ulg"]);
+    let (so, se) = text(&o);
+    assert!(o.status.success(), "{se}");
+    for line in block.lines() {
+        let line = line.trim_end();
+        if line.trim() == "..." {
+            continue;
+        }
+        let quoted = line.split('…').next().unwrap();
+        assert!(
+            so.lines().any(|l| l.starts_with(quoted)),
+            "README line not printed: {line:?}\n{so}"
+        );
+    }
+}
