@@ -64,17 +64,15 @@ pub fn input_limits() -> InputLimits {
     }
 }
 
-/// Read a whole input file: a regular file (following symbolic links) of at most
-/// [`InputLimits::max_file_bytes`].
+/// Open an input file for reading, refusing anything but a regular file (following symbolic
+/// links) without waiting on it: a FIFO would block a plain open until a writer comes.
 ///
 /// # Errors
-/// The OS error, or `InvalidInput` saying that the path is not a regular file or is larger than
-/// the limit (and how to raise it). The message does not repeat the path.
-pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+/// The OS error, or `InvalidInput` saying what the path is instead.
+pub fn open_regular(path: &Path) -> std::io::Result<std::fs::File> {
     use std::io::{Error, ErrorKind};
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
-    // A FIFO would block the open until a writer comes: open without waiting, then refuse it.
     #[cfg(unix)]
     std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NONBLOCK);
     let file = options.open(path)?;
@@ -91,6 +89,19 @@ pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
             "not a regular file (a device, FIFO or socket is not read)",
         ));
     }
+    Ok(file)
+}
+
+/// Read a whole input file: a regular file (following symbolic links) of at most
+/// [`InputLimits::max_file_bytes`].
+///
+/// # Errors
+/// The OS error, or `InvalidInput` saying that the path is not a regular file or is larger than
+/// the limit (and how to raise it). The message does not repeat the path.
+pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::{Error, ErrorKind};
+    let file = open_regular(path)?;
+    let meta = file.metadata()?;
     let limit = MAX_FILE_BYTES.load(Ordering::Relaxed);
     let too_big = |size: u64| {
         Error::new(

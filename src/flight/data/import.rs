@@ -77,7 +77,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> anyhow::Result<Loaded> {
 fn starts_with_ulog_magic(path: &Path) -> bool {
     use std::io::Read;
     let mut head = [0u8; 7];
-    std::fs::File::open(path)
+    crate::fsio::open_regular(path)
         .and_then(|mut f| f.read_exact(&mut head))
         .is_ok_and(|()| super::ulog::is_ulog(&head))
 }

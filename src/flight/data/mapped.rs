@@ -241,7 +241,7 @@ impl ColumnMap {
     /// [`from_toml`](Self::from_toml) reject.
     pub fn from_arg(value: &str) -> Result<Self, ColumnMapError> {
         if value.trim_end().to_ascii_lowercase().ends_with(".toml") {
-            let text = std::fs::read_to_string(value)
+            let text = crate::fsio::read_text(std::path::Path::new(value))
                 .map_err(|e| ColumnMapError(format!("{value}: cannot read: {e}")))?;
             return Self::from_toml(&text).map_err(|e| ColumnMapError(format!("{value}: {}", e.0)));
         }
@@ -476,7 +476,7 @@ pub fn read(path: &Path, map: &ColumnMap) -> anyhow::Result<(FlightData, ImportR
             .into(),
         );
     }
-    let bytes = std::fs::read(path).map_err(|e| whole(DataErrorKind::Unreadable(e)))?;
+    let bytes = crate::fsio::read_bytes(path).map_err(|e| whole(DataErrorKind::Unreadable(e)))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         DataError {

@@ -385,7 +385,7 @@ impl UlogFile {
     pub fn read(path: &Path, keep: impl Fn(&str) -> bool) -> Result<Self, UlogError> {
         let name = path.display().to_string();
         let unreadable = |e| UlogError::file(&name, UlogErrorKind::Unreadable(e));
-        let file = std::fs::File::open(path).map_err(unreadable)?;
+        let file = crate::fsio::open_regular(path).map_err(unreadable)?;
         let size = file.metadata().map_err(unreadable)?.len();
         if size > MAX_ULOG_BYTES {
             return Err(UlogError::file(
