@@ -80,6 +80,7 @@ pub struct FramesWritten {
 /// # Errors
 /// Bad fps, more frames than `max_frames` (naming the span and `--max-frames`), a directory
 /// holding other files, unwritable directory or file, drawing errors.
+#[allow(clippy::too_many_arguments)] // each is one of the replay's independent settings
 pub fn write_frames(
     replay: &mut ReplayScene<'_>,
     (t0, t1): (f64, f64),
