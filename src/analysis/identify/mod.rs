@@ -422,7 +422,7 @@ fn lm(
     iterations: usize,
 ) -> f64 {
     let np = free.len();
-    let (mut chi2, mut dq) = profile_sum(model, flights);
+    let (mut chi2, _) = profile_sum(model, flights);
     let mut objective = chi2 + s2 * prior.penalty(theta);
     let mut lambda = 1e-3;
     for _ in 0..iterations {
@@ -457,22 +457,21 @@ fn lm(
             let (c, dq_trial) = profile_sum(&m, flights);
             let obj = c + s2 * prior.penalty(&trial);
             if obj.is_finite() && obj < objective {
-                accepted = Some((trial, m, c, obj, dq_trial));
+                accepted = Some((m, c, obj, dq_trial));
                 lambda = (lambda / 10.0).max(1e-9);
                 break;
             }
             lambda *= 10.0;
         }
-        let Some((trial, m, c, obj, dq_trial)) = accepted else {
+        let Some((m, c, obj, dq)) = accepted else {
             break;
         };
         let gain = objective - obj;
+        // The values as set (each kept inside its range), not the unclamped step.
         *theta = values(&m, free);
-        let _ = trial;
         *model = m;
         chi2 = c;
         objective = obj;
-        dq = dq_trial;
         for (f, d) in flights.iter_mut().zip(&dq) {
             for (l, dw) in f.lin.iter_mut().zip(d) {
                 l.q.iter_mut().zip(dw).for_each(|(q, v)| *q += v);
@@ -482,7 +481,6 @@ fn lm(
             break;
         }
     }
-    let _ = dq;
     chi2
 }
 
