@@ -151,9 +151,7 @@ impl EdgeProjector {
         }
         // On the fast path each vertex's code is computed as it is transformed, while it is
         // still in a register: one pass over the clip-space positions instead of two.
-        let codes = self
-            .fast(&volume)
-            .then_some((self.depth, &mut self.codes));
+        let codes = self.fast(&volume).then_some((self.depth, &mut self.codes));
         transform(
             mesh.positions(),
             clip_from_model,

@@ -345,7 +345,15 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
             stats.trivially_rejected += m as u64;
         } else {
             compact_block(
-                &a, &c, &ca[..m], &cc[..m], start, depth, &mut staging, out, &mut stats,
+                &a,
+                &c,
+                &ca[..m],
+                &cc[..m],
+                start,
+                depth,
+                &mut staging,
+                out,
+                &mut stats,
             );
         }
         start = end;

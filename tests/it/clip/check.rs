@@ -594,7 +594,10 @@ pub fn fuzz_homogeneous(data: &[u8], algos: &[&str]) {
     if algos.contains(&"blinn") && v.extra.is_empty() {
         // The case among its variants and an inside edge, over more than one block of the
         // SoA batch, so that accepted, dropped and clipped edges share blocks in every order.
-        let inside = (Vec4::new(0.25, -0.5, 0.5, 1.0), Vec4::new(-0.5, 0.25, 0.25, 1.0));
+        let inside = (
+            Vec4::new(0.25, -0.5, 0.5, 1.0),
+            Vec4::new(-0.5, 0.25, 0.25, 1.0),
+        );
         let kinds = [(a, c), inside, (c, a), inside, (a, a), (c, c), inside];
         let edges: Vec<(Vec4, Vec4)> = (0..70).map(|i| kinds[(i * i + i / 7) % 7]).collect();
         if let Err(e) = check_batch(&edges, v.depth) {

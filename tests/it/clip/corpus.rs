@@ -63,9 +63,16 @@ fn fuzz_corpus_replays_clean() {
     // Every folder is a target this test knows (a new target needs a line in `run`).
     for entry in std::fs::read_dir(&root).unwrap() {
         let name = entry.unwrap().file_name().to_string_lossy().into_owned();
-        assert!(TARGETS.contains(&name.as_str()), "fuzz/corpus/{name}: no such target");
+        assert!(
+            TARGETS.contains(&name.as_str()),
+            "fuzz/corpus/{name}: no such target"
+        );
     }
-    assert!(failures.is_empty(), "inputs failing their check:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "inputs failing their check:\n{}",
+        failures.join("\n")
+    );
 }
 
 /// The fuzz crate declares exactly the targets replayed here.
