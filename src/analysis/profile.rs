@@ -286,7 +286,7 @@ pub(crate) const FIT_TOL: f64 = 0.01;
 /// The least Levenberg–Marquardt damping weight of a parameter: a millionth of the largest
 /// diagonal of the normal matrix (1 when it is all zero), so a parameter without sensitivity
 /// at the current values stays put instead of making the damped system singular.
-pub(crate) fn damping_floor(a: &[f64], np: usize) -> f64 {
+fn damping_floor(a: &[f64], np: usize) -> f64 {
     let max = (0..np)
         .map(|k| a[k * np + k])
         .filter(|v| v.is_finite())
@@ -296,4 +296,34 @@ pub(crate) fn damping_floor(a: &[f64], np: usize) -> f64 {
     } else {
         1.0
     }
+}
+
+/// One Levenberg–Marquardt trial: solve (A + λ·diag(A)) δ = −g in the scaled parameters and
+/// step `theta` by δ·scale, each value kept inside its range; None when the damped system is
+/// singular (the caller raises λ). The damping of a parameter the misfit does not see yet (a
+/// thermal's radius while its updraft is 0) is floored by [`damping_floor`], or it would keep
+/// every step singular.
+pub(crate) fn damped_trial(
+    a0: &[f64],
+    g: &[f64],
+    lambda: f64,
+    theta: &[f64],
+    free: &[Free],
+) -> Option<Vec<f64>> {
+    let np = free.len();
+    let floor = damping_floor(a0, np);
+    let mut a = a0.to_vec();
+    for k in 0..np {
+        a[k * np + k] += lambda * a0[k * np + k].max(floor);
+    }
+    let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
+    solve_in_place(&mut a, &mut step, np)?;
+    Some(
+        theta
+            .iter()
+            .zip(&step)
+            .zip(free)
+            .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
+            .collect(),
+    )
 }

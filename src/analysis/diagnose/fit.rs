@@ -13,7 +13,7 @@ use crate::analysis::compare::{
     compare_from, compare_many, compare_with_fits, Comparison, Prepared,
 };
 use crate::analysis::profile::{
-    add_into, aircraft_free, damping_floor, effect, linear_profile, normal_equations,
+    add_into, aircraft_free, damped_trial, effect, linear_profile, normal_equations,
     perturbed_models, set_values, values, window_normal, Free, Linearised, Owner, FIT_TOL,
 };
 use crate::flight::effects::{Effect, ParamSpec};
@@ -50,31 +50,16 @@ fn fit_linearised(
     lin: &mut [Linearised],
     iterations: usize,
 ) -> f64 {
-    let np = free.len();
     let (mut chi2, mut dq) = linear_profile(model, prep, lin);
     let mut lambda = 1e-3;
     for _ in 0..iterations {
         let (a0, g) = normal_equations(model, free, theta, prep, lin);
-        // Damping of a parameter the misfit does not see yet (a thermal's radius while its
-        // updraft is 0) must not be zero, or it would keep the whole step singular.
-        let floor = damping_floor(&a0, np);
         let mut accepted = None;
         for _ in 0..8 {
-            let mut a = a0.clone();
-            for k in 0..np {
-                a[k * np + k] += lambda * a0[k * np + k].max(floor);
-            }
-            let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
-            if solve_in_place(&mut a, &mut step, np).is_none() {
+            let Some(trial) = damped_trial(&a0, &g, lambda, theta, free) else {
                 lambda *= 10.0;
                 continue;
-            }
-            let trial: Vec<f64> = theta
-                .iter()
-                .zip(&step)
-                .zip(free)
-                .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
-                .collect();
+            };
             let mut m = model.clone();
             set_values(&mut m, free, &trial);
             let (c, dq_trial) = linear_profile(&m, prep, lin);

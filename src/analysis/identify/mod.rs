@@ -25,7 +25,7 @@
 
 use super::compare::{compare_with_fits, CompareConfig, Comparison, Prepared};
 use super::profile::{
-    aircraft_free, damping_floor, linear_profile, normal_equations, set_values, values, Free,
+    aircraft_free, damped_trial, linear_profile, normal_equations, set_values, values, Free,
     Linearised, FIT_TOL,
 };
 use crate::flight::data::FlightData;
@@ -33,7 +33,7 @@ use crate::flight::model::{Model, State};
 
 mod equation_error;
 use crate::flight::params::keys::{self, AircraftKey};
-use crate::numeric::{invert, solve_in_place};
+use crate::numeric::invert;
 use equation_error::equation_error;
 
 /// Settings of an identification.
@@ -432,26 +432,12 @@ fn lm(
             a0[k * np + k] += s2 * prior.weight[k];
             g[k] += s2 * prior.weight[k] * (theta[k] - prior.centre[k]) / free[k].scale;
         }
-        // Damping of a parameter the misfit does not see yet (a thermal's radius while its
-        // updraft is 0) must not be zero, or it would keep the whole step singular.
-        let floor = damping_floor(&a0, np);
         let mut accepted = None;
         for _ in 0..10 {
-            let mut a = a0.clone();
-            for k in 0..np {
-                a[k * np + k] += lambda * a0[k * np + k].max(floor);
-            }
-            let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
-            if solve_in_place(&mut a, &mut step, np).is_none() {
+            let Some(trial) = damped_trial(&a0, &g, lambda, theta, free) else {
                 lambda *= 10.0;
                 continue;
-            }
-            let trial: Vec<f64> = theta
-                .iter()
-                .zip(&step)
-                .zip(free)
-                .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
-                .collect();
+            };
             let mut m = model.clone();
             set_values(&mut m, free, &trial);
             let (c, dq_trial) = profile_sum(&m, flights);
