@@ -29,12 +29,14 @@
 pub mod noise;
 pub mod predict;
 pub mod start;
+mod score;
 
 use glam::DVec3;
 use rayon::prelude::*;
 
 pub use noise::{estimate_noise, expected_channel_errors, NoiseEstimate};
 pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
+use score::assemble;
 use start::{Scratch, StartFit};
 
 use crate::euler::EulerZyx;
@@ -615,182 +617,6 @@ pub fn compare_many<T: Send>(
         .zip(by_model)
         .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
         .collect()
-}
-
-fn assemble(model: &Model, prep: &Prepared, outcomes: Vec<WindowOutcome>) -> Comparison {
-    let m = prep.measured.for_vehicle(model);
-    let mut prediction = Prediction::default();
-    let mut windows = Vec::with_capacity(outcomes.len());
-    let (mut sp, mut sv, mut sa, mut sr, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    let (mut chi2, mut rows) = (0.0, 0usize);
-    for o in outcomes {
-        let (start, end) = o.result.samples;
-        for (k, i) in (start..end).enumerate() {
-            prediction.push(i, &o.predicted[k]);
-        }
-        let w = (end - start) as f64;
-        let e = &o.result.errors;
-        sp += e.position_m.powi(2) * w;
-        sv += e.velocity_mps.unwrap_or(0.0).powi(2) * w;
-        sa += e.attitude_deg.unwrap_or(0.0).powi(2) * w;
-        sr += e.rate_dps.unwrap_or(0.0).powi(2) * w;
-        n += w;
-        chi2 += o.result.chi2;
-        rows += o.result.residuals;
-        windows.push(o.result);
-    }
-    let n = n.max(1.0);
-    let channels = ChannelErrors {
-        position_m: (sp / n).sqrt(),
-        velocity_mps: m.velocity.then(|| (sv / n).sqrt()),
-        attitude_deg: m.attitude.then(|| (sa / n).sqrt()),
-        rate_dps: m.rates.then(|| (sr / n).sqrt()),
-    };
-    let fitted = if prep.cfg.start_iterations > 0 {
-        windows.len() * start::param_count(model)
-    } else {
-        0
-    };
-    let axes = axis_errors(model, prep, &prediction);
-    Comparison {
-        total: total_score(&windows),
-        channels,
-        windows,
-        prediction,
-        axes,
-        chi2,
-        dof: rows.saturating_sub(fitted) as f64,
-    }
-}
-
-/// RMS of window scores, weighted by window length in samples.
-fn total_score(windows: &[WindowResult]) -> f64 {
-    let (mut s, mut n) = (0.0, 0.0);
-    for w in windows {
-        let m = (w.samples.1 - w.samples.0) as f64;
-        s += w.score * w.score * m;
-        n += m;
-    }
-    if n > 0.0 {
-        (s / n).sqrt()
-    } else {
-        0.0
-    }
-}
-
-/// Per-axis signed mean and RMS of predicted − measured.
-fn axis_errors(model: &Model, prep: &Prepared, p: &Prediction) -> Vec<AxisError> {
-    let d = prep.data;
-    let m = prep.measured.for_vehicle(model);
-    let mut out = Vec::new();
-    let mut add = |channel, axis, unit, values: &mut dyn Iterator<Item = f64>| {
-        let (mut s, mut s2, mut n) = (0.0, 0.0, 0.0);
-        for v in values.filter(|v| v.is_finite()) {
-            s += v;
-            s2 += v * v;
-            n += 1.0;
-        }
-        if n > 0.0 {
-            out.push(AxisError {
-                channel,
-                axis,
-                unit,
-                mean: s / n,
-                rms: (s2 / n).sqrt(),
-            });
-        }
-    };
-    let idx = &p.index;
-    for (k, axis) in ["north", "east", "down"].into_iter().enumerate() {
-        add(
-            "position",
-            axis,
-            "m",
-            &mut idx
-                .iter()
-                .enumerate()
-                .map(|(j, &i)| p.pos_ned[j][k] - d.pos_ned[i][k]),
-        );
-    }
-    if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
-        for (k, axis) in ["north", "east", "down"].into_iter().enumerate() {
-            add(
-                "velocity",
-                axis,
-                "m/s",
-                &mut idx
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &i)| p.vel_ned[j][k] - v[i][k]),
-            );
-        }
-    }
-    if let (true, Some(a)) = (m.attitude, &d.attitude) {
-        let angle = |e: &EulerZyx, k: usize| [e.roll, e.pitch, e.yaw][k];
-        for (k, axis) in ["roll", "pitch", "yaw"].into_iter().enumerate() {
-            add(
-                "attitude",
-                axis,
-                "deg",
-                &mut idx
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &i)| wrap(angle(&p.attitude[j], k) - angle(&a[i], k)).to_degrees()),
-            );
-        }
-    }
-    if let (true, Some(w)) = (m.rates, &d.rates_body) {
-        for (k, axis) in ["p", "q", "r"].into_iter().enumerate() {
-            add(
-                "rates",
-                axis,
-                "deg/s",
-                &mut idx
-                    .iter()
-                    .enumerate()
-                    .map(|(j, &i)| (p.rates[j][k] - w[i][k]).to_degrees()),
-            );
-        }
-    }
-    if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
-        add(
-            "air",
-            "airspeed",
-            "m/s",
-            &mut idx
-                .iter()
-                .enumerate()
-                .map(|(j, &i)| p.air[j].airspeed - s[i]),
-        );
-    }
-    // α and β as the measurements give them, in the model's air: from the measured velocity
-    // and attitude, less the model's wind.
-    if let (true, true, Some(v), Some(a)) = (m.velocity, m.attitude, &d.vel_ned, &d.attitude) {
-        let measured_air = |i: usize| {
-            let v_r =
-                a[i].to_matrix().transpose() * (v[i] - model.wind_at(d.pos_ned[i], d.time[i]));
-            crate::flight::model::air_angles(v_r, 1.0)
-        };
-        add(
-            "air",
-            "alpha",
-            "deg",
-            &mut idx
-                .iter()
-                .enumerate()
-                .map(|(j, &i)| (p.air[j].alpha - measured_air(i).alpha).to_degrees()),
-        );
-        add(
-            "air",
-            "beta",
-            "deg",
-            &mut idx
-                .iter()
-                .enumerate()
-                .map(|(j, &i)| (p.air[j].beta - measured_air(i).beta).to_degrees()),
-        );
-    }
-    out
 }
 
 /// Compare a model with flight data.
