@@ -28,8 +28,8 @@
 
 pub mod noise;
 pub mod predict;
-pub mod start;
 mod score;
+pub mod start;
 
 use glam::DVec3;
 use rayon::prelude::*;

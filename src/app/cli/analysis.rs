@@ -1,0 +1,140 @@
+//! Options of the analysis commands: `compare`, `diagnose`, `identify`.
+
+use super::*;
+
+const COMPARE_EXAMPLES: &str = "\
+Examples:
+  wireflight compare --flight windy.csv
+  wireflight compare --flight windy.csv --add wind --plots plots/
+  wireflight compare --flight windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
+  wireflight compare --flight windy.csv --add wind --out compare.gif --fps 5 --size 480x360
+  wireflight compare --flight test.csv --model my-model.toml --json
+
+The model is restarted from the data every --window seconds (multiple shooting) from a
+least-squares estimate of the state, and its prediction compared with the measurements.
+--add shows before → after for every channel, fitting the effect's unknown parameters.";
+
+/// `wireflight compare` options.
+#[derive(Debug, Args)]
+#[command(after_help = COMPARE_EXAMPLES)]
+pub struct CompareArgs {
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns. (`--data` is an old
+    /// spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE")]
+    pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// The model.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// How the flight is cut into windows.
+    #[command(flatten)]
+    pub windows: WindowArgs,
+    /// Write plots (PNG) into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub plots: Option<std::path::PathBuf>,
+    /// Write replay frames (PNG) of the measured aircraft and the model's beside it (the model
+    /// with the `--add` effects when given), with the error over time, into this directory.
+    #[arg(long, value_name = "DIR")]
+    pub frames_dir: Option<std::path::PathBuf>,
+    /// Write the replay (as --frames-dir draws it) as one animated GIF (atomically).
+    #[arg(long, value_name = "FILE.gif")]
+    pub out: Option<std::path::PathBuf>,
+    /// Frames per second of flight time for --frames-dir and --out.
+    #[arg(long, default_value_t = 10.0, value_parser = positive)]
+    pub fps: f64,
+    /// Frame size for --frames-dir and --out, WIDTHxHEIGHT.
+    #[arg(long, default_value = "800x600", value_parser = parse_size)]
+    pub size: (u32, u32),
+    /// Most frames --frames-dir writes (a flight with a long time gap would need more).
+    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+          value_parser = clap::value_parser!(u64).range(1..))]
+    pub max_frames: u64,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+const DIAGNOSE_EXAMPLES: &str = "\
+Examples:
+  wireflight diagnose --flight windy.csv
+  wireflight diagnose --flight two-effects.csv --iterate
+  wireflight diagnose --flight tests/data/jsbsim-mk82.csv --iterate --json
+
+Every catalogue effect that applies to the vehicle is added in turn, its parameters fitted,
+and ranked by how much error it removes; a likelihood-ratio test over independent windows
+decides whether that is more than fitting noise would give.";
+
+/// `wireflight diagnose` options.
+#[derive(Debug, Args)]
+#[command(after_help = DIAGNOSE_EXAMPLES)]
+pub struct DiagnoseArgs {
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns. (`--data` is an old
+    /// spelling of this option.)
+    #[arg(long, alias = "data", value_name = "FILE")]
+    pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// The model to start from.
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// How the flight is cut into windows.
+    #[command(flatten)]
+    pub windows: WindowArgs,
+    /// Add the winner and diagnose again until nothing significant is left.
+    #[arg(long)]
+    pub iterate: bool,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
+
+const IDENTIFY_EXAMPLES: &str = "\
+Examples:
+  wireflight identify --flight a.csv --flight b.csv --free 'c_m_*,c_ell_p' --out identified.toml
+  wireflight identify --flight tests/data/jsbsim-c172p-doublets.csv \\
+      --flight tests/data/jsbsim-c172p-steps.csv \\
+      --validate tests/data/jsbsim-c172p-validation.csv --out c172p-identified.toml
+  wireflight compare --flight c.csv --aircraft identified.toml
+
+The numbers are fitted jointly by output error over every window of every flight (each
+window's start state estimated with them), pulled toward the starting set by a prior of
+relative width --prior, so that a number the flights do not determine stays where it was and
+is reported as not identified. An equation-error regression on the measured accelerations is
+tried as the starting point. The output is an ordinary parameter-set TOML.";
+
+/// `wireflight identify` options.
+#[derive(Debug, Args)]
+#[command(after_help = IDENTIFY_EXAMPLES)]
+pub struct IdentifyArgs {
+    /// Flight data (CSV); repeat for several flights. (`--data` is another spelling.)
+    #[arg(long, alias = "data", value_name = "FILE.csv", required = true)]
+    pub flight: Vec<std::path::PathBuf>,
+    /// The model to start from (its aircraft set is the prior's centre).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// How each flight is cut into windows.
+    #[command(flatten)]
+    pub windows: WindowArgs,
+    /// The numbers to fit, comma-separated keys or prefixes ending in `*` (`c_m_*,c_ell_p,
+    /// mass_kg`) [default: every aerodynamic coefficient].
+    #[arg(long, value_name = "K1,K2*,...", value_delimiter = ',')]
+    pub free: Vec<String>,
+    /// Relative width (1σ) of the prior toward the starting set.
+    #[arg(long, default_value_t = 0.3, value_parser = positive)]
+    pub prior: f64,
+    /// Held-out flights: their error before and after is printed (repeatable).
+    #[arg(long, value_name = "FILE.csv")]
+    pub validate: Vec<std::path::PathBuf>,
+    /// Skip the equation-error starting point.
+    #[arg(long)]
+    pub no_equation_error: bool,
+    /// Write the identified parameter set here (TOML).
+    #[arg(long, value_name = "FILE.toml")]
+    pub out: Option<std::path::PathBuf>,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}
