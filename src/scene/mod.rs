@@ -11,7 +11,7 @@
 //! * [`track`]: flights in the viewer's frame (poses between samples, the model's track);
 //! * [`euler`]: pictures of Euler angles (elementary rotations, gimbal rings, gimbal lock,
 //!   interpolation) and the [`euler::sheet`] that lays panels out in a grid;
-//! * [`text`]: captions as line segments (a small stroke font);
+//! * [`font`]: the stroke font of every caption and label (text as line segments);
 //! * [`palette`]: the colours.
 //!
 //! Pure: no I/O. Drawing the scenes is [`crate::render`]'s job, writing them
@@ -19,12 +19,11 @@
 
 pub mod builder;
 pub mod euler;
-pub mod label;
+pub mod font;
 pub mod overlay;
 pub mod palette;
 pub mod replay;
 pub mod still;
-pub mod text;
 pub mod track;
 
 use crate::camera::{CameraPreset, Projection, Subject};

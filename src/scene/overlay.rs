@@ -7,7 +7,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
-use super::label::{draw_text, text_width};
+use super::font::{draw_label as draw_text, label_width as text_width};
 use crate::pipeline::Viewport;
 use crate::render::Segment2;
 

@@ -592,7 +592,7 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
 /// the line scene the CPU rasterizer draws).
 pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
     use crate::pipeline::Viewport;
-    use crate::scene::label::draw_text;
+    use crate::scene::font::draw_label as draw_text;
     use crate::scene::overlay::text_height;
     let mut scene = session.scene().clone();
     let viewport = Viewport {

@@ -1,9 +1,10 @@
-//! Captions as line segments: a small stroke font, so that labels go through every backend
-//! (CPU, GPU, SVG) like the wireframes do and the CPU images stay bit-exact.
+//! The stroke font of every caption and label: glyphs as line segments, so that text goes
+//! through every backend (CPU, GPU, PNG, GIF, SVG) like the wireframes do and the CPU images
+//! stay bit-exact.
 //!
 //! Glyphs sit on a grid 4 units wide and 6 tall (capital height), y up from the baseline, and
-//! advance 6 units. Letters are drawn as capitals; characters without a glyph leave a space.
-//! Pure: no I/O.
+//! advance [`ADVANCE`] units. Lower-case letters are drawn as capitals; a space is empty and a
+//! character without a glyph is a small box, so a missing glyph shows. Pure: no I/O.
 
 use glam::Vec2;
 
@@ -13,6 +14,9 @@ use crate::render::Segment2;
 pub const ADVANCE: f32 = 6.0;
 /// Capital height, grid units.
 pub const CAP_HEIGHT: f32 = 6.0;
+
+/// Drawn for a character without a glyph.
+const MISSING: &[&str] = &["1131351511"];
 
 /// The strokes of a glyph: polylines, each a string of points as digit pairs `xy` on the grid.
 fn glyph(c: char) -> &'static [&'static str] {
@@ -66,7 +70,14 @@ fn glyph(c: char) -> &'static [&'static str] {
         '/' => &["0046"],
         '>' => &["153311"],
         '<' => &["351331"],
-        _ => &[],
+        '–' | '−' => &["1333"],
+        '%' => &["0046", "0506161505", "3040413130"],
+        '×' => &["1234", "1432"],
+        '|' => &["2026"],
+        '`' => &["1625"],
+        '_' => &["0040"],
+        ' ' => &[],
+        _ => MISSING,
     }
 }
 
@@ -74,39 +85,52 @@ fn digit(b: u8) -> f32 {
     f32::from(b.wrapping_sub(b'0'))
 }
 
-/// Width of `text` in pixels at `scale` pixels per grid unit (the last glyph's spacing left
+/// Width of `text` in pixels at `unit` pixels per grid unit (the last glyph's spacing left
 /// out).
-pub fn width(text: &str, scale: f32) -> f32 {
+pub fn width(text: &str, unit: f32) -> f32 {
     let n = text.chars().count() as f32;
     if n == 0.0 {
         0.0
     } else {
-        (n * ADVANCE - 2.0) * scale
+        (n * ADVANCE - 2.0) * unit
     }
 }
 
 /// Append the strokes of `text` to `out`, the first glyph's bottom-left corner at `origin`
-/// (pixels, y down), `scale` pixels per grid unit. Points are put on pixel centres so that the
-/// strokes are crisp on the CPU rasterizer.
-pub fn draw(text: &str, origin: Vec2, scale: f32, out: &mut Vec<Segment2>) {
-    let base = Vec2::new(origin.x.floor() + 0.5, origin.y.floor() + 0.5);
-    let scale = scale.max(1.0).round();
+/// (pixels, y down), `unit` pixels per grid unit.
+pub fn draw(text: &str, origin: Vec2, unit: f32, out: &mut Vec<Segment2>) {
     for (i, c) in text.chars().enumerate() {
-        let x0 = base.x + i as f32 * ADVANCE * scale;
+        let x0 = origin.x + i as f32 * ADVANCE * unit;
         for stroke in glyph(c) {
-            let points: Vec<Vec2> = stroke
+            let mut points = stroke
                 .as_bytes()
                 .chunks_exact(2)
-                .map(|p| Vec2::new(x0 + digit(p[0]) * scale, base.y - digit(p[1]) * scale))
-                .collect();
-            for pair in points.windows(2) {
-                out.push(Segment2 {
-                    a: pair[0],
-                    b: pair[1],
-                });
+                .map(|p| Vec2::new(x0 + digit(p[0]) * unit, origin.y - digit(p[1]) * unit));
+            let Some(mut a) = points.next() else { continue };
+            for b in points {
+                out.push(Segment2 { a, b });
+                a = b;
             }
         }
     }
+}
+
+/// [`draw`] with the glyph grid on pixel centres and a whole number of pixels per unit, so
+/// that the strokes are crisp on the CPU rasterizer.
+pub fn draw_crisp(text: &str, origin: Vec2, unit: f32, out: &mut Vec<Segment2>) {
+    let origin = Vec2::new(origin.x.floor() + 0.5, origin.y.floor() + 0.5);
+    draw(text, origin, unit.max(1.0).round(), out);
+}
+
+/// [`draw`] for a label `height` pixels tall with its top-left corner at `top_left`.
+pub fn draw_label(text: &str, top_left: Vec2, height: f32, out: &mut Vec<Segment2>) {
+    let unit = height / CAP_HEIGHT;
+    draw(text, top_left + Vec2::new(0.0, height), unit, out);
+}
+
+/// Width of a label `height` pixels tall.
+pub fn label_width(text: &str, height: f32) -> f32 {
+    width(text, height / CAP_HEIGHT)
 }
 
 #[cfg(test)]
@@ -115,10 +139,10 @@ mod tests {
 
     #[test]
     fn every_glyph_stays_on_its_grid() {
-        let chars = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-+=.,:°'()/<>";
+        let chars = "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-+=.,:°'()/<>%×|`_–−";
         for c in chars.chars() {
             let strokes = glyph(c);
-            assert!(!strokes.is_empty(), "{c}");
+            assert!(!strokes.is_empty() && strokes != MISSING, "{c}");
             for s in strokes {
                 assert!(s.len() >= 4 && s.len() % 2 == 0, "{c}: {s}");
                 for p in s.as_bytes().chunks_exact(2) {
@@ -127,13 +151,14 @@ mod tests {
             }
         }
         assert_eq!(glyph('q'), glyph('Q'));
-        assert!(glyph('#').is_empty());
+        assert_eq!(glyph('#'), MISSING);
+        assert!(glyph(' ').is_empty());
     }
 
     #[test]
     fn text_is_placed_left_to_right_above_the_baseline() {
         let mut out = Vec::new();
-        draw("L1", Vec2::new(10.0, 50.0), 2.0, &mut out);
+        draw_crisp("L1", Vec2::new(10.0, 50.0), 2.0, &mut out);
         // L: two strokes; 1: two polylines of 2 + 1 strokes.
         assert_eq!(out.len(), 2 + 3);
         for s in &out {
@@ -144,5 +169,24 @@ mod tests {
         }
         assert_eq!(width("", 2.0), 0.0);
         assert_eq!(width("AB", 2.0), 20.0);
+    }
+
+    #[test]
+    fn labels_stay_in_their_box() {
+        let all = "0123456789ABCDEFGHIJKLMNOPQRSTUVWXYZ.,-+=:/()%×°<>|'`_ –−?";
+        let mut out = Vec::new();
+        draw_label(all, Vec2::new(10.0, 20.0), 12.0, &mut out);
+        let w = label_width(all, 12.0);
+        for s in &out {
+            for p in [s.a, s.b] {
+                assert!(p.x >= 10.0 && p.x <= 10.0 + w + 1e-3, "{p}");
+                assert!(p.y >= 20.0 && p.y <= 32.0 + 1e-3, "{p}");
+            }
+        }
+        // Lower case is drawn as capitals.
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        draw_label("t = 1.5 s", Vec2::ZERO, 6.0, &mut a);
+        draw_label("T = 1.5 S", Vec2::ZERO, 6.0, &mut b);
+        assert_eq!(a, b);
     }
 }
