@@ -314,15 +314,13 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     result.with_context(|| format!("{}: cannot write", path.display()))
 }
 
-/// Write a directory of files as a whole: they are written into a temporary directory beside
-/// `dir`, which is then renamed to `dir`, so a reader (or a crash) sees either all of them or
-/// none.
+/// Write a directory of files as a whole through a [`StagedDir`]: a reader (or a crash) sees
+/// either all of them or none.
 ///
 /// `marker` names one of `files` that says who wrote the directory (e.g. a manifest). An
 /// existing `dir` is replaced only when it is empty or holds a file of that name, i.e. was
 /// written by an earlier run of the same command; anything else is refused, so that a mistyped
-/// output path never deletes someone's directory. The old directory is moved aside before the
-/// new one is renamed into place and removed after.
+/// output path never deletes someone's directory.
 ///
 /// # Errors
 /// A file name that is not a plain name, `marker` not among `files`, `dir` existing as a file
@@ -346,21 +344,7 @@ pub fn write_dir_atomic(
         files.iter().any(|(n, _)| n == marker),
         "the marker file `{marker}` is not among the files to write"
     );
-    let name = dir
-        .file_name()
-        .with_context(|| format!("{}: not a directory path", dir.display()))?
-        .to_string_lossy()
-        .into_owned();
-    let parent = match dir.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    if dir.exists() {
-        anyhow::ensure!(
-            dir.is_dir(),
-            "{}: exists and is not a directory",
-            dir.display()
-        );
+    if dir.is_dir() {
         let mut entries =
             std::fs::read_dir(dir).with_context(|| format!("{}: cannot read", dir.display()))?;
         let empty = entries.next().is_none();
@@ -371,48 +355,17 @@ pub fn write_dir_atomic(
             dir.display()
         );
     }
-    std::fs::create_dir_all(&parent)
-        .with_context(|| format!("{}: cannot create", parent.display()))?;
-    let pid = std::process::id();
-    let tmp = parent.join(format!(".{name}.tmp-{pid}"));
-    let old = parent.join(format!(".{name}.old-{pid}"));
-    let written = (|| -> std::io::Result<()> {
-        std::fs::create_dir(&tmp)?;
-        for (file, bytes) in files {
-            let mut f = std::fs::File::create(tmp.join(file))?;
+    let staged = StagedDir::new(dir)?;
+    for (file, bytes) in files {
+        let path = staged.path().join(file);
+        let written = std::fs::File::create(&path).and_then(|mut f| {
             f.write_all(bytes)?;
-            f.sync_all()?;
-        }
-        Ok(())
-    })();
-    if let Err(e) = written {
-        let _ = std::fs::remove_dir_all(&tmp);
-        return Err(e).with_context(|| format!("{}: cannot write", tmp.display()));
+            f.sync_all()
+        });
+        written.with_context(|| format!("{}: cannot write", path.display()))?;
     }
-    // Move the old directory aside (if any), the new one in, then drop the old one. If the
-    // second rename fails the old one goes back.
-    let had_old = dir.exists();
-    let swapped = (|| -> std::io::Result<()> {
-        if had_old {
-            std::fs::rename(dir, &old)?;
-        }
-        if let Err(e) = std::fs::rename(&tmp, dir) {
-            if had_old {
-                let _ = std::fs::rename(&old, dir);
-            }
-            return Err(e);
-        }
-        Ok(())
-    })();
-    if let Err(e) = swapped {
-        let _ = std::fs::remove_dir_all(&tmp);
-        return Err(e).with_context(|| format!("{}: cannot write", dir.display()));
-    }
-    if had_old {
-        // The new directory is in place; a leftover old one is only clutter.
-        let _ = std::fs::remove_dir_all(&old);
-    }
-    Ok(())
+    // The marker vouches for the directory as a whole (its files are this command's).
+    staged.commit_replace(|_| true)
 }
 
 /// An output directory written as a whole: files go into a temporary directory beside it
