@@ -1,0 +1,126 @@
+//! Issue 15's reproductions: files written whole (temporaries removed on signals and by the next
+//! run, outputs written as a set, modes and links kept).
+
+use super::*;
+
+#[test]
+fn temporaries_of_a_killed_run_are_removed_by_the_next() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    // PIDs beyond any pid_max: their processes are gone.
+    std::fs::write(d.join(".old.csv.tmp-4294967295"), vec![0u8; 1000]).unwrap();
+    std::fs::create_dir(d.join(".frames.tmp-4294967294")).unwrap();
+    flight(d, "a.csv", &[]);
+    let names: Vec<String> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names, ["a.csv"]);
+}
+
+#[test]
+fn sigterm_and_sigint_remove_the_temporaries() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    assert_ok(&run(
+        &["simulate", "--duration", "600", "--out", "a.csv"],
+        d,
+    ));
+    for (signal, status) in [(libc::SIGTERM, 143), (libc::SIGINT, 130)] {
+        let child = bin()
+            .args([
+                "render",
+                "--flight",
+                "a.csv",
+                "--frames-dir",
+                "frames",
+                "--size",
+                "320x240",
+                "--backend",
+                "cpu",
+            ])
+            .current_dir(d)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until it writes frames into its temporary directory.
+        let tmp = d.join(format!(".frames.tmp-{}", child.id()));
+        let start = Instant::now();
+        while std::fs::read_dir(&tmp).map_or(0, Iterator::count) < 2 {
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "no frames appeared"
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        // SAFETY: sending a signal to our own child.
+        unsafe { libc::kill(child.id() as i32, signal) };
+        let o = wait_for(child, Duration::from_secs(30), &["render"]);
+        assert_eq!(
+            o.status.code(),
+            Some(status),
+            "{:?} {}",
+            o.status,
+            stderr(&o)
+        );
+        assert!(!tmp.exists(), "the temporary directory is left");
+        assert!(!d.join("frames").exists(), "a partial set of frames");
+    }
+}
+
+#[test]
+fn plots_are_written_as_a_set() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    flight(d, "a.csv", &[]);
+    std::fs::create_dir(d.join("plots")).unwrap();
+    std::fs::write(d.join("plots/keep.txt"), "mine").unwrap();
+    assert_ok(&run(
+        &["compare", "--flight", "a.csv", "--plots", "plots"],
+        d,
+    ));
+    let mut names: Vec<String> = std::fs::read_dir(d.join("plots"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert!(names.contains(&"keep.txt".to_string()), "{names:?}");
+    assert!(
+        names.iter().filter(|n| n.ends_with(".png")).count() >= 2,
+        "{names:?}"
+    );
+    let stray: Vec<_> = std::fs::read_dir(d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with('.'))
+        .collect();
+    assert!(stray.is_empty(), "{stray:?}");
+}
+
+#[test]
+fn replacing_an_output_keeps_its_mode_and_writes_through_a_link() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("real")).unwrap();
+    std::fs::write(d.join("real/out.csv"), "old").unwrap();
+    std::fs::set_permissions(
+        d.join("real/out.csv"),
+        std::fs::Permissions::from_mode(0o600),
+    )
+    .unwrap();
+    std::os::unix::fs::symlink("real/out.csv", d.join("out.csv")).unwrap();
+    flight(d, "out.csv", &[]);
+    assert!(std::fs::symlink_metadata(d.join("out.csv"))
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    let text = std::fs::read_to_string(d.join("real/out.csv")).unwrap();
+    assert!(text.contains("time_s"));
+    let mode = std::fs::metadata(d.join("real/out.csv"))
+        .unwrap()
+        .permissions()
+        .mode();
+    assert_eq!(mode & 0o777, 0o600);
+}

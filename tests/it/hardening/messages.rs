@@ -1,0 +1,148 @@
+//! Issue 15's reproductions: messages that say what is wrong once and name the input.
+
+use super::*;
+
+#[test]
+fn negative_numbers_reach_the_options_own_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = run(&["render", "--fov", "-10", "--out", "x.svg"], dir.path());
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(err.contains("field of view -10° is outside"), "{err}");
+    let o = run(
+        &["simulate", "--duration", "-5", "--out", "x.csv"],
+        dir.path(),
+    );
+    assert!(
+        stderr(&o).contains("duration -5 s must be positive"),
+        "{}",
+        stderr(&o)
+    );
+    let o = run(
+        &[
+            "simulate",
+            "--height",
+            "-50",
+            "--duration",
+            "1",
+            "--out",
+            "x.csv",
+        ],
+        dir.path(),
+    );
+    assert_ok(&o);
+}
+
+#[test]
+fn a_model_files_aircraft_is_found_beside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir(d.join("models")).unwrap();
+    std::fs::copy(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/aircraft/aerosonde.toml"),
+        d.join("models/mine.toml"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("models/model.toml"),
+        "vehicle = \"fixed-wing\"\naircraft = \"mine.toml\"\n",
+    )
+    .unwrap();
+    let o = run(
+        &[
+            "simulate",
+            "--model",
+            "models/model.toml",
+            "--duration",
+            "1",
+            "--out",
+            "x.csv",
+        ],
+        d,
+    );
+    assert_ok(&o);
+}
+
+#[test]
+fn read_handle_is_not_left_open_on_a_fifo() {
+    // A FIFO is refused before anything waits on its writer.
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("f.csv");
+    let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+    // SAFETY: a valid C string; mkfifo only creates the file.
+    assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+    let o = run_for(
+        &["compare", "--flight", "f.csv"],
+        dir.path(),
+        Duration::from_secs(10),
+    );
+    assert_refused(&o, &["f.csv", "not a regular file"]);
+}
+
+/// The drawn segment count `render` prints.
+fn segments_drawn(o: &Output) -> usize {
+    let text = String::from_utf8_lossy(&o.stdout);
+    let before = text.split(" segments drawn").next().unwrap();
+    before.rsplit(' ').next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn no_blank_images_from_huge_angles_or_scales() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let base = run(&["render", "--out", "a.svg"], d);
+    assert_ok(&base);
+    let o = run(
+        &[
+            "render", "--yaw", "1e100", "--camera", "chase", "--out", "b.svg",
+        ],
+        d,
+    );
+    assert_ok(&o);
+    assert!(
+        segments_drawn(&o) > 0,
+        "{}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let o = run(
+        &[
+            "render", "--yaw", "360", "--pitch", "-720", "--out", "c.svg",
+        ],
+        d,
+    );
+    assert_eq!(segments_drawn(&o), segments_drawn(&base));
+    // Models beyond the sizes the cameras can draw are refused, naming the limit.
+    let plane =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/plane.obj"))
+            .unwrap();
+    for (scale, ok) in [(1e20, false), (1e-31, false), (1e-6, true), (1e5, true)] {
+        let scaled: Vec<String> = plane
+            .lines()
+            .map(|l| match l.strip_prefix("v ") {
+                Some(v) => {
+                    let p: Vec<String> = v
+                        .split_whitespace()
+                        .map(|c| format!("{:e}", c.parse::<f64>().unwrap() * scale))
+                        .collect();
+                    format!("v {}", p.join(" "))
+                }
+                None => l.to_string(),
+            })
+            .collect();
+        std::fs::write(d.join("s.obj"), scaled.join("\n")).unwrap();
+        for camera in ["chase", "cockpit", "top"] {
+            let o = run(
+                &[
+                    "render", "--mesh", "s.obj", "--camera", camera, "--out", "s.svg",
+                ],
+                d,
+            );
+            if ok {
+                assert_ok(&o);
+                assert!(segments_drawn(&o) > 0, "scale {scale} {camera}: blank");
+            } else {
+                assert_refused(&o, &["s.obj", "bounding radius", "rescale"]);
+            }
+        }
+    }
+}
