@@ -253,3 +253,63 @@ fn a_wrong_mass_is_named_or_unexplained_never_a_catalogue_effect() {
         Verdict::None => panic!("a 10% heavier model is not at the noise floor\n{text}"),
     }
 }
+
+/// A window's start refitted for a model that differs by an effect, beginning with the base
+/// model's Jacobian (what diagnose and identify do), reaches the misfit of a fit from a fresh
+/// Jacobian; a Jacobian that points the wrong way is replaced, not followed.
+#[test]
+fn a_borrowed_start_jacobian_reaches_the_fresh_fits_misfit() {
+    use wireflight::analysis::compare::start::Scratch;
+    use wireflight::flight::effects::Origin;
+    use wireflight::flight::spec::EffectSpec;
+
+    let mut o = FlightOptions::new(Schedule::steps_8_18_24_34_36_41());
+    o.effects = Effects {
+        gyroscopic: Some(2.5),
+        ..Effects::default()
+    };
+    o.noise = survey_noise();
+    o.seed = 5;
+    let d = flight(&o);
+    let base = baseline(&d);
+    let mut spec =
+        wireflight::flight::spec::ModelSpec::baseline(wireflight::flight::VehicleKind::FixedWing);
+    spec.effects
+        .push(EffectSpec::parse("gyroscopic:k_gyro=2.5").unwrap());
+    let with_effect = spec.build(Origin::default()).unwrap();
+    let prep = Prepared::new(&d, CompareConfig::default());
+    let chi2 = |r: &[f64]| r.iter().map(|v| v * v).sum::<f64>();
+    let mut scratch = Scratch::default();
+    // Windows that start in a transient (steps at 8, 18, 24 s) as well as quiet ones.
+    for &w in prep.windows.iter().take(4) {
+        let x0 = prep.warm_start(&base, w, glam::DVec3::ZERO);
+        let base_fit = prep.fit_start(&base, w, x0, &mut scratch);
+        let fresh = prep.fit_start(&with_effect, w, base_fit.state, &mut scratch);
+        let borrowed = prep.fit_start_with(
+            &with_effect,
+            w,
+            base_fit.state,
+            Some(&base_fit.jacobian),
+            &mut scratch,
+        );
+        let wrong: Vec<f64> = base_fit.jacobian.iter().map(|v| -v).collect();
+        let misled =
+            prep.fit_start_with(&with_effect, w, base_fit.state, Some(&wrong), &mut scratch);
+        let (f, b, m) = (
+            chi2(&fresh.residuals),
+            chi2(&borrowed.residuals),
+            chi2(&misled.residuals),
+        );
+        let n = fresh.residuals.len() as f64;
+        eprintln!("window {w:?}: χ² fresh {f:.3}, borrowed {b:.3}, misled {m:.3} ({n} residuals)");
+        // Within the fits' own tolerance (1e-3 absolute) and far below one noise unit.
+        for (what, got) in [("borrowed", b), ("misled", m)] {
+            assert!(
+                (got - f).abs() <= 1e-2 + 1e-6 * f,
+                "window {w:?}: {what} χ² {got} vs fresh {f}"
+            );
+        }
+        // With the right model the misfit is the noise's: about one per residual.
+        assert!(f / n < 1.3, "window {w:?}: χ²/n = {}", f / n);
+    }
+}

@@ -438,16 +438,19 @@ struct WindowOutcome {
     fit: Option<StartFit>,
 }
 
+/// Compare one window, its start fitted from `x_start` (beginning with `jacobian` when given:
+/// [`Prepared::fit_start_with`]).
 fn compare_window(
     model: &Model,
     prep: &Prepared,
     window: (usize, usize),
     x_start: State,
+    jacobian: Option<&[f64]>,
     keep_fit: bool,
 ) -> WindowOutcome {
     let mut scratch = Scratch::default();
     let fit = (prep.cfg.start_iterations > 0)
-        .then(|| prep.fit_start(model, window, x_start, &mut scratch));
+        .then(|| prep.fit_start_with(model, window, x_start, jacobian, &mut scratch));
     let x0 = fit.as_ref().map_or(x_start, |f| f.state);
     let mut rows = Vec::new();
     prep.window_residuals(model, window, &x0, &mut scratch, &mut rows);
@@ -522,10 +525,32 @@ pub fn compare_with_fits(
     compare_windows(model, prep, starts, true)
 }
 
+/// [`compare_with_fits`] from the starts and start Jacobians of linearised windows (`starts[k]`
+/// and `jacobians[k]` for window k, e.g. the last fit's, moved to new parameters): each fit
+/// begins with its window's Jacobian ([`Prepared::fit_start_with`]) instead of a fresh one.
+pub fn compare_refit(
+    model: &Model,
+    prep: &Prepared,
+    starts: &[State],
+    jacobians: &[&[f64]],
+) -> (Comparison, Vec<StartFit>) {
+    compare_windows_from(model, prep, Some(starts), jacobians, true)
+}
+
 fn compare_windows(
     model: &Model,
     prep: &Prepared,
     starts: Option<&[State]>,
+    keep_fits: bool,
+) -> (Comparison, Vec<StartFit>) {
+    compare_windows_from(model, prep, starts, &[], keep_fits)
+}
+
+fn compare_windows_from(
+    model: &Model,
+    prep: &Prepared,
+    starts: Option<&[State]>,
+    jacobians: &[&[f64]],
     keep_fits: bool,
 ) -> (Comparison, Vec<StartFit>) {
     let mut tracker = SurfaceTracker::new(model, prep.data);
@@ -549,7 +574,11 @@ fn compare_windows(
         .windows
         .par_iter()
         .zip(initial.par_iter())
-        .map(|(&w, x)| compare_window(model, prep, w, *x, keep_fits))
+        .enumerate()
+        .map(|(k, (&w, x))| {
+            let jacobian = jacobians.get(k).copied().filter(|j| !j.is_empty());
+            compare_window(model, prep, w, *x, jacobian, keep_fits)
+        })
         .collect();
     let mut outcomes = outcomes;
     let fits = outcomes.iter_mut().filter_map(|o| o.fit.take()).collect();
@@ -588,9 +617,15 @@ pub fn compare_many<T: Send>(
                 None => prep.warm_start(first, w, surfaces[0][i]),
             };
             let mut out = Vec::with_capacity(models.len());
+            // The first model's start Jacobian begins the others' fits: they differ from it
+            // by an effect or a number, which moves the start's sensitivities very little,
+            // and a fresh one costs a flight per start parameter.
+            let mut first_jacobian = Vec::new();
             for (k, m) in models.iter().enumerate() {
                 x.set_surfaces(surfaces[k][i]);
-                let mut o = compare_window(m, prep, w, x, true);
+                let jacobian =
+                    (k > 0 && !first_jacobian.is_empty()).then_some(first_jacobian.as_slice());
+                let mut o = compare_window(m, prep, w, x, jacobian, true);
                 let fit = o.fit.take();
                 if k == 0 {
                     x = o.result.start;
@@ -599,6 +634,11 @@ pub fn compare_many<T: Send>(
                     Some(f) => then(k, w, f),
                     None => then(k, w, &StartFit::unfitted(o.result.start)),
                 };
+                if k == 0 {
+                    if let Some(f) = fit {
+                        first_jacobian = f.jacobian;
+                    }
+                }
                 out.push((o, extra));
             }
             out

@@ -52,12 +52,6 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
     }
 }
 
-static FLIGHTS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
-/// TEMP
-pub fn flights() -> usize {
-    FLIGHTS.load(std::sync::atomic::Ordering::Relaxed)
-}
-
 /// Fly `model` from `x0` at sample `start` through the samples `start..end`, writing one
 /// prediction per sample into `out` (cleared). A diverging model holds its last finite
 /// prediction (scored as the large error it is).

@@ -168,6 +168,22 @@ impl Prepared<'_> {
         x0: State,
         scratch: &mut Scratch,
     ) -> StartFit {
+        self.fit_start_with(model, window, x0, None, scratch)
+    }
+
+    /// [`fit_start`](Self::fit_start) beginning with `jacobian` (column-major, as
+    /// [`StartFit::jacobian`]) instead of a fresh forward-difference one: another model's on
+    /// the same window, e.g. the base model's when fitting a candidate that differs from it
+    /// by an effect. It is kept current by Broyden's updates and taken afresh, like an updated
+    /// one, as soon as it stops leading downhill; one of the wrong size is not used.
+    pub fn fit_start_with(
+        &self,
+        model: &Model,
+        window: (usize, usize),
+        x0: State,
+        jacobian: Option<&[f64]>,
+        scratch: &mut Scratch,
+    ) -> StartFit {
         let span = self.fit_range(window);
         let surfaces = x0.surfaces();
         let np = param_count(model);
@@ -187,9 +203,14 @@ impl Prepared<'_> {
             fit.residuals = r;
             return fit;
         }
-        let mut jac = vec![0.0; np * m]; // column-major
-        self.difference_jacobian(model, span, &q, surfaces, &r, scratch, &mut jac);
-        let mut fresh = true;
+        let (mut jac, mut fresh) = match jacobian {
+            Some(j) if j.len() == np * m && j.iter().all(|v| v.is_finite()) => (j.to_vec(), false),
+            _ => {
+                let mut jac = vec![0.0; np * m]; // column-major
+                self.difference_jacobian(model, span, &q, surfaces, &r, scratch, &mut jac);
+                (jac, true)
+            }
+        };
         let mut lambda = 1e-6;
         let mut trial = Vec::with_capacity(m);
         let mut step = vec![0.0; np];

@@ -10,7 +10,7 @@
 use super::{AircraftChange, Candidate, Correction, DiagnoseConfig};
 use crate::analysis::compare::start::StartFit;
 use crate::analysis::compare::{
-    compare_from, compare_many, compare_with_fits, Comparison, Prepared,
+    compare_from, compare_many, compare_refit, compare_with_fits, Comparison, Prepared,
 };
 use crate::analysis::profile::{
     add_into, aircraft_free, damped_trial, effect, linear_profile, normal_equations,
@@ -127,7 +127,8 @@ fn fit(
     let mut exact: Option<(Comparison, Vec<StartFit>)> = None;
     for _ in 0..3 {
         let starts: Vec<State> = lin.iter().map(|l| l.state(model)).collect();
-        let (cmp, new_fits) = compare_with_fits(model, prep, Some(&starts));
+        let jacobians: Vec<&[f64]> = lin.iter().map(|l| l.jac.as_slice()).collect();
+        let (cmp, new_fits) = compare_refit(model, prep, &starts, &jacobians);
         let settled = (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2);
         lin = new_fits.iter().map(|f| Linearised::of(model, f)).collect();
         exact = Some((cmp, new_fits));

@@ -23,7 +23,7 @@
 //! correlated residuals as in the diagnosis; |correlation| above [`CONFOUNDED`] names pairs the
 //! data cannot separate.
 
-use super::compare::{compare_with_fits, CompareConfig, Comparison, Prepared};
+use super::compare::{compare_refit, compare_with_fits, CompareConfig, Comparison, Prepared};
 use super::profile::{
     aircraft_free, damped_trial, linear_profile, normal_equations, set_values, values, Free,
     Linearised, FIT_TOL,
@@ -309,7 +309,8 @@ pub fn identify(
         after.clear();
         for f in fl.iter_mut() {
             let starts: Vec<State> = f.lin.iter().map(|l| l.state(&model)).collect();
-            let (cmp, fits) = compare_with_fits(&model, &f.prep, Some(&starts));
+            let jacobians: Vec<&[f64]> = f.lin.iter().map(|l| l.jac.as_slice()).collect();
+            let (cmp, fits) = compare_refit(&model, &f.prep, &starts, &jacobians);
             exact += cmp.chi2;
             f.lin = fits.iter().map(|s| Linearised::of(&model, s)).collect();
             after.push(cmp);
