@@ -7,7 +7,7 @@
 
 use glam::{Mat4, Vec2, Vec3};
 
-use super::font::{draw_label as draw_text, label_width as text_width};
+use super::font::{draw_label, label_width};
 use crate::pipeline::Viewport;
 use crate::render::Segment2;
 
@@ -45,7 +45,7 @@ pub fn label_number(v: f64) -> String {
 /// The time stamp, top left: `T 12.3 S / 31.0 S`.
 pub fn time_stamp(t: f64, t_end: f64, viewport: Viewport, out: &mut Vec<Segment2>) {
     let h = text_height(viewport);
-    draw_text(
+    draw_label(
         &format!("T {t:.1} S / {t_end:.1} S"),
         Vec2::new(h, h),
         h,
@@ -123,20 +123,20 @@ pub fn error_strip(
         seg(Vec2::new(b.left - 0.5 * th, y), Vec2::new(b.left, y), out);
     }
     let small = (0.8 * th).round().max(6.0);
-    draw_text(
+    draw_label(
         &format!("{} M", label_number(peak)),
         Vec2::new(b.left + 0.4 * th, b.top - 0.1 * small),
         small,
         out,
     );
-    draw_text(title, Vec2::new(b.left, b.top - 1.5 * th), th, out);
+    draw_label(title, Vec2::new(b.left, b.top - 1.5 * th), th, out);
     // Times at the ends.
     let start = format!("{} S", label_number(t0));
     let end = format!("{} S", label_number(t1));
-    draw_text(&start, Vec2::new(b.left, b.bottom + 0.4 * th), small, out);
-    draw_text(
+    draw_label(&start, Vec2::new(b.left, b.bottom + 0.4 * th), small, out);
+    draw_label(
         &end,
-        Vec2::new(b.right - text_width(&end, small), b.bottom + 0.4 * th),
+        Vec2::new(b.right - label_width(&end, small), b.bottom + 0.4 * th),
         small,
         out,
     );
@@ -167,13 +167,13 @@ pub fn error_strip(
     seg(Vec2::new(x, b.top), Vec2::new(x, b.bottom), out);
     let k = time[..n].partition_point(|&s| s <= tc).clamp(1, n) - 1;
     let now = format!("{} M", label_number(error_m[k]));
-    let w = text_width(&now, small);
+    let w = label_width(&now, small);
     let lx = if x + 0.4 * th + w < b.right {
         x + 0.4 * th
     } else {
         x - 0.4 * th - w
     };
-    draw_text(&now, Vec2::new(lx, b.top + 0.3 * th), small, out);
+    draw_label(&now, Vec2::new(lx, b.top + 0.3 * th), small, out);
 }
 
 /// Where `p` (world) lands in the frame: pixel coordinates when it is in front of the eye and
@@ -245,13 +245,13 @@ pub fn edge_arrow(direction: Vec2, label: &str, viewport: Viewport, out: &mut Ve
     push(tip, tip - d * (0.8 * th) + side);
     push(tip, tip - d * (0.8 * th) - side);
     // The label behind the arrow, kept inside the frame.
-    let lw = text_width(label, th);
+    let lw = label_width(label, th);
     let at = back - d * (0.6 * th) - Vec2::new(lw / 2.0, th / 2.0);
     let at = Vec2::new(
         at.x.clamp(2.0, (w - lw - 2.0).max(2.0)),
         at.y.clamp(2.0, (h - th - 2.0).max(2.0)),
     );
-    draw_text(label, at, th, out);
+    draw_label(label, at, th, out);
 }
 
 /// Positions smoothed by a local linear fit over ±`half_s` seconds (at least one sample each

@@ -511,7 +511,7 @@ pub fn compare_prepared(model: &Model, prep: &Prepared) -> Comparison {
 /// window, e.g. another model's fitted starts; surfaces are recomputed for this model) or,
 /// without them, from the warm start.
 pub fn compare_from(model: &Model, prep: &Prepared, starts: Option<&[State]>) -> Comparison {
-    compare_windows(model, prep, starts, false).0
+    compare_windows(model, prep, starts, &[], false).0
 }
 
 /// [`compare_from`], also returning each window's start fit (its Jacobian with respect to the
@@ -522,7 +522,7 @@ pub fn compare_with_fits(
     prep: &Prepared,
     starts: Option<&[State]>,
 ) -> (Comparison, Vec<StartFit>) {
-    compare_windows(model, prep, starts, true)
+    compare_windows(model, prep, starts, &[], true)
 }
 
 /// [`compare_with_fits`] from the starts and start Jacobians of linearised windows (`starts[k]`
@@ -534,19 +534,10 @@ pub fn compare_refit(
     starts: &[State],
     jacobians: &[&[f64]],
 ) -> (Comparison, Vec<StartFit>) {
-    compare_windows_from(model, prep, Some(starts), jacobians, true)
+    compare_windows(model, prep, Some(starts), jacobians, true)
 }
 
 fn compare_windows(
-    model: &Model,
-    prep: &Prepared,
-    starts: Option<&[State]>,
-    keep_fits: bool,
-) -> (Comparison, Vec<StartFit>) {
-    compare_windows_from(model, prep, starts, &[], keep_fits)
-}
-
-fn compare_windows_from(
     model: &Model,
     prep: &Prepared,
     starts: Option<&[State]>,
@@ -627,14 +618,12 @@ pub fn compare_many<T: Send>(
                     (k > 0 && !first_jacobian.is_empty()).then_some(first_jacobian.as_slice());
                 let mut o = compare_window(m, prep, w, x, jacobian, true);
                 let fit = o.fit.take();
-                if k == 0 {
-                    x = o.result.start;
-                }
                 let extra = match &fit {
                     Some(f) => then(k, w, f),
                     None => then(k, w, &StartFit::unfitted(o.result.start)),
                 };
                 if k == 0 {
+                    x = o.result.start;
                     if let Some(f) = fit {
                         first_jacobian = f.jacobian;
                     }

@@ -592,7 +592,7 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
 /// the line scene the CPU rasterizer draws).
 pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
     use crate::pipeline::Viewport;
-    use crate::scene::font::draw_label as draw_text;
+    use crate::scene::font::draw_label;
     use crate::scene::overlay::text_height;
     let mut scene = session.scene().clone();
     let viewport = Viewport {
@@ -645,7 +645,7 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
     let mut segments = Vec::new();
     for (k, line) in lines.iter().enumerate() {
         let y = h + k as f32 * 1.6 * h;
-        draw_text(line, glam::Vec2::new(h, y), h, &mut segments);
+        draw_label(line, glam::Vec2::new(h, y), h, &mut segments);
     }
     scene.batches.push(crate::render::LineBatch {
         color: crate::scene::palette::TEXT,
