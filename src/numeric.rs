@@ -57,6 +57,51 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize) -> Option<()> {
     b.iter().all(|v| v.is_finite()).then_some(())
 }
 
+/// Dot product of two slices (over the shorter length), summed in four independent lanes:
+/// a single running sum is a chain of dependent additions the compiler may not reorder, and
+/// the start fits' normal equations take dot products of columns ten thousand rows long.
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut lanes = [0.0; 4];
+    let mut ca = a.chunks_exact(4);
+    let mut cb = b.chunks_exact(4);
+    for (x, y) in (&mut ca).zip(&mut cb) {
+        for k in 0..4 {
+            lanes[k] += x[k] * y[k];
+        }
+    }
+    let tail: f64 = ca
+        .remainder()
+        .iter()
+        .zip(cb.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
+}
+
+/// `y += alpha·x` over the shorter length.
+pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
+    y.iter_mut().zip(x).for_each(|(y, x)| *y += alpha * x);
+}
+
+/// The Gram matrix AᵀA (row-major, `cols`×`cols`) of a column-major matrix of `cols` columns
+/// of `rows` rows each.
+pub fn gram(a: &[f64], cols: usize, rows: usize) -> Vec<f64> {
+    let mut g = vec![0.0; cols * cols];
+    if a.len() != cols * rows {
+        return g;
+    }
+    for i in 0..cols {
+        for k in i..cols {
+            let v = dot(&a[i * rows..(i + 1) * rows], &a[k * rows..(k + 1) * rows]);
+            g[i * cols + k] = v;
+            g[k * cols + i] = v;
+        }
+    }
+    g
+}
+
 /// Solve `a·x = b` for a fixed-size system (rows of `a`); `None` when singular.
 pub fn solve<const N: usize>(a: [[f64; N]; N], b: [f64; N]) -> Option<[f64; N]> {
     let mut flat: Vec<f64> = a.iter().flatten().copied().collect();
@@ -274,6 +319,31 @@ pub fn chi2_quantile(p: f64, dof: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The four-lane dot product and the Gram matrix are the plain sums, for every length
+    /// remainder.
+    #[test]
+    fn dot_and_gram_are_the_plain_sums() {
+        for n in [0, 1, 3, 4, 5, 11, 400] {
+            let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.37).sin()).collect();
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 1.3).cos() - 0.2).collect();
+            let plain: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
+            assert!((dot(&a, &b) - plain).abs() < 1e-12, "{n}");
+        }
+        let cols: Vec<f64> = (0..3 * 7).map(|i| (i as f64).sqrt() - 2.0).collect();
+        let g = gram(&cols, 3, 7);
+        for i in 0..3 {
+            for k in 0..3 {
+                let plain: f64 = (0..7).map(|r| cols[i * 7 + r] * cols[k * 7 + r]).sum();
+                assert!((g[i * 3 + k] - plain).abs() < 1e-12);
+            }
+        }
+        assert_eq!(
+            gram(&cols, 3, 6),
+            vec![0.0; 9],
+            "wrong size: zeros, no panic"
+        );
+    }
 
     #[test]
     fn solves_a_pivoting_system_and_refuses_a_singular_one() {

@@ -13,7 +13,7 @@ use crate::analysis::compare::start::{params_of, project_out, state_of, Scratch,
 use crate::analysis::compare::Prepared;
 use crate::flight::effects::Effect;
 use crate::flight::model::{Model, State};
-use crate::numeric::solve_in_place;
+use crate::numeric::{axpy, dot, gram, solve_in_place};
 
 /// The effect named `name` in `model`.
 pub(crate) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
@@ -82,27 +82,18 @@ impl Linearised {
     pub(crate) fn of(model: &Model, fit: &StartFit) -> Self {
         let m = fit.residuals.len();
         let np = fit.params;
-        let mut gram = vec![0.0; np * np];
-        if fit.jacobian.len() == np * m {
-            for a in 0..np {
-                for b in a..np {
-                    let v: f64 = fit.jacobian[a * m..(a + 1) * m]
-                        .iter()
-                        .zip(&fit.jacobian[b * m..(b + 1) * m])
-                        .map(|(u, w)| u * w)
-                        .sum();
-                    gram[a * np + b] = v;
-                    gram[b * np + a] = v;
-                }
-            }
-        }
         Self {
             q: params_of(model, &fit.state),
             surfaces: fit.state.surfaces(),
             jac: fit.jacobian.clone(),
-            gram,
+            gram: gram(&fit.jacobian, np, m),
             params: np,
         }
+    }
+
+    /// Project the start directions out of each column of `cols` ([`project_out`]).
+    pub(crate) fn project_out(&self, cols: &mut [f64], m: usize) {
+        project_out(&self.jac, &self.gram, self.params, cols, m);
     }
 
     pub(crate) fn state(&self, model: &Model) -> State {
@@ -117,22 +108,14 @@ impl Linearised {
             return vec![0.0; np];
         }
         let mut y: Vec<f64> = (0..np)
-            .map(|a| {
-                self.jac[a * m..(a + 1) * m]
-                    .iter()
-                    .zip(r.iter())
-                    .map(|(u, v)| u * v)
-                    .sum()
-            })
+            .map(|a| dot(&self.jac[a * m..(a + 1) * m], r))
             .collect();
         let mut g = self.gram.clone();
         if solve_in_place(&mut g, &mut y, np).is_none() {
             return vec![0.0; np];
         }
         for (a, ya) in y.iter().enumerate() {
-            for (v, j) in r.iter_mut().zip(&self.jac[a * m..(a + 1) * m]) {
-                *v -= ya * j;
-            }
+            axpy(-ya, &self.jac[a * m..(a + 1) * m], r);
         }
         y.iter().map(|v| -v).collect()
     }
@@ -207,24 +190,12 @@ pub(crate) fn window_normal(
             *c = (a - b) / PARAM_STEP;
         }
     }
-    project_out(&l.jac, l.params, &mut cols, m);
-    let mut a = vec![0.0; np * np];
-    let mut g = vec![0.0; np];
-    for i in 0..np {
-        let ci = &cols[i * m..(i + 1) * m];
-        // D̃ is orthogonal to the start directions, so D̃ᵀr = D̃ᵀr̃.
-        g[i] = ci.iter().zip(&r).map(|(u, v)| u * v).sum();
-        for k in i..np {
-            let v: f64 = ci
-                .iter()
-                .zip(&cols[k * m..(k + 1) * m])
-                .map(|(u, v)| u * v)
-                .sum();
-            a[i * np + k] = v;
-            a[k * np + i] = v;
-        }
-    }
-    (a, g)
+    l.project_out(&mut cols, m);
+    // D̃ is orthogonal to the start directions, so D̃ᵀr = D̃ᵀr̃.
+    let g = (0..np)
+        .map(|i| dot(&cols[i * m..(i + 1) * m], &r))
+        .collect();
+    (gram(&cols, np, m), g)
 }
 
 pub(crate) fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {

@@ -10,6 +10,7 @@ pub mod autopilot;
 pub mod data;
 pub mod derive;
 pub mod effects;
+pub mod linear;
 pub mod model;
 pub mod params;
 pub mod simulate;

@@ -29,6 +29,7 @@
 pub mod noise;
 pub mod predict;
 mod score;
+mod sensitivity;
 pub mod start;
 
 use glam::DVec3;
@@ -453,7 +454,17 @@ fn compare_window(
         .then(|| prep.fit_start_with(model, window, x_start, jacobian, &mut scratch));
     let x0 = fit.as_ref().map_or(x_start, |f| f.state);
     let mut rows = Vec::new();
-    prep.window_residuals(model, window, &x0, &mut scratch, &mut rows);
+    match &fit {
+        // The fit flew this start over the whole window last: its residuals and predictions.
+        Some(f)
+            if prep.fit_range(window) == window
+                && scratch.accepted.len() == window.1 - window.0 =>
+        {
+            rows.clone_from(&f.residuals);
+            scratch.predicted = std::mem::take(&mut scratch.accepted);
+        }
+        _ => prep.window_residuals(model, window, &x0, &mut scratch, &mut rows),
+    }
     let chi2: f64 = rows.iter().map(|r| r * r).sum();
     let per_sample = rows.len() / (window.1 - window.0).max(1);
     let lag1_product: f64 = rows

@@ -21,7 +21,7 @@ use super::predict::{fly_window, Predicted};
 use super::Prepared;
 use crate::euler::EulerZyx;
 use crate::flight::model::{Model, State, Vehicle};
-use crate::numeric::{quad_fit, solve_in_place};
+use crate::numeric::{axpy, dot, gram, quad_fit, solve_in_place};
 
 /// Forward-difference steps of the start parameters: position m, velocity m/s, angles rad,
 /// rates rad/s. Small against every noise level of interest, large against rounding (the
@@ -190,6 +190,7 @@ impl Prepared<'_> {
         let mut q = params_of(model, &x0);
         let mut r = Vec::new();
         self.window_residuals(model, span, &state_of(model, &q, surfaces), scratch, &mut r);
+        std::mem::swap(&mut scratch.predicted, &mut scratch.accepted);
         let mut sse = sum_sq(&r);
         let m = r.len();
         let mut fit = StartFit {
@@ -206,11 +207,13 @@ impl Prepared<'_> {
         let (mut jac, mut fresh) = match jacobian {
             Some(j) if j.len() == np * m && j.iter().all(|v| v.is_finite()) => (j.to_vec(), false),
             _ => {
-                let mut jac = vec![0.0; np * m]; // column-major
-                self.difference_jacobian(model, span, &q, surfaces, &r, scratch, &mut jac);
+                let mut jac = Vec::new(); // column-major
+                self.jacobian_at(model, span, &q, surfaces, &r, scratch, &mut jac);
                 (jac, true)
             }
         };
+        // JᵀJ follows the Jacobian: taken afresh with it, updated with it by Broyden.
+        let mut jtj = gram(&jac, np, m);
         let mut lambda = 1e-6;
         let mut trial = Vec::with_capacity(m);
         let mut step = vec![0.0; np];
@@ -218,7 +221,7 @@ impl Prepared<'_> {
         let mut tries = 0;
         while iteration < self.cfg.start_iterations && tries < 16 {
             tries += 1;
-            let (jtj, jtr) = normal_equations(&jac, &r, np, m);
+            let jtr: Vec<f64> = (0..np).map(|a| dot(&jac[a * m..(a + 1) * m], &r)).collect();
             let mut a = jtj.clone();
             for k in 0..np {
                 a[k * np + k] += lambda * jtj[k * np + k].max(1e-30);
@@ -250,10 +253,11 @@ impl Prepared<'_> {
                 let sse_new = sum_sq(&trial);
                 if sse_new < sse {
                     iteration += 1;
-                    broyden_update(&mut jac, &step, &r, &trial, np, m);
+                    broyden_update(&mut jac, &mut jtj, &step, &r, &trial, np, m);
                     q = qn;
                     sse = sse_new;
                     std::mem::swap(&mut r, &mut trial);
+                    std::mem::swap(&mut scratch.predicted, &mut scratch.accepted);
                     lambda = (lambda / 10.0).max(1e-12);
                     fresh = false;
                     continue;
@@ -263,7 +267,8 @@ impl Prepared<'_> {
                 lambda *= 10.0; // an exact Jacobian overshot: shorter steps
             } else {
                 // An updated Jacobian that misleads: take it afresh.
-                self.difference_jacobian(model, span, &q, surfaces, &r, scratch, &mut jac);
+                self.jacobian_at(model, span, &q, surfaces, &r, scratch, &mut jac);
+                jtj = gram(&jac, np, m);
                 fresh = true;
             }
         }
@@ -274,9 +279,33 @@ impl Prepared<'_> {
         fit
     }
 
+    /// The Jacobian of the window residuals `r` at start parameters `q` into `jac`
+    /// (column-major): from the tangent-linear flight ([`Prepared::tangent_jacobian`]), or by
+    /// forward differences where that flight diverges.
+    #[allow(clippy::too_many_arguments)]
+    fn jacobian_at(
+        &self,
+        model: &Model,
+        span: (usize, usize),
+        q: &[f64],
+        surfaces: DVec3,
+        r: &[f64],
+        scratch: &mut Scratch,
+        jac: &mut Vec<f64>,
+    ) {
+        let mut rows = std::mem::take(&mut scratch.rows);
+        let tangent = self.tangent_jacobian(model, span, q, surfaces, &mut rows, jac);
+        scratch.rows = rows;
+        if !tangent || jac.len() != q.len() * r.len() {
+            jac.clear();
+            jac.resize(q.len() * r.len(), 0.0);
+            self.difference_jacobian(model, span, q, surfaces, r, scratch, jac);
+        }
+    }
+
     /// Forward-difference Jacobian of the window residuals `r` at start parameters `q`.
     #[allow(clippy::too_many_arguments)]
-    fn difference_jacobian(
+    pub(crate) fn difference_jacobian(
         &self,
         model: &Model,
         span: (usize, usize),
@@ -362,42 +391,23 @@ impl StartFit {
 }
 
 /// Remove from each column of `cols` (column-major, `m` rows) its least-squares fit by the
-/// columns of `jac` (column-major, `m` rows): what is left is the part of a residual change
-/// that no change of the start state can produce (variable projection).
-pub fn project_out(jac: &[f64], params: usize, cols: &mut [f64], m: usize) {
-    if params == 0 || jac.len() != params * m || m == 0 {
+/// columns of `jac` (column-major, `m` rows; `gram` = JᵀJ, row-major, as
+/// [`crate::numeric::gram`]): what is left is the part of a residual change that no change
+/// of the start state can produce (variable projection).
+pub fn project_out(jac: &[f64], gram: &[f64], params: usize, cols: &mut [f64], m: usize) {
+    if params == 0 || jac.len() != params * m || gram.len() != params * params || m == 0 {
         return;
-    }
-    let mut gram = vec![0.0; params * params];
-    for a in 0..params {
-        for b in a..params {
-            let s: f64 = jac[a * m..(a + 1) * m]
-                .iter()
-                .zip(&jac[b * m..(b + 1) * m])
-                .map(|(u, v)| u * v)
-                .sum();
-            gram[a * params + b] = s;
-            gram[b * params + a] = s;
-        }
     }
     for col in cols.chunks_mut(m) {
         let mut y: Vec<f64> = (0..params)
-            .map(|a| {
-                jac[a * m..(a + 1) * m]
-                    .iter()
-                    .zip(col.iter())
-                    .map(|(u, v)| u * v)
-                    .sum()
-            })
+            .map(|a| dot(&jac[a * m..(a + 1) * m], col))
             .collect();
-        let mut g = gram.clone();
+        let mut g = gram.to_vec();
         if solve_in_place(&mut g, &mut y, params).is_none() {
             continue;
         }
         for (a, ya) in y.iter().enumerate() {
-            for (c, j) in col.iter_mut().zip(&jac[a * m..(a + 1) * m]) {
-                *c -= ya * j;
-            }
+            axpy(-ya, &jac[a * m..(a + 1) * m], col);
         }
     }
 }
@@ -407,29 +417,18 @@ pub fn project_out(jac: &[f64], params: usize, cols: &mut [f64], m: usize) {
 pub struct Scratch {
     /// Predictions over the window.
     pub predicted: Vec<Predicted>,
-}
-
-/// JᵀJ (row-major) and Jᵀr of a column-major Jacobian.
-fn normal_equations(jac: &[f64], r: &[f64], np: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut jtj = vec![0.0; np * np];
-    let mut jtr = vec![0.0; np];
-    for a in 0..np {
-        let ca = &jac[a * m..(a + 1) * m];
-        jtr[a] = ca.iter().zip(r).map(|(u, v)| u * v).sum();
-        for b in a..np {
-            let cb = &jac[b * m..(b + 1) * m];
-            let s: f64 = ca.iter().zip(cb).map(|(u, v)| u * v).sum();
-            jtj[a * np + b] = s;
-            jtj[b * np + a] = s;
-        }
-    }
-    (jtj, jtr)
+    /// Predictions over the fit span from the start a fit ended at (its residuals').
+    pub accepted: Vec<Predicted>,
+    /// Residual rows of the tangent-linear flight.
+    rows: Vec<f64>,
 }
 
 /// Broyden's rank-one update of a column-major Jacobian after the step `step` took the
-/// residuals from `r_old` to `r_new`: J += (Δr − Jδ)δᵀ/(δᵀδ).
+/// residuals from `r_old` to `r_new`: J += u·δᵀ with u = (Δr − Jδ)/(δᵀδ); and of its Gram
+/// matrix `jtj` with it: JᵀJ + (Jᵀu)δᵀ + δ(Jᵀu)ᵀ + (uᵀu)δδᵀ (Jᵀu with the old J).
 fn broyden_update(
     jac: &mut [f64],
+    jtj: &mut [f64],
     step: &[f64],
     r_old: &[f64],
     r_new: &[f64],
@@ -438,18 +437,55 @@ fn broyden_update(
 ) {
     let dd: f64 = step.iter().map(|d| d * d).sum();
     // NaN as well as zero: no step to update with.
-    if dd.is_nan() || dd <= 0.0 {
+    if dd.is_nan() || dd <= 0.0 || jac.len() != np * m || jtj.len() != np * np {
         return;
     }
-    for i in 0..m {
-        let jd: f64 = (0..np).map(|k| jac[k * m + i] * step[k]).sum();
-        let miss = (r_new[i] - r_old[i] - jd) / dd;
-        for k in 0..np {
-            jac[k * m + i] += miss * step[k];
+    // u, column by column of J (contiguous in memory).
+    let mut u: Vec<f64> = r_new.iter().zip(r_old).map(|(a, b)| a - b).collect();
+    for (k, d) in step.iter().enumerate() {
+        axpy(-d, &jac[k * m..(k + 1) * m], &mut u);
+    }
+    u.iter_mut().for_each(|v| *v /= dd);
+    let ju: Vec<f64> = (0..np).map(|k| dot(&jac[k * m..(k + 1) * m], &u)).collect();
+    let uu = dot(&u, &u);
+    for a in 0..np {
+        for b in 0..np {
+            jtj[a * np + b] += ju[a] * step[b] + step[a] * ju[b] + uu * step[a] * step[b];
         }
+    }
+    for (k, d) in step.iter().enumerate() {
+        axpy(*d, &u, &mut jac[k * m..(k + 1) * m]);
     }
 }
 
 fn sum_sq(r: &[f64]) -> f64 {
-    r.iter().map(|v| v * v).sum()
+    dot(r, r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Broyden's update keeps JᵀJ equal to the Gram matrix of the updated Jacobian, and makes
+    /// the Jacobian reproduce the step's residual change (the secant condition).
+    #[test]
+    fn broyden_update_keeps_the_gram_matrix_and_the_secant() {
+        let (np, m) = (3, 17);
+        let mut jac: Vec<f64> = (0..np * m)
+            .map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.3)
+            .collect();
+        let mut jtj = gram(&jac, np, m);
+        let r_old: Vec<f64> = (0..m).map(|i| (i as f64 * 0.9).sin()).collect();
+        let r_new: Vec<f64> = (0..m).map(|i| (i as f64 * 0.4).cos() * 0.5).collect();
+        let step = [0.2, -0.7, 0.05];
+        broyden_update(&mut jac, &mut jtj, &step, &r_old, &r_new, np, m);
+        let exact = gram(&jac, np, m);
+        for (a, b) in jtj.iter().zip(&exact) {
+            assert!((a - b).abs() < 1e-9 * b.abs().max(1.0), "{a} vs {b}");
+        }
+        for i in 0..m {
+            let jd: f64 = (0..np).map(|k| jac[k * m + i] * step[k]).sum();
+            assert!((jd - (r_new[i] - r_old[i])).abs() < 1e-12);
+        }
+    }
 }

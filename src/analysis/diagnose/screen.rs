@@ -10,11 +10,12 @@
 use rayon::prelude::*;
 
 use super::fit::Baseline;
-use crate::analysis::compare::start::{project_out, Scratch};
+use crate::analysis::compare::start::Scratch;
 use crate::analysis::compare::Prepared;
 use crate::analysis::profile::Linearised;
 use crate::flight::model::Model;
 use crate::flight::params::keys::{AircraftKey, KEYS};
+use crate::numeric::dot;
 
 /// What one key could do.
 #[derive(Clone, Copy, Debug)]
@@ -66,10 +67,8 @@ pub fn score_aircraft(base: &Model, prep: &Prepared, baseline: &Baseline) -> Vec
                         return (0.0, 0.0);
                     }
                     let mut d: Vec<f64> = rk.iter().zip(r).map(|(a, b)| (a - b) / h).collect();
-                    project_out(&lin.jac, lin.params, &mut d, m);
-                    let dr: f64 = d.iter().zip(r).map(|(a, b)| a * b).sum();
-                    let dd: f64 = d.iter().map(|a| a * a).sum();
-                    (dr, dd)
+                    lin.project_out(&mut d, m);
+                    (dot(&d, r), dot(&d, &d))
                 })
                 .collect()
         })

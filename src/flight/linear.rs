@@ -1,0 +1,166 @@
+//! The model linearised about its own trajectory: how a small change of the state grows or
+//! decays along a flight (tangent-linear equations). The comparison uses it for the
+//! sensitivity of a flown window to its start state — one flight instead of one per start
+//! parameter.
+//!
+//! **Error state** e, a change of the state in coordinates where every direction is free:
+//!
+//! | index | point mass | fixed wing |
+//! |---|---|---|
+//! | 0..3 | δp, NED, m | δp, NED, m |
+//! | 3..6 | δv, NED, m/s | δv, body u, v, w, m/s |
+//! | 6..9 | — | δθ, a small rotation in body axes: R' = R·(I + [δθ]×), rad |
+//! | 9..12 | — | δω, body rates, rad/s |
+//!
+//! (the quaternion's four numbers have three degrees of freedom; surface positions are not
+//! in it: they follow from the commands alone.)
+//!
+//! **Its equations** ė = A(t)·e. The kinematic rows are exact: δṗ = R(δv + δθ × v) for a
+//! fixed wing (δv for a point mass), δθ̇ = δω − ω × δθ. The rows of the forces and moments
+//! (δv̇, δω̇) are forward differences of [`Model::derivative`] along each error direction, so
+//! every effect, the user's included, is linearised without code of its own.
+//!
+//! **Propagation** over a step of length h: e(t + h) = exp(h·A)·e(t) with A held over the
+//! step ([`transition`], [`propagate`]; the caller chooses where A is taken), exp by its
+//! Taylor series to 4th order (the order of the RK4 step that flies the trajectory itself).
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::model::{Model, State, Vehicle};
+use super::Controls;
+
+/// Largest error-state dimension (a fixed wing).
+pub const ERROR_MAX: usize = 12;
+
+/// A square matrix over the error state (row-major; a point mass uses the top-left 6×6).
+pub type ErrorMatrix = [[f64; ERROR_MAX]; ERROR_MAX];
+
+/// Forward-difference steps of the force rows, per error block: position m (the
+/// environment changes over tens of metres), velocity m/s, rotation rad, rates rad/s.
+const STEPS: [f64; 4] = [1e-2, 1e-5, 1e-7, 1e-7];
+
+/// The skew matrix [a]×, with [a]×·b = a × b.
+pub fn skew(a: DVec3) -> DMat3 {
+    DMat3::from_cols(
+        DVec3::new(0.0, a.z, -a.y),
+        DVec3::new(-a.z, 0.0, a.x),
+        DVec3::new(a.y, -a.x, 0.0),
+    )
+}
+
+impl Model {
+    /// Dimension of the error state (12 for a fixed wing, 6 for a point mass).
+    pub fn error_dim(&self) -> usize {
+        match self.vehicle {
+            Vehicle::PointMass => 6,
+            Vehicle::FixedWing(_) => 12,
+        }
+    }
+
+    /// The state `x` moved by the error `e` (module docs; `e` shorter than the error state
+    /// leaves the rest unchanged).
+    pub fn perturbed(&self, x: &State, e: &[f64]) -> State {
+        let at = |k: usize| e.get(k).copied().unwrap_or(0.0);
+        let v3 = |k: usize| DVec3::new(at(k), at(k + 1), at(k + 2));
+        let mut out = *x;
+        out.set_pos_ned(x.pos_ned() + v3(0));
+        out.set_vel(x.vel() + v3(3));
+        if matches!(self.vehicle, Vehicle::FixedWing(_)) {
+            let q = (x.quat() * DQuat::from_scaled_axis(v3(6))).normalize();
+            out.0[6..10].copy_from_slice(&q.to_array());
+            out.set_omega(x.omega() + v3(9));
+        }
+        out
+    }
+
+    /// The error-state Jacobian A = ∂ė/∂e at time `t`, state `x`, commands `cmd` (module
+    /// docs).
+    pub fn error_jacobian(&self, t: f64, x: &State, cmd: &Controls) -> ErrorMatrix {
+        let n = self.error_dim();
+        let mut a = [[0.0; ERROR_MAX]; ERROR_MAX];
+        let f0 = self.derivative(t, x, cmd);
+        // Rows of the forces: the velocity block's state slots, and for a fixed wing the
+        // rates' (state 10..13 → error 9..12).
+        let force_rows: &[(usize, usize)] = match self.vehicle {
+            Vehicle::PointMass => &[(3, 3), (4, 4), (5, 5)],
+            Vehicle::FixedWing(_) => &[(3, 3), (4, 4), (5, 5), (9, 10), (10, 11), (11, 12)],
+        };
+        let mut e = [0.0; ERROR_MAX];
+        for j in 0..n {
+            let h = STEPS[j / 3];
+            e[j] = h;
+            let f = self.derivative(t, &self.perturbed(x, &e[..n]), cmd);
+            e[j] = 0.0;
+            for &(row, slot) in force_rows {
+                a[row][j] = (f.0[slot] - f0.0[slot]) / h;
+            }
+        }
+        match self.vehicle {
+            Vehicle::PointMass => {
+                for k in 0..3 {
+                    a[k][3 + k] = 1.0;
+                }
+            }
+            Vehicle::FixedWing(_) => {
+                let rot = x.rot();
+                // δṗ = R·δv − R·[v]×·δθ
+                let r_v = rot * -skew(x.vel());
+                // δθ̇ = −[ω]×·δθ + δω
+                let w = -skew(x.omega());
+                for r in 0..3 {
+                    for c in 0..3 {
+                        a[r][3 + c] = rot.col(c)[r];
+                        a[r][6 + c] = r_v.col(c)[r];
+                        a[6 + r][6 + c] = w.col(c)[r];
+                    }
+                    a[6 + r][9 + r] = 1.0;
+                }
+            }
+        }
+        a
+    }
+}
+
+/// exp(h·a) over the first `n` rows and columns, by its Taylor series to 4th order in
+/// Horner form: I + ha(I + ha/2(I + ha/3(I + ha/4))).
+pub fn transition(a: &ErrorMatrix, n: usize, h: f64) -> ErrorMatrix {
+    // The innermost factor, I + ha/4, needs no product.
+    let mut phi = scaled_plus_identity(a, n, 0.25 * h);
+    for k in (1..=3).rev() {
+        phi = scaled_plus_identity(&mul(a, &phi, n), n, h / k as f64);
+    }
+    phi
+}
+
+/// I + c·m over the first `n` rows and columns.
+fn scaled_plus_identity(m: &ErrorMatrix, n: usize, c: f64) -> ErrorMatrix {
+    let mut out = [[0.0; ERROR_MAX]; ERROR_MAX];
+    for (k, (row, m_row)) in out.iter_mut().zip(m).enumerate().take(n) {
+        for (o, v) in row.iter_mut().zip(m_row).take(n) {
+            *o = c * v;
+        }
+        row[k] += 1.0;
+    }
+    out
+}
+
+/// The columns of `s` carried over a step with transition matrix `phi`: s ← phi·s.
+pub fn propagate(phi: &ErrorMatrix, n: usize, s: &mut ErrorMatrix) {
+    *s = mul(phi, s, n);
+}
+
+/// a·b over the first `n` rows and columns of `a` (all columns of `b`). Each row of the
+/// product is summed in a local array the compiler keeps in registers.
+fn mul(a: &ErrorMatrix, b: &ErrorMatrix, n: usize) -> ErrorMatrix {
+    let mut out = [[0.0; ERROR_MAX]; ERROR_MAX];
+    for (out_r, a_r) in out.iter_mut().zip(a).take(n) {
+        let mut acc = [0.0; ERROR_MAX];
+        for (&a_rk, b_k) in a_r.iter().zip(b).take(n) {
+            for (s, &bv) in acc.iter_mut().zip(b_k) {
+                *s += a_rk * bv;
+            }
+        }
+        *out_r = acc;
+    }
+    out
+}
