@@ -11,7 +11,8 @@
 //! aircraft system identification with estimated initial conditions: Levenberg–Marquardt on
 //! the model's own prediction over the window (or its first `span` seconds), minimising the
 //! noise-weighted misfit of every measured channel — position, velocity, attitude, body
-//! rates, airspeed — with a forward-difference Jacobian (one extra flight per state). Twelve
+//! rates, airspeed — with the Jacobian of one tangent-linear flight (`sensitivity.rs`;
+//! forward differences, one flight per start number, only where that flight diverges). Twelve
 //! numbers for a fixed wing (position, NED velocity, roll/pitch/yaw, p/q/r), six for a point
 //! mass. Surface positions under actuator lag are not fitted: they follow from the commands.
 
@@ -157,7 +158,7 @@ impl Prepared<'_> {
     }
 
     /// Fit the start state of a window by Levenberg–Marquardt from `x0` (module docs). The
-    /// Jacobian is taken by forward differences once, then kept current by Broyden's rank-one
+    /// Jacobian is taken once (tangent-linear), then kept current by Broyden's rank-one
     /// updates (taken afresh when an updated one stops leading downhill); the fit stops when
     /// the next step would lower the misfit by less than [`ABS_TOL`] (in units of the noise
     /// variance: nothing a significance test could see) or a relative [`REL_TOL`].
