@@ -66,8 +66,13 @@ impl Model {
         out.set_pos_ned(x.pos_ned() + v3(0));
         out.set_vel(x.vel() + v3(3));
         if matches!(self.vehicle, Vehicle::FixedWing(_)) {
-            let q = (x.quat() * DQuat::from_scaled_axis(v3(6))).normalize();
-            out.0[6..10].copy_from_slice(&q.to_array());
+            // Only a rotation turns the quaternion: renormalising an unturned one would add
+            // rounding to every other column's difference.
+            let turn = v3(6);
+            if turn != DVec3::ZERO {
+                let q = (x.quat() * DQuat::from_scaled_axis(turn)).normalize();
+                out.0[6..10].copy_from_slice(&q.to_array());
+            }
             out.set_omega(x.omega() + v3(9));
         }
         out
@@ -86,7 +91,10 @@ impl Model {
             Vehicle::FixedWing(_) => &[(3, 3), (4, 4), (5, 5), (9, 10), (10, 11), (11, 12)],
         };
         let mut e = [0.0; ERROR_MAX];
-        for j in 0..n {
+        // Without effects the equations do not depend on position (uniform air, constant
+        // gravity): those columns are zero, and not worth three evaluations.
+        let first = if self.effects.is_empty() { 3 } else { 0 };
+        for j in first..n {
             let h = STEPS[j / 3];
             e[j] = h;
             let f = self.derivative(t, &self.perturbed(x, &e[..n]), cmd);
@@ -121,13 +129,21 @@ impl Model {
     }
 }
 
+/// How many leading columns of `a` (the position block at most) are zero: the equations do
+/// not depend on those error components, and products may skip them.
+pub fn free_columns(a: &ErrorMatrix, n: usize) -> usize {
+    let zero = |c: usize| a.iter().take(n).all(|row| row[c] == 0.0);
+    (0..3.min(n)).take_while(|&c| zero(c)).count()
+}
+
 /// exp(h·a) over the first `n` rows and columns, by its Taylor series to 4th order in
-/// Horner form: I + ha(I + ha/2(I + ha/3(I + ha/4))).
-pub fn transition(a: &ErrorMatrix, n: usize, h: f64) -> ErrorMatrix {
+/// Horner form: I + ha(I + ha/2(I + ha/3(I + ha/4))). `free`: leading columns of `a` that
+/// are zero ([`free_columns`]).
+pub fn transition(a: &ErrorMatrix, n: usize, h: f64, free: usize) -> ErrorMatrix {
     // The innermost factor, I + ha/4, needs no product.
     let mut phi = scaled_plus_identity(a, n, 0.25 * h);
     for k in (1..=3).rev() {
-        phi = scaled_plus_identity(&mul(a, &phi, n), n, h / k as f64);
+        phi = scaled_plus_identity(&mul(a, &phi, n, free, false), n, h / k as f64);
     }
     phi
 }
@@ -144,18 +160,25 @@ fn scaled_plus_identity(m: &ErrorMatrix, n: usize, c: f64) -> ErrorMatrix {
     out
 }
 
-/// The columns of `s` carried over a step with transition matrix `phi`: s ← phi·s.
-pub fn propagate(phi: &ErrorMatrix, n: usize, s: &mut ErrorMatrix) {
-    *s = mul(phi, s, n);
+/// The columns of `s` carried over a step with transition matrix `phi`: s ← phi·s. `free`:
+/// leading columns of the step's Jacobian that are zero, so that the same columns of `phi`
+/// are unit vectors.
+pub fn propagate(phi: &ErrorMatrix, n: usize, s: &mut ErrorMatrix, free: usize) {
+    *s = mul(phi, s, n, free, true);
 }
 
-/// a·b over the first `n` rows and columns of `a` (all columns of `b`). Each row of the
-/// product is summed in a local array the compiler keeps in registers.
-fn mul(a: &ErrorMatrix, b: &ErrorMatrix, n: usize) -> ErrorMatrix {
+/// a·b over the first `n` rows and columns of `a` (all columns of `b`), for `a` whose first
+/// `skip` columns are zero (`unit`: unit vectors instead). Each row of the product is summed
+/// in a local array the compiler keeps in registers, in the order of the full product.
+fn mul(a: &ErrorMatrix, b: &ErrorMatrix, n: usize, skip: usize, unit: bool) -> ErrorMatrix {
     let mut out = [[0.0; ERROR_MAX]; ERROR_MAX];
-    for (out_r, a_r) in out.iter_mut().zip(a).take(n) {
-        let mut acc = [0.0; ERROR_MAX];
-        for (&a_rk, b_k) in a_r.iter().zip(b).take(n) {
+    for (r, (out_r, a_r)) in out.iter_mut().zip(a).enumerate().take(n) {
+        let mut acc = if unit && r < skip {
+            b[r]
+        } else {
+            [0.0; ERROR_MAX]
+        };
+        for (&a_rk, b_k) in a_r.iter().zip(b).take(n).skip(skip) {
             for (s, &bv) in acc.iter_mut().zip(b_k) {
                 *s += a_rk * bv;
             }

@@ -14,7 +14,7 @@ use glam::{DMat3, DVec3};
 use super::predict::{controls_at, read_out};
 use super::start::{param_count, state_of};
 use super::Prepared;
-use crate::flight::linear::{propagate, transition, ErrorMatrix, ERROR_MAX};
+use crate::flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
 use crate::flight::model::{Model, State, Vehicle};
 use crate::flight::Controls;
 
@@ -59,6 +59,7 @@ impl Prepared<'_> {
         // exp(h·a), and the h it is for.
         let mut phi = a;
         let mut phi_h = f64::NAN;
+        let mut free = 0;
         let mut step_count = 0usize;
         for i in start..end {
             let t = d.time[i];
@@ -103,14 +104,15 @@ impl Prepared<'_> {
                         controls_at(d, i + 1)
                     };
                     a = model.error_jacobian(tk + h, &next, &mean(&cmd, &following));
+                    free = free_columns(&a, n);
                     phi_h = f64::NAN;
                 }
                 step_count += 1;
                 if h != phi_h {
-                    phi = transition(&a, n, h);
+                    phi = transition(&a, n, h, free);
                     phi_h = h;
                 }
-                propagate(&phi, n, &mut s);
+                propagate(&phi, n, &mut s, free);
                 x = next;
             }
         }
