@@ -438,14 +438,19 @@ impl Model {
         out
     }
 
-    /// Integrate from `t0` to `t1` with steps of at most `max_dt`, commands held constant.
-    pub fn advance(&self, t0: f64, x: &State, cmd: &Controls, t1: f64, max_dt: f64) -> State {
-        let span = t1 - t0;
-        if span <= 0.0 {
-            return *x;
+    /// The steps [`advance`](Self::advance) takes over `span` seconds: their number and
+    /// length (none for a span that is not positive).
+    pub fn substeps(span: f64, max_dt: f64) -> (usize, f64) {
+        if span.is_nan() || span <= 0.0 {
+            return (0, 0.0);
         }
         let n = (span / max_dt).ceil().max(1.0) as usize;
-        let dt = span / n as f64;
+        (n, span / n as f64)
+    }
+
+    /// Integrate from `t0` to `t1` with steps of at most `max_dt`, commands held constant.
+    pub fn advance(&self, t0: f64, x: &State, cmd: &Controls, t1: f64, max_dt: f64) -> State {
+        let (n, dt) = Self::substeps(t1 - t0, max_dt);
         let mut s = *x;
         for i in 0..n {
             s = self.step(t0 + i as f64 * dt, &s, cmd, dt);

@@ -53,8 +53,9 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
 }
 
 /// Fly `model` from `x0` at sample `start` through the samples `start..end`, writing one
-/// prediction per sample into `out` (cleared). A diverging model holds its last finite
-/// prediction (scored as the large error it is).
+/// prediction per sample into `out` and the state after every integration step into
+/// `states` (both cleared; `states` begins with `x0`). A diverging model holds its last
+/// finite prediction (scored as the large error it is) and its states stop there.
 pub fn fly_window(
     model: &Model,
     d: &FlightData,
@@ -62,19 +63,27 @@ pub fn fly_window(
     x0: &State,
     max_dt: f64,
     out: &mut Vec<Predicted>,
+    states: &mut Vec<State>,
 ) {
     out.clear();
+    states.clear();
     let mut x = *x0;
+    states.push(x);
     for i in start..end {
         let p = read_out(model, d.time[i], &x);
         out.push(p);
         if i + 1 < end {
-            let next = model.advance(d.time[i], &x, &controls_at(d, i), d.time[i + 1], max_dt);
-            if !next.is_finite() {
-                out.resize(end - start, p);
-                return;
+            // `Model::advance`, its steps recorded.
+            let cmd = controls_at(d, i);
+            let (steps, h) = Model::substeps(d.time[i + 1] - d.time[i], max_dt);
+            for k in 0..steps {
+                x = model.step(d.time[i] + k as f64 * h, &x, &cmd, h);
+                if !x.is_finite() {
+                    out.resize(end - start, p);
+                    return;
+                }
+                states.push(x);
             }
-            x = next;
         }
     }
 }

@@ -1,8 +1,8 @@
-//! The Jacobian of a window's residuals with respect to its start parameters, from one
-//! flight: the trajectory's sensitivity to its start state carried along it by the
+//! The Jacobian of a window's residuals with respect to its start parameters, along a flight
+//! already flown: the trajectory's sensitivity to its start state carried along it by the
 //! tangent-linear equations ([`crate::flight::linear`]), read out through the derivative of
 //! each measured channel. It replaces one flight per start parameter (forward differences)
-//! at the cost of one model Jacobian per integration step.
+//! at the cost of one model Jacobian per pair of integration steps.
 //!
 //! Read-out derivatives, for a column of the error state (δp, δv, δθ, δω):
 //! position δp; NED velocity R(δv + δθ × v); attitude W(φ, θ)·δθ, W the matrix that turns
@@ -11,7 +11,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::predict::{controls_at, read_out};
+use super::predict::controls_at;
 use super::start::{param_count, state_of};
 use super::Prepared;
 use crate::flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
@@ -26,10 +26,11 @@ const WIND_STEP: f64 = 1e-2;
 type SampleRows = [[f64; ERROR_MAX]; 13];
 
 impl Prepared<'_> {
-    /// The weighted residuals over `span` from the start parameters `q` (and their surface
-    /// positions) into `r`, and their Jacobian with respect to `q` into `jac` (column-major,
-    /// `r.len()` rows), both from one flight with the tangent-linear equations (module
-    /// docs). False when the flight diverges (the caller falls back to differences).
+    /// The Jacobian of the weighted residuals `r` over `span` with respect to the start
+    /// parameters `q` (and their surface positions) into `jac` (column-major, `r.len()`
+    /// rows), by the tangent-linear equations along `trajectory`: the states after every
+    /// integration step of the flight from `q` that `r` came from (`fly_window`'s). False
+    /// when that flight diverged or does not fit (the caller falls back to differences).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn tangent_jacobian(
         &self,
@@ -37,33 +38,36 @@ impl Prepared<'_> {
         (start, end): (usize, usize),
         q: &[f64],
         surfaces: DVec3,
-        r: &mut Vec<f64>,
+        trajectory: &[State],
+        r: &[f64],
         jac: &mut Vec<f64>,
     ) -> bool {
         let d = self.data;
         let n = model.error_dim();
         let np = param_count(model);
+        let samples = end.saturating_sub(start);
+        if samples == 0 || !r.len().is_multiple_of(samples) || trajectory.is_empty() {
+            return false;
+        }
+        let per_sample = r.len() / samples;
+        let m = r.len();
         let x0 = state_of(model, q, surfaces);
+        if trajectory[0] != x0 {
+            return false;
+        }
         let mut s = start_sensitivity(model, q, &x0);
-        // Rows per sample: the residual rows of the first sample.
-        r.clear();
-        self.residual_rows(model, start, &read_out(model, d.time[start], &x0), r);
-        let per_sample = r.len();
-        let m = per_sample * (end - start);
-        r.clear();
         jac.clear();
         jac.resize(np * m, 0.0);
         let mut rows: SampleRows = [[0.0; ERROR_MAX]; 13];
-        let mut x = x0;
         let mut a: ErrorMatrix = [[0.0; ERROR_MAX]; ERROR_MAX];
         // exp(h·a), and the h it is for.
         let mut phi = a;
         let mut phi_h = f64::NAN;
         let mut free = 0;
+        // Index of the current state in `trajectory` (= integration steps taken).
         let mut step_count = 0usize;
         for i in start..end {
-            let t = d.time[i];
-            self.residual_rows(model, i, &read_out(model, t, &x), r);
+            let x = trajectory[step_count];
             let count = self.jacobian_rows(model, i, &x, &s, &mut rows);
             if count != per_sample {
                 return false;
@@ -77,20 +81,14 @@ impl Prepared<'_> {
             if i + 1 == end {
                 break;
             }
-            // The substeps of `Model::advance`.
+            // The steps of `Model::advance`, as `fly_window` took them.
+            let t = d.time[i];
             let cmd = controls_at(d, i);
-            let span = d.time[i + 1] - t;
-            if span <= 0.0 {
-                continue;
-            }
-            let steps = (span / self.cfg.max_dt).ceil().max(1.0) as usize;
-            let h = span / steps as f64;
+            let (steps, h) = Model::substeps(d.time[i + 1] - t, self.cfg.max_dt);
             for k in 0..steps {
-                let tk = t + k as f64 * h;
-                let next = model.step(tk, &x, &cmd, h);
-                if !next.is_finite() {
-                    return false;
-                }
+                let Some(next) = trajectory.get(step_count + 1) else {
+                    return false; // the flight diverged here
+                };
                 // One model Jacobian per pair of steps, at the state between them (on the
                 // trajectory) under the mean of the two steps' commands: the midpoint rule
                 // over the pair, second order (the first step's commands alone would make it
@@ -103,7 +101,8 @@ impl Prepared<'_> {
                     } else {
                         controls_at(d, i + 1)
                     };
-                    a = model.error_jacobian(tk + h, &next, &mean(&cmd, &following));
+                    let tk = t + k as f64 * h;
+                    a = model.error_jacobian(tk + h, next, &mean(&cmd, &following));
                     free = free_columns(&a, n);
                     phi_h = f64::NAN;
                 }
@@ -113,10 +112,9 @@ impl Prepared<'_> {
                     phi_h = h;
                 }
                 propagate(&phi, n, &mut s, free);
-                x = next;
             }
         }
-        r.len() == m && r.iter().chain(jac.iter()).all(|v| v.is_finite())
+        jac.iter().all(|v| v.is_finite())
     }
 
     /// The derivatives of sample `i`'s residual rows (in the order of `residual_rows`) along
@@ -289,18 +287,32 @@ mod tests {
             q[6] += 0.01 * offset;
         }
         let surfaces = x0.surfaces();
-        let (mut r, mut jac) = (Vec::new(), Vec::new());
-        assert!(prep.tangent_jacobian(m, window, &q, surfaces, &mut r, &mut jac));
-        let mut r_fd = Vec::new();
+        let mut r = Vec::new();
         let mut scratch = Scratch::default();
+        prep.window_residuals(m, window, &state_of(m, &q, surfaces), &mut scratch, &mut r);
+        let mut jac = Vec::new();
+        assert!(prep.tangent_jacobian(m, window, &q, surfaces, &scratch.states, &r, &mut jac));
+        // Along a flight from elsewhere, it declines.
+        let mut other = q.clone();
+        other[1] += 1.0;
+        let mut r_other = Vec::new();
+        let mut elsewhere = Scratch::default();
         prep.window_residuals(
             m,
             window,
-            &state_of(m, &q, surfaces),
-            &mut scratch,
-            &mut r_fd,
+            &state_of(m, &other, surfaces),
+            &mut elsewhere,
+            &mut r_other,
         );
-        assert_eq!(r, r_fd, "the tangent flight's residuals are the flight's");
+        assert!(!prep.tangent_jacobian(
+            m,
+            window,
+            &q,
+            surfaces,
+            &elsewhere.states,
+            &r,
+            &mut Vec::new()
+        ));
         let rows = r.len();
         let mut fd = vec![0.0; jac.len()];
         prep.difference_jacobian(m, window, &q, surfaces, &r, &mut scratch, &mut fd);

@@ -191,7 +191,7 @@ impl Prepared<'_> {
         let mut q = params_of(model, &x0);
         let mut r = Vec::new();
         self.window_residuals(model, span, &state_of(model, &q, surfaces), scratch, &mut r);
-        std::mem::swap(&mut scratch.predicted, &mut scratch.accepted);
+        scratch.accept();
         let mut sse = sum_sq(&r);
         let m = r.len();
         let mut fit = StartFit {
@@ -258,7 +258,7 @@ impl Prepared<'_> {
                     q = qn;
                     sse = sse_new;
                     std::mem::swap(&mut r, &mut trial);
-                    std::mem::swap(&mut scratch.predicted, &mut scratch.accepted);
+                    scratch.accept();
                     lambda = (lambda / 10.0).max(1e-12);
                     fresh = false;
                     continue;
@@ -281,8 +281,9 @@ impl Prepared<'_> {
     }
 
     /// The Jacobian of the window residuals `r` at start parameters `q` into `jac`
-    /// (column-major): from the tangent-linear flight ([`Prepared::tangent_jacobian`]), or by
-    /// forward differences where that flight diverges.
+    /// (column-major): from the tangent-linear equations along the accepted flight, the one
+    /// `r` came from ([`Prepared::tangent_jacobian`]), or by forward differences where that
+    /// flight diverged.
     #[allow(clippy::too_many_arguments)]
     fn jacobian_at(
         &self,
@@ -294,9 +295,8 @@ impl Prepared<'_> {
         scratch: &mut Scratch,
         jac: &mut Vec<f64>,
     ) {
-        let mut rows = std::mem::take(&mut scratch.rows);
-        let tangent = self.tangent_jacobian(model, span, q, surfaces, &mut rows, jac);
-        scratch.rows = rows;
+        let tangent =
+            self.tangent_jacobian(model, span, q, surfaces, &scratch.accepted_states, r, jac);
         if !tangent || jac.len() != q.len() * r.len() {
             jac.clear();
             jac.resize(q.len() * r.len(), 0.0);
@@ -352,6 +352,7 @@ impl Prepared<'_> {
             x0,
             self.cfg.max_dt,
             &mut scratch.predicted,
+            &mut scratch.states,
         );
         out.clear();
         for (k, i) in (span.0..span.1).enumerate() {
@@ -418,10 +419,20 @@ pub fn project_out(jac: &[f64], gram: &[f64], params: usize, cols: &mut [f64], m
 pub struct Scratch {
     /// Predictions over the window.
     pub predicted: Vec<Predicted>,
+    /// The states of that flight, after every integration step.
+    pub states: Vec<State>,
     /// Predictions over the fit span from the start a fit ended at (its residuals').
     pub accepted: Vec<Predicted>,
-    /// Residual rows of the tangent-linear flight.
-    rows: Vec<f64>,
+    /// The states of that flight.
+    accepted_states: Vec<State>,
+}
+
+impl Scratch {
+    /// The last flight is the accepted one (its predictions and states are kept).
+    fn accept(&mut self) {
+        std::mem::swap(&mut self.predicted, &mut self.accepted);
+        std::mem::swap(&mut self.states, &mut self.accepted_states);
+    }
 }
 
 /// Broyden's rank-one update of a column-major Jacobian after the step `step` took the
