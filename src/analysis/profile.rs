@@ -227,6 +227,17 @@ pub(crate) fn normal_equations(
     sum
 }
 
+/// What a full Gauss–Newton step could still lower the linearised misfit by, gᵀA⁻¹g (None
+/// when A is singular): below the fit's tolerance, no trial is worth a pass over the windows
+/// — without this check a converged fit spends its last iteration on trials that all fail.
+pub(crate) fn newton_gain(a: &[f64], g: &[f64]) -> Option<f64> {
+    let mut x = g.to_vec();
+    let mut m = a.to_vec();
+    solve_in_place(&mut m, &mut x, g.len())?;
+    let gain = dot(g, &x);
+    gain.is_finite().then_some(gain)
+}
+
 /// Smallest typical size of an aircraft number that is zero in the set (a coefficient of 0:
 /// a change of 0.01 is already a large one for most).
 const AIRCRAFT_MIN_SCALE: f64 = 0.01;

@@ -13,7 +13,7 @@ use crate::analysis::compare::{
     compare_from, compare_many, compare_refit, compare_with_fits, Comparison, Prepared,
 };
 use crate::analysis::profile::{
-    add_into, aircraft_free, damped_trial, effect, linear_profile, normal_equations,
+    add_into, aircraft_free, damped_trial, effect, linear_profile, newton_gain, normal_equations,
     perturbed_models, set_values, values, window_normal, Free, Linearised, Owner, FIT_TOL,
 };
 use crate::flight::effects::{Effect, ParamSpec};
@@ -54,6 +54,9 @@ fn fit_linearised(
     let mut lambda = 1e-3;
     for _ in 0..iterations {
         let (a0, g) = normal_equations(model, free, theta, prep, lin);
+        if newton_gain(&a0, &g).is_some_and(|v| v < FIT_TOL.max(1e-6 * chi2)) {
+            break;
+        }
         let mut accepted = None;
         for _ in 0..8 {
             let Some(trial) = damped_trial(&a0, &g, lambda, theta, free) else {

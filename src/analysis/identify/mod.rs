@@ -25,8 +25,8 @@
 
 use super::compare::{compare_refit, compare_with_fits, CompareConfig, Comparison, Prepared};
 use super::profile::{
-    aircraft_free, damped_trial, linear_profile, normal_equations, set_values, values, Free,
-    Linearised, FIT_TOL,
+    aircraft_free, damped_trial, linear_profile, newton_gain, normal_equations, set_values, values,
+    Free, Linearised, FIT_TOL,
 };
 use crate::flight::data::FlightData;
 use crate::flight::model::{Model, State};
@@ -432,6 +432,9 @@ fn lm(
         for k in 0..np {
             a0[k * np + k] += s2 * prior.weight[k];
             g[k] += s2 * prior.weight[k] * (theta[k] - prior.centre[k]) / free[k].scale;
+        }
+        if newton_gain(&a0, &g).is_some_and(|v| v < FIT_TOL.max(1e-7 * objective)) {
+            break;
         }
         let mut accepted = None;
         for _ in 0..10 {
