@@ -9,11 +9,13 @@
 use glam::DVec3;
 use rayon::prelude::*;
 
-use crate::analysis::compare::start::{params_of, project_out, state_of, Scratch, StartFit};
+use crate::analysis::compare::start::{
+    params_of, project_column, project_out, state_of, Scratch, StartFit,
+};
 use crate::analysis::compare::Prepared;
 use crate::flight::effects::Effect;
 use crate::flight::model::{Model, State};
-use crate::numeric::{axpy, dot, gram, solve_in_place};
+use crate::numeric::{dot, gram, solve_in_place};
 
 /// The effect named `name` in `model`.
 pub(crate) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
@@ -107,17 +109,10 @@ impl Linearised {
         if np == 0 || self.jac.len() != np * m {
             return vec![0.0; np];
         }
-        let mut y: Vec<f64> = (0..np)
-            .map(|a| dot(&self.jac[a * m..(a + 1) * m], r))
-            .collect();
-        let mut g = self.gram.clone();
-        if solve_in_place(&mut g, &mut y, np).is_none() {
-            return vec![0.0; np];
+        match project_column(&self.jac, &self.gram, np, r) {
+            Some(y) => y.iter().map(|v| -v).collect(),
+            None => vec![0.0; np],
         }
-        for (a, ya) in y.iter().enumerate() {
-            axpy(-ya, &self.jac[a * m..(a + 1) * m], r);
-        }
-        y.iter().map(|v| -v).collect()
     }
 }
 

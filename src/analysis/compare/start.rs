@@ -401,17 +401,29 @@ pub fn project_out(jac: &[f64], gram: &[f64], params: usize, cols: &mut [f64], m
         return;
     }
     for col in cols.chunks_mut(m) {
-        let mut y: Vec<f64> = (0..params)
-            .map(|a| dot(&jac[a * m..(a + 1) * m], col))
-            .collect();
-        let mut g = gram.to_vec();
-        if solve_in_place(&mut g, &mut y, params).is_none() {
-            continue;
-        }
-        for (a, ya) in y.iter().enumerate() {
-            axpy(-ya, &jac[a * m..(a + 1) * m], col);
-        }
+        project_column(jac, gram, params, col);
     }
+}
+
+/// Replace `col` by col − J·(JᵀJ)⁻¹Jᵀcol and return the coefficients (JᵀJ)⁻¹Jᵀcol (None,
+/// leaving `col` as it is, when JᵀJ is singular). `jac` holds `params` columns of
+/// `col.len()` rows; `gram` is its JᵀJ.
+pub(crate) fn project_column(
+    jac: &[f64],
+    gram: &[f64],
+    params: usize,
+    col: &mut [f64],
+) -> Option<Vec<f64>> {
+    let m = col.len();
+    let mut y: Vec<f64> = (0..params)
+        .map(|a| dot(&jac[a * m..(a + 1) * m], col))
+        .collect();
+    let mut g = gram.to_vec();
+    solve_in_place(&mut g, &mut y, params)?;
+    for (a, ya) in y.iter().enumerate() {
+        axpy(-ya, &jac[a * m..(a + 1) * m], col);
+    }
+    Some(y)
 }
 
 /// Reusable buffers of one window's evaluations.
