@@ -74,3 +74,20 @@ pub struct Controls {
     /// Rudder δr, rad.
     pub rudder: f64,
 }
+
+impl Controls {
+    /// (throttle, elevator, aileron, rudder).
+    pub fn to_array(&self) -> [f64; 4] {
+        [self.throttle, self.elevator, self.aileron, self.rudder]
+    }
+
+    /// From (throttle, elevator, aileron, rudder).
+    pub fn from_array([throttle, elevator, aileron, rudder]: [f64; 4]) -> Self {
+        Self {
+            throttle,
+            elevator,
+            aileron,
+            rudder,
+        }
+    }
+}

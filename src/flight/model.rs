@@ -408,34 +408,122 @@ impl Model {
             let s0 = x.surfaces();
             move |h: f64| target + (s0 - target) * (-h / tau).exp()
         });
+        self.rk4(
+            t,
+            x,
+            dt,
+            [cmd; 4],
+            lag.as_ref().map(|f| f as &dyn Fn(f64) -> DVec3),
+        )
+        .end
+    }
+
+    /// One RK4 step across several samples of zero-order-held commands (`held`), for data
+    /// sampled faster than the integration step: the step's cost no longer grows with the
+    /// data rate. The stages take the command in force at the step's start (k₁) and, for k₂ =
+    /// k₃ and k₄, the values that make the step integrate the held commands like the exact
+    /// solution to second order in h for a system linear in them: with m₀ = ∫u/h and m₁ =
+    /// ∫(h−s)u ds/h², the stage commands satisfy u₁ + 4c + c₄ = 6m₀ and u₁ + 2c = 6m₁ (for
+    /// two samples, c = ⅝u₀ + ⅜u₁ and c₄ = −½u₀ + 3/2·u₁; a constant command gives itself).
+    /// A command switch inside the step then leaves an error of order h³·Δu instead of
+    /// h²·Δu. Surfaces under actuator lag follow the held commands exactly, piece by piece.
+    /// The result keeps the stages for [`Rk4Step::at`], the state inside the step.
+    /// Without an interval of positive length, the step stays at `x`.
+    pub fn step_held(&self, x: &State, held: &HeldCommands) -> Rk4Step {
+        let n = held.len();
+        let (t0, h) = match (held.times.first(), held.times.last()) {
+            (Some(&t0), Some(&t1)) if n > 0 && t1 - t0 > 0.0 => (t0, t1 - t0),
+            _ => {
+                return Rk4Step {
+                    t: held.times.first().copied().unwrap_or(0.0),
+                    start: *x,
+                    cmds: [Controls::default(); 3],
+                    stages: [State([0.0; STATE_LEN]); 4],
+                    dt: 0.0,
+                    end: *x,
+                }
+            }
+        };
+        let first = held.command(0);
+        // m₀ and m₁ per command channel.
+        let mut m0 = [0.0; 4];
+        let mut m1 = [0.0; 4];
+        for k in 0..n {
+            let (a, b) = (held.times[k] - t0, held.times[k + 1] - t0);
+            let w0 = (b - a) / h;
+            let w1 = ((h - a).powi(2) - (h - b).powi(2)) / (2.0 * h * h);
+            let c = held.command(k).to_array();
+            for j in 0..4 {
+                m0[j] += w0 * c[j];
+                m1[j] += w1 * c[j];
+            }
+        }
+        let u1 = first.to_array();
+        let middle: [f64; 4] = std::array::from_fn(|j| 0.5 * (6.0 * m1[j] - u1[j]));
+        let last: [f64; 4] = std::array::from_fn(|j| 6.0 * m0[j] - u1[j] - 4.0 * middle[j]);
+        let (middle, last) = (Controls::from_array(middle), Controls::from_array(last));
+        let lag = self.actuator_tau().map(|tau| {
+            let s0 = x.surfaces();
+            move |offset: f64| held.surfaces_after(s0, tau, offset)
+        });
+        self.rk4(
+            t0,
+            x,
+            h,
+            [&first, &middle, &middle, &last],
+            lag.as_ref().map(|f| f as &dyn Fn(f64) -> DVec3),
+        )
+    }
+
+    /// RK4 from `x` over `dt` with stage commands `cmds` (k₁…k₄) and, under actuator lag, the
+    /// surfaces at each offset into the step from `lag`.
+    fn rk4(
+        &self,
+        t: f64,
+        x: &State,
+        dt: f64,
+        cmds: [&Controls; 4],
+        lag: Option<&dyn Fn(f64) -> DVec3>,
+    ) -> Rk4Step {
         let stage = |a: &State, b: &State, h: f64| {
             let mut r = a.0;
             for (ri, bi) in r.iter_mut().zip(b.0.iter()) {
                 *ri += h * bi;
             }
             let mut r = State(r);
-            if let Some(s) = &lag {
+            if let Some(s) = lag {
                 r.set_surfaces(s(h));
             }
             r
         };
-        let k1 = self.derivative(t, x, cmd);
-        let k2 = self.derivative(t + 0.5 * dt, &stage(x, &k1, 0.5 * dt), cmd);
-        let k3 = self.derivative(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmd);
-        let k4 = self.derivative(t + dt, &stage(x, &k3, dt), cmd);
+        let k1 = self.derivative(t, x, cmds[0]);
+        let k2 = self.derivative(t + 0.5 * dt, &stage(x, &k1, 0.5 * dt), cmds[1]);
+        let k3 = self.derivative(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmds[2]);
+        let k4 = self.derivative(t + dt, &stage(x, &k3, dt), cmds[3]);
         let mut out = x.0;
         for (i, o) in out.iter_mut().enumerate() {
             *o += dt / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);
         }
         let mut out = State(out);
-        if let Some(s) = &lag {
+        if let Some(s) = lag {
             out.set_surfaces(s(dt));
         }
-        if matches!(self.vehicle, Vehicle::FixedWing(_)) {
-            let q = out.quat().normalize();
-            out.0[6..10].copy_from_slice(&q.to_array());
+        self.renormalise(&mut out);
+        Rk4Step {
+            t,
+            start: *x,
+            cmds: [*cmds[0], *cmds[1], *cmds[3]],
+            stages: [k1, k2, k3, k4],
+            dt,
+            end: out,
         }
-        out
+    }
+
+    fn renormalise(&self, x: &mut State) {
+        if matches!(self.vehicle, Vehicle::FixedWing(_)) {
+            let q = x.quat().normalize();
+            x.0[6..10].copy_from_slice(&q.to_array());
+        }
     }
 
     /// The steps [`advance`](Self::advance) takes over `span` seconds: their number and
@@ -456,6 +544,135 @@ impl Model {
             s = self.step(t0 + i as f64 * dt, &s, cmd, dt);
         }
         s
+    }
+}
+
+/// Commands held over the samples one integration step spans: `controls[k]` from `times[k]`
+/// to `times[k + 1]` (no controls: all zero).
+#[derive(Clone, Copy, Debug)]
+pub struct HeldCommands<'a> {
+    /// The sample times, the step's start first and its end last (at least two).
+    pub times: &'a [f64],
+    /// One command per interval (`times.len() − 1`), or None for data without commands.
+    pub controls: Option<&'a [Controls]>,
+}
+
+impl HeldCommands<'_> {
+    /// Number of held intervals.
+    pub fn len(&self) -> usize {
+        self.times.len().saturating_sub(1)
+    }
+
+    /// Whether there is no interval.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn command(&self, k: usize) -> Controls {
+        self.controls
+            .and_then(|c| c.get(k).copied())
+            .unwrap_or_default()
+    }
+
+    /// The held commands integrated over the first `offset` seconds of the step (each
+    /// component in its unit times seconds).
+    fn integral(&self, offset: f64) -> Controls {
+        let Some(&t0) = self.times.first() else {
+            return Controls::default();
+        };
+        let mut sum = [0.0; 4];
+        for k in 0..self.len() {
+            let (a, b) = (self.times[k] - t0, self.times[k + 1] - t0);
+            if offset <= a {
+                break;
+            }
+            let w = offset.min(b) - a;
+            sum.iter_mut()
+                .zip(self.command(k).to_array())
+                .for_each(|(s, c)| *s += w * c);
+        }
+        Controls::from_array(sum)
+    }
+
+    /// Surfaces `offset` seconds into the step, from `s0` at its start, under a lag τ: the
+    /// exact first-order response to each held command in turn.
+    fn surfaces_after(&self, s0: DVec3, tau: f64, offset: f64) -> DVec3 {
+        let Some(&t0) = self.times.first() else {
+            return s0;
+        };
+        let mut s = s0;
+        for k in 0..self.len() {
+            let (a, b) = (self.times[k] - t0, self.times[k + 1] - t0);
+            if offset <= a {
+                break;
+            }
+            let c = self.command(k);
+            let target = DVec3::new(c.elevator, c.aileron, c.rudder);
+            s = target + (s - target) * (-(offset.min(b) - a) / tau).exp();
+        }
+        s
+    }
+}
+
+/// One RK4 step with its stages: the end state, and any state inside the step.
+#[derive(Clone, Copy, Debug)]
+pub struct Rk4Step {
+    t: f64,
+    start: State,
+    /// The stage commands (k₁, k₂ = k₃, k₄).
+    cmds: [Controls; 3],
+    stages: [State; 4],
+    dt: f64,
+    /// The state at the end of the step.
+    pub end: State,
+}
+
+impl Rk4Step {
+    /// The state `offset` seconds into the step, the commands over it `held` (the step's):
+    /// RK4's continuous extension (third order, from the stages already taken), its
+    /// quaternion renormalised and, under actuator lag, its surfaces exact.
+    ///
+    /// Where the commands switch inside the step, the extension's implied command integral
+    /// up to `offset` (its weights times the stage commands) is not the held one, and a term
+    /// of the derivative linear in the commands — a rate's response to its surface — would
+    /// be wrong to first order in the switch. The difference is added as B·Δ, B the
+    /// derivative's response to the commands at the step's start (one model evaluation:
+    /// f(x₀, u₁ + Δ/h)·h − k₁·h), which leaves an error of order h²·Δu.
+    pub fn at(&self, model: &Model, held: &HeldCommands, offset: f64) -> State {
+        let h = self.dt;
+        // NaN as well as zero: no step to be inside of.
+        if h.is_nan() || h <= 0.0 {
+            return self.start;
+        }
+        let th = offset / h;
+        let (t2, t3) = (th * th, th * th * th);
+        let b1 = th - 1.5 * t2 + 2.0 / 3.0 * t3;
+        let b23 = t2 - 2.0 / 3.0 * t3;
+        let b4 = -0.5 * t2 + 2.0 / 3.0 * t3;
+        let [k1, k2, k3, k4] = &self.stages;
+        let mut out = self.start.0;
+        for (i, o) in out.iter_mut().enumerate() {
+            *o += h * (b1 * k1.0[i] + b23 * (k2.0[i] + k3.0[i]) + b4 * k4.0[i]);
+        }
+        // Held minus implied command integral, over h (a command's units).
+        let [c1, cm, c4] = self.cmds.map(|c| c.to_array());
+        let exact = held.integral(offset).to_array();
+        let delta: [f64; 4] =
+            std::array::from_fn(|j| exact[j] / h - (b1 * c1[j] + 2.0 * b23 * cm[j] + b4 * c4[j]));
+        // Constant commands leave only rounding here.
+        if delta.iter().map(|d| d.abs()).sum::<f64>() > 1e-12 {
+            let probe = Controls::from_array(std::array::from_fn(|j| c1[j] + delta[j]));
+            let kp = model.derivative(self.t, &self.start, &probe);
+            for (i, o) in out.iter_mut().enumerate() {
+                *o += h * (kp.0[i] - k1.0[i]);
+            }
+        }
+        let mut out = State(out);
+        if let Some(tau) = model.actuator_tau() {
+            out.set_surfaces(held.surfaces_after(self.start.surfaces(), tau, offset));
+        }
+        model.renormalise(&mut out);
+        out
     }
 }
 

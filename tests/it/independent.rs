@@ -43,25 +43,43 @@ fn flight_test(effects: Effects, seed: u64) -> FlightOptions {
 fn noise_free_flights_of_another_integrator_compare_at_zero_for_every_window_and_offset() {
     let mut worst = 0.0f64;
     let mut report = String::new();
-    for (schedule, integrator, windows) in [
+    // At 100 and 200 Hz one integration step spans two and four samples, through the
+    // autopilot's commands and the control steps.
+    for (schedule, integrator, rate_hz, windows) in [
         (
             Schedule::steps_8_18_24_34_36_41(),
             Integrator::rk4_1ms(),
+            50.0,
             &[4.0, 6.0, 8.0, 9.0, 10.0, 12.0][..],
         ),
         (
             Schedule::window_steps(4.0),
             Integrator::rk4_1ms(),
+            50.0,
             &[4.0, 8.0, 12.0][..],
         ),
         (
             Schedule::steps_8_18_24_34_36_41(),
             Integrator::dopri(1e-10),
+            50.0,
+            &[8.0][..],
+        ),
+        (
+            Schedule::steps_8_18_24_34_36_41(),
+            Integrator::rk4_1ms(),
+            100.0,
+            &[4.0, 8.0][..],
+        ),
+        (
+            Schedule::window_steps(4.0),
+            Integrator::rk4_1ms(),
+            200.0,
             &[8.0][..],
         ),
     ] {
         let mut o = FlightOptions::new(schedule);
         o.integrator = integrator;
+        o.rate_hz = rate_hz;
         let d = flight(&o);
         let model = baseline(&d);
         for &window_s in windows {
@@ -73,7 +91,7 @@ fn noise_free_flights_of_another_integrator_compare_at_zero_for_every_window_and
                 };
                 let c = compare(&model, &d, cfg);
                 report += &format!(
-                    "{} {}: window {window_s} s, offset {offset_s} s: total {:.5}\n",
+                    "{} {} {rate_hz} Hz: window {window_s} s, offset {offset_s} s: total {:.5}\n",
                     o.schedule.name,
                     integrator.describe(),
                     c.total
@@ -83,46 +101,52 @@ fn noise_free_flights_of_another_integrator_compare_at_zero_for_every_window_and
         }
     }
     eprint!("{report}");
-    // Before the start states were fitted: 0.30 to 2.10 on the steps flight.
-    assert!(worst <= 0.05, "worst total {worst}\n{report}");
+    // Before the start states were fitted: 0.30 to 2.10 on the steps flight; the issue asks
+    // 0.05. Measured 0.00044-0.00052 at 50 Hz and 0.0011-0.0012 at 100 Hz (commands that
+    // change every sample inside an integration step).
+    assert!(worst <= 0.005, "worst total {worst}\n{report}");
 }
 
 #[test]
 fn noise_is_told_from_manoeuvres_and_a_right_model_sits_at_its_floor() {
-    let mut o = FlightOptions::new(Schedule::steps_8_18_24_34_36_41());
-    o.noise = survey_noise();
-    o.seed = 11;
-    let d = flight(&o);
-    let model = baseline(&d);
-    let prep = Prepared::new(&d, CompareConfig::default());
-    let n = prep.noise;
-    let truth = [
-        ("position", n.pos_m, 0.05),
-        ("velocity", n.vel_mps, 0.05),
-        ("attitude", n.att_rad.to_degrees(), 0.05),
-        ("rates", n.rate_radps.to_degrees(), 0.2),
-        ("airspeed", n.airspeed_mps, 0.05),
-    ];
-    for (what, got, want) in truth {
-        assert!(
-            (got / want - 1.0).abs() <= 0.3,
-            "{what} noise estimated {got}, true {want}"
-        );
-    }
-    for window_s in [4.0, 8.0, 12.0] {
-        let cfg = CompareConfig {
-            window_s,
-            ..CompareConfig::default()
-        };
-        let c = compare(&model, &d, cfg);
-        let floor = noise_floor(&model, &Prepared::new(&d, cfg));
-        eprintln!(
-            "window {window_s}: total {:.4}, floor {floor:.4}, {:.3} × noise",
-            c.total,
-            c.noise_units()
-        );
-        assert!(c.total <= 1.5 * floor, "{} vs floor {floor}", c.total);
-        assert!(c.noise_units() < 1.1, "{}", c.noise_units());
+    // At 100 Hz, every other sample lies inside an integration step.
+    for rate_hz in [50.0, 100.0] {
+        let mut o = FlightOptions::new(Schedule::steps_8_18_24_34_36_41());
+        o.noise = survey_noise();
+        o.seed = 11;
+        o.rate_hz = rate_hz;
+        let d = flight(&o);
+        let model = baseline(&d);
+        let prep = Prepared::new(&d, CompareConfig::default());
+        let n = prep.noise;
+        let truth = [
+            ("position", n.pos_m, 0.05),
+            ("velocity", n.vel_mps, 0.05),
+            ("attitude", n.att_rad.to_degrees(), 0.05),
+            ("rates", n.rate_radps.to_degrees(), 0.2),
+            ("airspeed", n.airspeed_mps, 0.05),
+        ];
+        for (what, got, want) in truth {
+            assert!(
+                (got / want - 1.0).abs() <= 0.3,
+                "{rate_hz} Hz: {what} noise estimated {got}, true {want}"
+            );
+        }
+        for window_s in [4.0, 8.0, 12.0] {
+            let cfg = CompareConfig {
+                window_s,
+                ..CompareConfig::default()
+            };
+            let c = compare(&model, &d, cfg);
+            let floor = noise_floor(&model, &Prepared::new(&d, cfg));
+            eprintln!(
+                "{rate_hz} Hz, window {window_s}: total {:.4}, floor {floor:.4}, {:.3} × noise",
+                c.total,
+                c.noise_units()
+            );
+            assert!(c.total <= 1.5 * floor, "{} vs floor {floor}", c.total);
+            assert!(c.noise_units() < 1.1, "{}", c.noise_units());
+        }
     }
 }
 

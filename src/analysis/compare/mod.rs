@@ -424,6 +424,10 @@ impl<'a> Prepared<'a> {
 /// An angle difference wrapped into (−π, π].
 fn wrap(a: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
+    // Most differences are small: no division for them.
+    if a.abs() < PI {
+        return a;
+    }
     let r = a.rem_euclid(TAU);
     if r > PI {
         r - TAU

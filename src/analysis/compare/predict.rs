@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use crate::euler::EulerZyx;
 use crate::flight::data::FlightData;
-use crate::flight::model::{AirData, Model, State, Vehicle};
+use crate::flight::model::{AirData, HeldCommands, Model, State, Vehicle};
 use crate::flight::Controls;
 
 /// What the model predicts at one sample, in the data's frames (NED, aerospace angles).
@@ -53,9 +53,14 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
 }
 
 /// Fly `model` from `x0` at sample `start` through the samples `start..end`, writing one
-/// prediction per sample into `out` and the state after every integration step into
-/// `states` (both cleared; `states` begins with `x0`). A diverging model holds its last
-/// finite prediction (scored as the large error it is) and its states stop there.
+/// prediction per sample into `out` and, into `states`, the state after every step the
+/// tangent-linear flight takes ([`sample_steps`]): after every integration step and at every
+/// sample (both cleared; `states` begins with `x0`). Samples closer together than `max_dt`
+/// are flown in one integration step across them ([`Model::step_held`], its end no more than
+/// `max_dt` after its start), and the states at the samples inside it are read from the
+/// step's stages: the integration steps no longer double with the data rate. A diverging
+/// model holds its last finite prediction (scored as the large error it is) and its states
+/// stop there.
 pub fn fly_window(
     model: &Model,
     d: &FlightData,
@@ -69,10 +74,15 @@ pub fn fly_window(
     states.clear();
     let mut x = *x0;
     states.push(x);
-    for i in start..end {
+    let mut i = start;
+    while i < end {
         let p = read_out(model, d.time[i], &x);
         out.push(p);
-        if i + 1 < end {
+        if i + 1 >= end {
+            break;
+        }
+        let j = step_end(&d.time, i, end, max_dt);
+        if j == i + 1 {
             // `Model::advance`, its steps recorded.
             let cmd = controls_at(d, i);
             let (steps, h) = Model::substeps(d.time[i + 1] - d.time[i], max_dt);
@@ -84,8 +94,49 @@ pub fn fly_window(
                 }
                 states.push(x);
             }
+        } else {
+            let held = held_commands(d, i, j);
+            let step = model.step_held(&x, &held);
+            if !step.end.is_finite() {
+                out.resize(end - start, p);
+                return;
+            }
+            for k in i + 1..j {
+                let inside = step.at(model, &held, d.time[k] - d.time[i]);
+                out.push(read_out(model, d.time[k], &inside));
+                states.push(inside);
+            }
+            x = step.end;
+            states.push(x);
         }
+        i = j;
     }
+}
+
+/// The sample an integration step from sample `i` ends at: the last one before `end` no more
+/// than `max_dt` after it, and at least the next.
+pub(crate) fn step_end(time: &[f64], i: usize, end: usize, max_dt: f64) -> usize {
+    let limit = time[i] + max_dt * (1.0 + 1e-9);
+    let mut j = i + 1;
+    while j + 1 < end && time[j + 1] <= limit {
+        j += 1;
+    }
+    j
+}
+
+/// The commands held over samples `i..j`.
+pub(crate) fn held_commands(d: &FlightData, i: usize, j: usize) -> HeldCommands<'_> {
+    HeldCommands {
+        times: &d.time[i..=j],
+        controls: d.controls.as_ref().and_then(|c| c.get(i..j)),
+    }
+}
+
+/// The steps the tangent-linear flight takes from sample `i` to the next, as [`fly_window`]
+/// records its states: the integration's sub-steps where samples are further apart than
+/// `max_dt`, else one (a sample inside an integration step is a state too).
+pub(crate) fn sample_steps(time: &[f64], i: usize, max_dt: f64) -> (usize, f64) {
+    Model::substeps(time[i + 1] - time[i], max_dt)
 }
 
 /// Surface positions at sample `upto` under the model's actuator lag (the commands

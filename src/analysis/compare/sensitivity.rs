@@ -11,7 +11,7 @@
 
 use glam::{DMat3, DVec3};
 
-use super::predict::controls_at;
+use super::predict::{controls_at, sample_steps};
 use super::start::{param_count, state_of};
 use super::Prepared;
 use crate::flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
@@ -81,10 +81,10 @@ impl Prepared<'_> {
             if i + 1 == end {
                 break;
             }
-            // The steps of `Model::advance`, as `fly_window` took them.
+            // The steps of `fly_window`'s states.
             let t = d.time[i];
             let cmd = controls_at(d, i);
-            let (steps, h) = Model::substeps(d.time[i + 1] - t, self.cfg.max_dt);
+            let (steps, h) = sample_steps(&d.time, i, self.cfg.max_dt);
             for k in 0..steps {
                 let Some(next) = trajectory.get(step_count + 1) else {
                     return false; // the flight diverged here
@@ -155,7 +155,7 @@ impl Prepared<'_> {
                     put(std::array::from_fn(dv), wv, &mut count);
                 }
                 if let (true, Some(_)) = (m.attitude, &d.attitude) {
-                    let w = euler_rates_matrix(x);
+                    let w = euler_rates_matrix(x, &rot);
                     put(std::array::from_fn(|j| w * col(j, 6)), wa, &mut count);
                 }
                 if let (true, Some(_)) = (m.rates, &d.rates_body) {
@@ -201,15 +201,29 @@ fn mean(a: &Controls, b: &Controls) -> Controls {
     }
 }
 
-/// W(φ, θ): Euler-angle rates (roll, pitch, yaw) of body rates.
-fn euler_rates_matrix(x: &State) -> DMat3 {
-    let e = x.attitude();
-    let (sf, cf) = e.roll.sin_cos();
-    let (st, ct) = e.pitch.sin_cos();
-    let ct = if ct.abs() < 1e-9 {
-        1e-9f64.copysign(ct)
+/// W(φ, θ): Euler-angle rates (roll, pitch, yaw) of body rates, at state `x` whose
+/// body-to-NED rotation is `rot`. Roll and pitch come from R's last row, (−sin θ, cos θ sin φ,
+/// cos θ cos φ), without inverse trigonometry; near θ = ±90° from the Euler angles as
+/// reported.
+fn euler_rates_matrix(x: &State, rot: &DMat3) -> DMat3 {
+    let (r20, r21, r22) = (rot.x_axis.z, rot.y_axis.z, rot.z_axis.z);
+    let ct = r21.hypot(r22);
+    let (sf, cf, st, ct) = if ct > 1e-6 {
+        (r21 / ct, r22 / ct, -r20, ct)
     } else {
-        ct
+        let e = x.attitude();
+        let (sf, cf) = e.roll.sin_cos();
+        let (st, ct) = e.pitch.sin_cos();
+        (
+            sf,
+            cf,
+            st,
+            if ct.abs() < 1e-9 {
+                1e-9f64.copysign(ct)
+            } else {
+                ct
+            },
+        )
     };
     DMat3::from_cols(
         DVec3::new(1.0, 0.0, 0.0),
