@@ -448,11 +448,10 @@ impl Model {
         // m₀ and m₁ per command channel.
         let mut m0 = [0.0; 4];
         let mut m1 = [0.0; 4];
-        for k in 0..n {
-            let (a, b) = (held.times[k] - t0, held.times[k + 1] - t0);
+        for (a, b, c) in held.segments() {
             let w0 = (b - a) / h;
             let w1 = ((h - a).powi(2) - (h - b).powi(2)) / (2.0 * h * h);
-            let c = held.command(k).to_array();
+            let c = c.to_array();
             for j in 0..4 {
                 m0[j] += w0 * c[j];
                 m1[j] += w1 * c[j];
@@ -577,36 +576,30 @@ impl HeldCommands<'_> {
     /// The held commands integrated over the first `offset` seconds of the step (each
     /// component in its unit times seconds).
     fn integral(&self, offset: f64) -> Controls {
-        let Some(&t0) = self.times.first() else {
-            return Controls::default();
-        };
         let mut sum = [0.0; 4];
-        for k in 0..self.len() {
-            let (a, b) = (self.times[k] - t0, self.times[k + 1] - t0);
-            if offset <= a {
-                break;
-            }
+        for (a, b, c) in self.segments().take_while(|&(a, _, _)| offset > a) {
             let w = offset.min(b) - a;
             sum.iter_mut()
-                .zip(self.command(k).to_array())
+                .zip(c.to_array())
                 .for_each(|(s, c)| *s += w * c);
         }
         Controls::from_array(sum)
     }
 
+    /// Each held interval as (start, end, command), the times from the step's start.
+    fn segments(&self) -> impl Iterator<Item = (f64, f64, Controls)> + '_ {
+        let t0 = self.times.first().copied().unwrap_or(0.0);
+        self.times
+            .windows(2)
+            .enumerate()
+            .map(move |(k, w)| (w[0] - t0, w[1] - t0, self.command(k)))
+    }
+
     /// Surfaces `offset` seconds into the step, from `s0` at its start, under a lag τ: the
     /// exact first-order response to each held command in turn.
     fn surfaces_after(&self, s0: DVec3, tau: f64, offset: f64) -> DVec3 {
-        let Some(&t0) = self.times.first() else {
-            return s0;
-        };
         let mut s = s0;
-        for k in 0..self.len() {
-            let (a, b) = (self.times[k] - t0, self.times[k + 1] - t0);
-            if offset <= a {
-                break;
-            }
-            let c = self.command(k);
+        for (a, b, c) in self.segments().take_while(|&(a, _, _)| offset > a) {
             let target = DVec3::new(c.elevator, c.aileron, c.rudder);
             s = target + (s - target) * (-(offset.min(b) - a) / tau).exp();
         }
