@@ -120,7 +120,7 @@ impl Vehicle {
 }
 
 /// Aerodynamic angles and airspeed of a fixed-wing state.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AirData {
     /// Airspeed Va, m/s.
     pub airspeed: f64,
@@ -130,6 +130,24 @@ pub struct AirData {
     pub beta: f64,
     /// Air density, kg/m³.
     pub rho: f64,
+    /// sin α and cos α, from the velocity's components (no trigonometry; exact to rounding).
+    pub sin_alpha: f64,
+    /// cos α.
+    pub cos_alpha: f64,
+}
+
+impl Default for AirData {
+    /// Still air: no airspeed, α = β = 0.
+    fn default() -> Self {
+        Self {
+            airspeed: 0.0,
+            alpha: 0.0,
+            beta: 0.0,
+            rho: 0.0,
+            sin_alpha: 0.0,
+            cos_alpha: 1.0,
+        }
+    }
 }
 
 /// Airspeed below which aerodynamic angles are taken as zero (no division by ~0).
@@ -678,13 +696,25 @@ pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
             alpha: 0.0,
             beta: 0.0,
             rho,
+            sin_alpha: 0.0,
+            cos_alpha: 1.0,
         };
     }
+    // α = atan2(w, u), so sin α = w/√(u² + w²) and cos α = u/√(u² + w²); with no velocity in
+    // the symmetry plane α = 0.
+    let in_plane = (v_r.x * v_r.x + v_r.z * v_r.z).sqrt();
+    let (sin_alpha, cos_alpha) = if in_plane > 0.0 {
+        (v_r.z / in_plane, v_r.x / in_plane)
+    } else {
+        (0.0, 1.0)
+    };
     AirData {
         airspeed: va,
         alpha: v_r.z.atan2(v_r.x),
         beta: (v_r.y / va).clamp(-1.0, 1.0).asin(),
         rho,
+        sin_alpha,
+        cos_alpha,
     }
 }
 
@@ -724,7 +754,7 @@ pub fn aero_force_moment(
     let (pr, qr, rr) = (omega.x, omega.y, omega.z);
 
     let sigma = stall_blend(alpha, lon.m_blend, lon.alpha0);
-    let (sa, ca) = alpha.sin_cos();
+    let (sa, ca) = (air.sin_alpha, air.cos_alpha);
     let cl_lin = lon.c_l_0 + lon.c_l_alpha * alpha;
     let c_l = (1.0 - sigma) * cl_lin + sigma * 2.0 * alpha.signum() * sa * sa * ca;
     let aspect = geo.b * geo.b / geo.s_wing;
