@@ -136,28 +136,29 @@ pub fn free_columns(a: &ErrorMatrix, n: usize) -> usize {
     (0..3.min(n)).take_while(|&c| zero(c)).count()
 }
 
-/// exp(h·a) over the first `n` rows and columns, by its Taylor series to 4th order in
-/// Horner form: I + ha(I + ha/2(I + ha/3(I + ha/4))). `free`: leading columns of `a` that
-/// are zero ([`free_columns`]).
+/// exp(h·a) over the first `n` rows and columns, by its Taylor series to 4th order,
+/// grouped as Paterson and Stockmeyer do so that it takes two matrix products instead of
+/// three: I + ha + (ha)²·(I/2 + ha/6 + (ha)²/24). `free`: leading columns of `a` that are
+/// zero ([`free_columns`]); they are zero in (ha)² too.
 pub fn transition(a: &ErrorMatrix, n: usize, h: f64, free: usize) -> ErrorMatrix {
-    // The innermost factor, I + ha/4, needs no product.
-    let mut phi = scaled_plus_identity(a, n, 0.25 * h);
-    for k in (1..=3).rev() {
-        phi = scaled_plus_identity(&mul(a, &phi, n, free, false), n, h / k as f64);
+    let a2 = mul(a, a, n, free, false);
+    let (c2, c3, c4) = (h * h, h * h * h / 6.0, h * h * h * h / 24.0);
+    // I/2 + ha/6 + (ha)²/24, times h²: the factor the square multiplies.
+    let mut tail = [[0.0; ERROR_MAX]; ERROR_MAX];
+    for (r, row) in tail.iter_mut().enumerate().take(n) {
+        for (c, v) in row.iter_mut().enumerate().take(n) {
+            *v = c3 * a[r][c] + c4 * a2[r][c];
+        }
+        row[r] += 0.5 * c2;
+    }
+    let mut phi = mul(&a2, &tail, n, free, false);
+    for (r, row) in phi.iter_mut().enumerate().take(n) {
+        for (c, v) in row.iter_mut().enumerate().take(n) {
+            *v += h * a[r][c];
+        }
+        row[r] += 1.0;
     }
     phi
-}
-
-/// I + c·m over the first `n` rows and columns.
-fn scaled_plus_identity(m: &ErrorMatrix, n: usize, c: f64) -> ErrorMatrix {
-    let mut out = [[0.0; ERROR_MAX]; ERROR_MAX];
-    for (k, (row, m_row)) in out.iter_mut().zip(m).enumerate().take(n) {
-        for (o, v) in row.iter_mut().zip(m_row).take(n) {
-            *o = c * v;
-        }
-        row[k] += 1.0;
-    }
-    out
 }
 
 /// The columns of `s` carried over a step with transition matrix `phi`: s ← phi·s. `free`:
