@@ -32,9 +32,11 @@ const STEPS: [f64; 4] = [1e-4, 1e-4, 1e-6, 1e-6];
 /// Stop when the next step promises to lower the misfit (χ², in units of the noise variance)
 /// by less than this: far below anything a significance test could see.
 pub const ABS_TOL: f64 = 1e-3;
-/// ... or by less than this fraction of it: a model far from the data (χ² of 10⁵ in a window)
-/// need not have its start polished to a thousandth of a noise unit.
-pub const REL_TOL: f64 = 1e-6;
+/// ... or by less than this fraction of it. A window's χ² scatters by √(2ν) — about 140 for
+/// the 10⁴ residuals of 8 s at 100 Hz — so this is a hundredth of its own noise at the
+/// floor; and a model far from the data (χ² of 10⁶ in a window) need not have its start
+/// polished to a thousandth of a noise unit.
+pub const REL_TOL: f64 = 1e-5;
 
 /// Number of start parameters of a vehicle.
 pub fn param_count(model: &Model) -> usize {
@@ -220,9 +222,13 @@ impl Prepared<'_> {
         let mut step = vec![0.0; np];
         let mut iteration = 0;
         let mut tries = 0;
+        // Jᵀr, taken afresh with the Jacobian and carried by Broyden's update with it.
+        let gradient = |jac: &[f64], r: &[f64]| -> Vec<f64> {
+            (0..np).map(|a| dot(&jac[a * m..(a + 1) * m], r)).collect()
+        };
+        let mut jtr = gradient(&jac, &r);
         while iteration < self.cfg.start_iterations && tries < 16 {
             tries += 1;
-            let jtr: Vec<f64> = (0..np).map(|a| dot(&jac[a * m..(a + 1) * m], &r)).collect();
             let mut a = jtj.clone();
             for k in 0..np {
                 a[k * np + k] += lambda * jtj[k * np + k].max(1e-30);
@@ -254,7 +260,7 @@ impl Prepared<'_> {
                 let sse_new = sum_sq(&trial);
                 if sse_new < sse {
                     iteration += 1;
-                    broyden_update(&mut jac, &mut jtj, &step, &r, &trial, np, m);
+                    jtr = broyden_update(&mut jac, &mut jtj, &step, &r, &trial, np, m);
                     q = qn;
                     sse = sse_new;
                     std::mem::swap(&mut r, &mut trial);
@@ -270,6 +276,7 @@ impl Prepared<'_> {
                 // An updated Jacobian that misleads: take it afresh.
                 self.jacobian_at(model, span, &q, surfaces, &r, scratch, &mut jac);
                 jtj = gram(&jac, np, m);
+                jtr = gradient(&jac, &r);
                 fresh = true;
             }
         }
@@ -447,9 +454,18 @@ impl Scratch {
     }
 }
 
+/// Rows of the Jacobian [`broyden_update`] takes at a time (its columns' share stays in the
+/// first-level cache through the pass).
+const BROYDEN_BLOCK: usize = 256;
+
 /// Broyden's rank-one update of a column-major Jacobian after the step `step` took the
 /// residuals from `r_old` to `r_new`: J += u·δᵀ with u = (Δr − Jδ)/(δᵀδ); and of its Gram
-/// matrix `jtj` with it: JᵀJ + (Jᵀu)δᵀ + δ(Jᵀu)ᵀ + (uᵀu)δδᵀ (Jᵀu with the old J).
+/// matrix `jtj` with it: JᵀJ + (Jᵀu)δᵀ + δ(Jᵀu)ᵀ + (uᵀu)δδᵀ (Jᵀu with the old J). Returns
+/// the updated Jᵀ·r_new, the next iteration's gradient.
+///
+/// One pass over the Jacobian in blocks of rows: u, Jᵀu, the update and Jᵀr of a block are
+/// all taken while it is in the cache (column by column, a megabyte-sized Jacobian would be
+/// read four times).
 fn broyden_update(
     jac: &mut [f64],
     jtj: &mut [f64],
@@ -458,28 +474,54 @@ fn broyden_update(
     r_new: &[f64],
     np: usize,
     m: usize,
-) {
+) -> Vec<f64> {
+    let gradient = |jac: &[f64]| -> Vec<f64> {
+        (0..np)
+            .map(|k| dot(&jac[k * m..(k + 1) * m], r_new))
+            .collect()
+    };
     let dd: f64 = step.iter().map(|d| d * d).sum();
     // NaN as well as zero: no step to update with.
-    if dd.is_nan() || dd <= 0.0 || jac.len() != np * m || jtj.len() != np * np {
-        return;
+    if dd.is_nan()
+        || dd <= 0.0
+        || jac.len() != np * m
+        || jtj.len() != np * np
+        || step.len() != np
+        || r_old.len() != m
+        || r_new.len() != m
+    {
+        return gradient(jac);
     }
-    // u, column by column of J (contiguous in memory).
-    let mut u: Vec<f64> = r_new.iter().zip(r_old).map(|(a, b)| a - b).collect();
-    for (k, d) in step.iter().enumerate() {
-        axpy(-d, &jac[k * m..(k + 1) * m], &mut u);
+    let mut ju = vec![0.0; np];
+    let mut jr = vec![0.0; np];
+    let mut uu = 0.0;
+    let mut u = [0.0; BROYDEN_BLOCK];
+    let mut start = 0;
+    while start < m {
+        let end = (start + BROYDEN_BLOCK).min(m);
+        let u = &mut u[..end - start];
+        for ((u, a), b) in u.iter_mut().zip(&r_new[start..end]).zip(&r_old[start..end]) {
+            *u = a - b;
+        }
+        for (k, d) in step.iter().enumerate() {
+            axpy(-d, &jac[k * m + start..k * m + end], u);
+        }
+        u.iter_mut().for_each(|v| *v /= dd);
+        uu += dot(u, u);
+        for (k, d) in step.iter().enumerate() {
+            let col = &mut jac[k * m + start..k * m + end];
+            ju[k] += dot(col, u);
+            axpy(*d, u, col);
+            jr[k] += dot(col, &r_new[start..end]);
+        }
+        start = end;
     }
-    u.iter_mut().for_each(|v| *v /= dd);
-    let ju: Vec<f64> = (0..np).map(|k| dot(&jac[k * m..(k + 1) * m], &u)).collect();
-    let uu = dot(&u, &u);
     for a in 0..np {
         for b in 0..np {
             jtj[a * np + b] += ju[a] * step[b] + step[a] * ju[b] + uu * step[a] * step[b];
         }
     }
-    for (k, d) in step.iter().enumerate() {
-        axpy(*d, &u, &mut jac[k * m..(k + 1) * m]);
-    }
+    jr
 }
 
 fn sum_sq(r: &[f64]) -> f64 {
@@ -490,26 +532,36 @@ fn sum_sq(r: &[f64]) -> f64 {
 mod tests {
     use super::*;
 
-    /// Broyden's update keeps JᵀJ equal to the Gram matrix of the updated Jacobian, and makes
-    /// the Jacobian reproduce the step's residual change (the secant condition).
+    /// Broyden's update keeps JᵀJ equal to the Gram matrix of the updated Jacobian, makes the
+    /// Jacobian reproduce the step's residual change (the secant condition) and returns its
+    /// Jᵀr — within one block of rows and across several.
     #[test]
     fn broyden_update_keeps_the_gram_matrix_and_the_secant() {
-        let (np, m) = (3, 17);
-        let mut jac: Vec<f64> = (0..np * m)
-            .map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.3)
-            .collect();
-        let mut jtj = gram(&jac, np, m);
-        let r_old: Vec<f64> = (0..m).map(|i| (i as f64 * 0.9).sin()).collect();
-        let r_new: Vec<f64> = (0..m).map(|i| (i as f64 * 0.4).cos() * 0.5).collect();
-        let step = [0.2, -0.7, 0.05];
-        broyden_update(&mut jac, &mut jtj, &step, &r_old, &r_new, np, m);
-        let exact = gram(&jac, np, m);
-        for (a, b) in jtj.iter().zip(&exact) {
-            assert!((a - b).abs() < 1e-9 * b.abs().max(1.0), "{a} vs {b}");
-        }
-        for i in 0..m {
-            let jd: f64 = (0..np).map(|k| jac[k * m + i] * step[k]).sum();
-            assert!((jd - (r_new[i] - r_old[i])).abs() < 1e-12);
+        for m in [17, 3 * BROYDEN_BLOCK + 9] {
+            let np = 3;
+            let mut jac: Vec<f64> = (0..np * m)
+                .map(|i| ((i * 7 % 11) as f64 - 5.0) * 0.3)
+                .collect();
+            let mut jtj = gram(&jac, np, m);
+            let r_old: Vec<f64> = (0..m).map(|i| (i as f64 * 0.9).sin()).collect();
+            let r_new: Vec<f64> = (0..m).map(|i| (i as f64 * 0.4).cos() * 0.5).collect();
+            let step = [0.2, -0.7, 0.05];
+            let jr = broyden_update(&mut jac, &mut jtj, &step, &r_old, &r_new, np, m);
+            let exact = gram(&jac, np, m);
+            for (k, g) in jr.iter().enumerate() {
+                let plain: f64 = (0..m).map(|i| jac[k * m + i] * r_new[i]).sum();
+                assert!(
+                    (g - plain).abs() < 1e-10 * plain.abs().max(1.0),
+                    "{g} vs {plain}"
+                );
+            }
+            for (a, b) in jtj.iter().zip(&exact) {
+                assert!((a - b).abs() < 1e-9 * b.abs().max(1.0), "{m}: {a} vs {b}");
+            }
+            for i in 0..m {
+                let jd: f64 = (0..np).map(|k| jac[k * m + i] * step[k]).sum();
+                assert!((jd - (r_new[i] - r_old[i])).abs() < 1e-12, "{m}, row {i}");
+            }
         }
     }
 }
