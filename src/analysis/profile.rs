@@ -6,6 +6,8 @@
 //! window's residuals with a parameter, less what a change of the start could absorb. Normal
 //! equations are summed over windows in parallel; no window's Jacobian outlives its turn.
 
+use std::borrow::Cow;
+
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -72,27 +74,46 @@ pub(crate) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
 
 /// One window's start state and the linearisation of its residuals around it: what a change
 /// of the start can absorb (the columns of `jac`), projected out of every residual change.
-pub(crate) struct Linearised {
+///
+/// The Jacobian is borrowed from the start fit while that lives on (a baseline's, shared by
+/// every candidate), or owned when the fit is spent: a window's Jacobian is a megabyte at
+/// 100 Hz, and copying one per candidate and window cost more than the arithmetic on it.
+pub(crate) struct Linearised<'a> {
     pub(crate) q: Vec<f64>,
     surfaces: DVec3,
-    pub(crate) jac: Vec<f64>,
+    pub(crate) jac: Cow<'a, [f64]>,
     gram: Vec<f64>,
     pub(crate) params: usize,
 }
 
-impl Linearised {
-    pub(crate) fn of(model: &Model, fit: &StartFit) -> Self {
+impl<'a> Linearised<'a> {
+    /// The linearisation of a start fit, borrowing its Jacobian.
+    pub(crate) fn of(model: &Model, fit: &'a StartFit) -> Self {
+        Self::with(model, fit, Cow::Borrowed(&fit.jacobian))
+    }
+
+    fn with(model: &Model, fit: &StartFit, jac: Cow<'a, [f64]>) -> Self {
         let m = fit.residuals.len();
         let np = fit.params;
         Self {
             q: params_of(model, &fit.state),
             surfaces: fit.state.surfaces(),
-            jac: fit.jacobian.clone(),
-            gram: gram(&fit.jacobian, np, m),
+            gram: gram(&jac, np, m),
+            jac,
             params: np,
         }
     }
+}
 
+impl Linearised<'static> {
+    /// The linearisation of a start fit that is spent, taking its Jacobian.
+    pub(crate) fn owned(model: &Model, mut fit: StartFit) -> Self {
+        let jac = std::mem::take(&mut fit.jacobian);
+        Self::with(model, &fit, Cow::Owned(jac))
+    }
+}
+
+impl Linearised<'_> {
     /// Project the start directions out of each column of `cols` ([`project_out`]).
     pub(crate) fn project_out(&self, cols: &mut [f64], m: usize) {
         project_out(&self.jac, &self.gram, self.params, cols, m);
@@ -162,34 +183,44 @@ pub(crate) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> V
 }
 
 /// One window's share of the normal equations: A = D̃ᵀD̃ and g = D̃ᵀr, D̃ the change of the
-/// residuals per scaled parameter with the start directions projected out.
+/// residuals per scaled parameter with the start directions projected out. `at_start`: the
+/// window's residuals of `model` from `l`'s start when they are at hand (a start fit's own),
+/// saving that flight.
 pub(crate) fn window_normal(
     model: &Model,
     perturbed: &[Model],
     prep: &Prepared,
     window: (usize, usize),
     l: &Linearised,
+    at_start: Option<&[f64]>,
 ) -> (Vec<f64>, Vec<f64>) {
     let np = perturbed.len();
     let span = prep.fit_range(window);
     let mut scratch = Scratch::default();
     let x = l.state(model);
-    let mut r = Vec::new();
-    prep.window_residuals(model, span, &x, &mut scratch, &mut r);
+    let mut flown = Vec::new();
+    let r = match at_start {
+        Some(r) => r,
+        None => {
+            prep.window_residuals(model, span, &x, &mut scratch, &mut flown);
+            &flown
+        }
+    };
     let m = r.len();
     let mut cols = vec![0.0; np * m];
     let mut rj = Vec::with_capacity(m);
     for (j, pm) in perturbed.iter().enumerate() {
         prep.window_residuals(pm, span, &x, &mut scratch, &mut rj);
-        for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(&r) {
+        if rj.len() != m {
+            return (vec![0.0; np * np], vec![0.0; np]);
+        }
+        for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(r) {
             *c = (a - b) / PARAM_STEP;
         }
     }
     l.project_out(&mut cols, m);
     // D̃ is orthogonal to the start directions, so D̃ᵀr = D̃ᵀr̃.
-    let g = (0..np)
-        .map(|i| dot(&cols[i * m..(i + 1) * m], &r))
-        .collect();
+    let g = (0..np).map(|i| dot(&cols[i * m..(i + 1) * m], r)).collect();
     (gram(&cols, np, m), g)
 }
 
@@ -213,7 +244,7 @@ pub(crate) fn normal_equations(
         .windows
         .par_iter()
         .zip(lin.par_iter())
-        .map(|(&w, l)| window_normal(model, &perturbed, prep, w, l))
+        .map(|(&w, l)| window_normal(model, &perturbed, prep, w, l, None))
         .collect();
     let mut sum = (vec![0.0; np * np], vec![0.0; np]);
     for p in &parts {

@@ -127,20 +127,23 @@ fn fit(
     // The linearisation is around the starts of the model without the effect; the starts are
     // then fitted exactly, and when that changes the misfit by more than the tolerance, the
     // fit is repeated around them.
-    let mut exact: Option<(Comparison, Vec<StartFit>)> = None;
+    let mut exact: Option<Comparison> = None;
     for _ in 0..3 {
         let starts: Vec<State> = lin.iter().map(|l| l.state(model)).collect();
-        let jacobians: Vec<&[f64]> = lin.iter().map(|l| l.jac.as_slice()).collect();
+        let jacobians: Vec<&[f64]> = lin.iter().map(|l| &*l.jac).collect();
         let (cmp, new_fits) = compare_refit(model, prep, &starts, &jacobians);
         let settled = (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2);
-        lin = new_fits.iter().map(|f| Linearised::of(model, f)).collect();
-        exact = Some((cmp, new_fits));
+        lin = new_fits
+            .into_iter()
+            .map(|f| Linearised::owned(model, f))
+            .collect();
+        exact = Some(cmp);
         if settled {
             break;
         }
         linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
     }
-    let Some((cmp, _)) = exact else {
+    let Some(cmp) = exact else {
         unreachable!("the loop runs at least once");
     };
     let (a, _) = normal_equations(model, free, &theta, prep, &lin);
@@ -362,12 +365,14 @@ pub(crate) fn full_pass(
     let results = compare_many(&models, full, None, |k, w, fit| {
         (k > 0).then(|| {
             let f = &fittings[k - 1];
+            // The fit's residuals are those at its start: no flight for them.
             window_normal(
                 &f.model,
                 &f.perturbed,
                 full,
                 w,
                 &Linearised::of(&f.model, fit),
+                (!fit.residuals.is_empty()).then_some(fit.residuals.as_slice()),
             )
         })
     });

@@ -173,7 +173,7 @@ pub fn free_keys(patterns: &[String]) -> Result<Vec<&'static AircraftKey>, Strin
 /// A flight being fitted: its windows and each window's linearised start.
 struct Flight<'a> {
     prep: Prepared<'a>,
-    lin: Vec<Linearised>,
+    lin: Vec<Linearised<'static>>,
 }
 
 /// The Gaussian prior in the free parameters' scaled units.
@@ -248,7 +248,10 @@ pub fn identify(
         .iter()
         .map(|p| {
             let (cmp, fits) = compare_with_fits(base, p, None);
-            let lin = fits.iter().map(|f| Linearised::of(base, f)).collect();
+            let lin = fits
+                .into_iter()
+                .map(|f| Linearised::owned(base, f))
+                .collect();
             (cmp, lin)
         })
         .collect();
@@ -274,7 +277,7 @@ pub fn identify(
             .iter()
             .map(|p| {
                 let (cmp, fits) = compare_with_fits(&m, p, None);
-                let lin = fits.iter().map(|f| Linearised::of(&m, f)).collect();
+                let lin = fits.into_iter().map(|f| Linearised::owned(&m, f)).collect();
                 (cmp, lin)
             })
             .collect();
@@ -309,10 +312,13 @@ pub fn identify(
         after.clear();
         for f in fl.iter_mut() {
             let starts: Vec<State> = f.lin.iter().map(|l| l.state(&model)).collect();
-            let jacobians: Vec<&[f64]> = f.lin.iter().map(|l| l.jac.as_slice()).collect();
+            let jacobians: Vec<&[f64]> = f.lin.iter().map(|l| &*l.jac).collect();
             let (cmp, fits) = compare_refit(&model, &f.prep, &starts, &jacobians);
             exact += cmp.chi2;
-            f.lin = fits.iter().map(|s| Linearised::of(&model, s)).collect();
+            f.lin = fits
+                .into_iter()
+                .map(|s| Linearised::owned(&model, s))
+                .collect();
             after.push(cmp);
         }
         let s2_now = residual_scale(&after);
