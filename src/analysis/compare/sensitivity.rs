@@ -207,7 +207,8 @@ fn mean(a: &Controls, b: &Controls) -> Controls {
 /// reported.
 fn euler_rates_matrix(x: &State, rot: &DMat3) -> DMat3 {
     let (r20, r21, r22) = (rot.x_axis.z, rot.y_axis.z, rot.z_axis.z);
-    let ct = r21.hypot(r22);
+    // Entries of a rotation: no overflow for `hypot` to guard against.
+    let ct = (r21 * r21 + r22 * r22).sqrt();
     let (sf, cf, st, ct) = if ct > 1e-6 {
         (r21 / ct, r22 / ct, -r20, ct)
     } else {
