@@ -549,7 +549,9 @@ impl Model {
         if span.is_nan() || span <= 0.0 {
             return (0, 0.0);
         }
-        let n = (span / max_dt).ceil().max(1.0) as usize;
+        // A span a rounding error longer than `max_dt` is one step, not two: time stamps of
+        // data at 50 Hz are not exact multiples of 0.02 s.
+        let n = (span / max_dt * (1.0 - 1e-9)).ceil().max(1.0) as usize;
         (n, span / n as f64)
     }
 

@@ -364,3 +364,33 @@ fn a_step_across_samples_is_rk4_for_constant_commands_and_exact_for_surfaces() {
         assert!((got - s).length() < 1e-14, "sample {}: {got} vs {s}", k + 1);
     }
 }
+
+/// A sample interval a rounding error longer than the longest step is one step: the time
+/// stamps of 50 Hz data are not exact multiples of 0.02 s (i·0.02 differs from its
+/// neighbour by 0.02 ± a few ulp), and each such interval used to cost two RK4 steps of
+/// 10 ms instead of one of 20 ms. Longer intervals still split into equal steps no longer
+/// than `max_dt`.
+#[test]
+fn a_sample_interval_a_rounding_error_over_the_step_is_one_step() {
+    let max_dt = 0.02;
+    let mut two_step_intervals = 0;
+    for i in 0..100_000 {
+        let (t0, t1) = (i as f64 * 0.02, (i + 1) as f64 * 0.02);
+        let (n, h) = Model::substeps(t1 - t0, max_dt);
+        if n != 1 {
+            two_step_intervals += 1;
+        }
+        assert!((h - 0.02).abs() < 1e-9, "{i}: {h}");
+    }
+    assert_eq!(
+        two_step_intervals, 0,
+        "50 Hz time stamps split into two steps"
+    );
+    assert_eq!(Model::substeps(0.03, max_dt), (2, 0.015));
+    assert_eq!(Model::substeps(0.04, max_dt), (2, 0.02));
+    let (n, h) = Model::substeps(0.0400001, max_dt);
+    assert_eq!(n, 3);
+    assert!(h <= max_dt);
+    assert_eq!(Model::substeps(0.0, max_dt).0, 0);
+    assert_eq!(Model::substeps(f64::NAN, max_dt).0, 0);
+}
