@@ -137,14 +137,16 @@ impl Linearised<'_> {
     }
 }
 
-/// The profiled misfit in the linearisation: the projected residuals of every window at the
-/// model's parameters, their χ², and each window's start change.
+/// The profiled misfit in the linearisation at the model's parameters: χ² of the projected
+/// residuals of every window, each window's start change, and each window's residuals as
+/// flown from its start (before projection: the model's own residuals at `lin`'s starts,
+/// which [`normal_equations`] can take instead of flying them again).
 pub(crate) fn linear_profile(
     model: &Model,
     prep: &Prepared,
     lin: &[Linearised],
-) -> (f64, Vec<Vec<f64>>) {
-    let parts: Vec<(f64, Vec<f64>)> = prep
+) -> (f64, Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    let parts: Vec<(f64, Vec<f64>, Vec<f64>)> = prep
         .windows
         .par_iter()
         .zip(lin.par_iter())
@@ -158,12 +160,19 @@ pub(crate) fn linear_profile(
                 &mut scratch,
                 &mut r,
             );
+            let flown = r.clone();
             let dq = l.project(&mut r);
-            (r.iter().map(|v| v * v).sum(), dq)
+            (r.iter().map(|v| v * v).sum(), dq, flown)
         })
         .collect();
     let chi2 = parts.iter().map(|p| p.0).sum();
-    (chi2, parts.into_iter().map(|p| p.1).collect())
+    let mut dq = Vec::with_capacity(parts.len());
+    let mut flown = Vec::with_capacity(parts.len());
+    for (_, d, r) in parts {
+        dq.push(d);
+        flown.push(r);
+    }
+    (chi2, dq, flown)
 }
 
 /// Forward-difference step of the parameters, in units of each one's scale.
@@ -200,8 +209,8 @@ pub(crate) fn window_normal(
     let x = l.state(model);
     let mut flown = Vec::new();
     let r = match at_start {
-        Some(r) => r,
-        None => {
+        Some(r) if !r.is_empty() => r,
+        _ => {
             prep.window_residuals(model, span, &x, &mut scratch, &mut flown);
             &flown
         }
@@ -230,13 +239,15 @@ pub(crate) fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64
 }
 
 /// Normal equations of the profiled misfit in the scaled free parameters, summed over windows
-/// (see [`window_normal`]).
+/// (see [`window_normal`]). `at_starts`: each window's residuals of `model` from `lin`'s
+/// starts, when they are at hand ([`linear_profile`]'s, or the start fits' own).
 pub(crate) fn normal_equations(
     model: &Model,
     free: &[Free],
     theta: &[f64],
     prep: &Prepared,
     lin: &[Linearised],
+    at_starts: Option<&[Vec<f64>]>,
 ) -> (Vec<f64>, Vec<f64>) {
     let np = free.len();
     let perturbed = perturbed_models(model, free, theta);
@@ -244,7 +255,11 @@ pub(crate) fn normal_equations(
         .windows
         .par_iter()
         .zip(lin.par_iter())
-        .map(|(&w, l)| window_normal(model, &perturbed, prep, w, l, None))
+        .enumerate()
+        .map(|(k, (&w, l))| {
+            let r = at_starts.and_then(|r| r.get(k)).map(|r| r.as_slice());
+            window_normal(model, &perturbed, prep, w, l, r)
+        })
         .collect();
     let mut sum = (vec![0.0; np * np], vec![0.0; np]);
     for p in &parts {

@@ -40,7 +40,13 @@ fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
 }
 
 /// Levenberg–Marquardt on the parameters over the linearised profile; updates `model`,
-/// `theta` and the windows' starts. Returns the linearised χ² reached.
+/// `theta` and the windows' starts. Returns the linearised χ² reached, and each window's
+/// residuals of `model` from the starts `lin` ends with when they were flown (no trial was
+/// accepted).
+///
+/// The normal equations are taken at the starts the last accepted trial was flown from,
+/// with that flight's residuals — one flight per window less per iteration — and the starts
+/// then move to where the linearisation puts them at the new parameters.
 #[allow(clippy::too_many_arguments)]
 fn fit_linearised(
     model: &mut Model,
@@ -49,11 +55,16 @@ fn fit_linearised(
     prep: &Prepared,
     lin: &mut [Linearised],
     iterations: usize,
-) -> f64 {
-    let (mut chi2, mut dq) = linear_profile(model, prep, lin);
+) -> (f64, Option<Vec<Vec<f64>>>) {
+    let (mut chi2, _, mut flown) = linear_profile(model, prep, lin);
+    // The start changes of the last accepted trial, not yet applied.
+    let mut pending: Option<Vec<Vec<f64>>> = None;
     let mut lambda = 1e-3;
     for _ in 0..iterations {
-        let (a0, g) = normal_equations(model, free, theta, prep, lin);
+        let (a0, g) = normal_equations(model, free, theta, prep, lin, Some(&flown));
+        if let Some(dq) = pending.take() {
+            move_starts(lin, &dq);
+        }
         if newton_gain(&a0, &g).is_some_and(|v| v < FIT_TOL.max(1e-6 * chi2)) {
             break;
         }
@@ -65,32 +76,42 @@ fn fit_linearised(
             };
             let mut m = model.clone();
             set_values(&mut m, free, &trial);
-            let (c, dq_trial) = linear_profile(&m, prep, lin);
+            let (c, dq_trial, flown_trial) = linear_profile(&m, prep, lin);
             if c.is_finite() && c < chi2 {
-                accepted = Some((trial, m, c, dq_trial));
+                accepted = Some((trial, m, c, dq_trial, flown_trial));
                 lambda = (lambda / 10.0).max(1e-9);
                 break;
             }
             lambda *= 10.0;
         }
-        let Some((trial, m, c, dq_trial)) = accepted else {
+        let Some((trial, m, c, dq_trial, flown_trial)) = accepted else {
             break;
         };
         let gain = chi2 - c;
         *theta = trial;
         *model = m;
         chi2 = c;
-        dq = dq_trial;
-        // Move each start to where the linearisation says it belongs at these parameters.
-        for (l, d) in lin.iter_mut().zip(&dq) {
-            l.q.iter_mut().zip(d).for_each(|(q, d)| *q += d);
-        }
+        flown = flown_trial;
+        // Each start belongs where the linearisation puts it at these parameters.
+        pending = Some(dq_trial);
         if gain < FIT_TOL.max(1e-6 * chi2) {
             break;
         }
     }
-    let _ = dq;
-    chi2
+    match pending {
+        Some(dq) => {
+            move_starts(lin, &dq);
+            (chi2, None)
+        }
+        None => (chi2, Some(flown)),
+    }
+}
+
+/// Move each window's start by its change.
+fn move_starts(lin: &mut [Linearised], dq: &[Vec<f64>]) {
+    for (l, d) in lin.iter_mut().zip(dq) {
+        l.q.iter_mut().zip(d).for_each(|(q, d)| *q += d);
+    }
 }
 
 /// Fit the free parameters of the effect `name` (already in `model`) (module docs), starting
@@ -115,12 +136,14 @@ fn fit(
         .sum();
     let mut theta = values(model, free);
     let mut lin: Vec<Linearised> = fits.iter().map(|f| Linearised::of(model, f)).collect();
-    let mut linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
+    // `flown`: each window's residuals of `model` from `lin`'s starts, while they are at hand.
+    let (mut linear, mut flown) =
+        fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
     let gain = chi2_base - linear;
     if gain.is_nan() || gain <= FIT_TOL.max(1e-6 * chi2_base) {
         // The effect explains nothing the starts could not: its best values change the misfit
         // by less than a hundredth of a noise unit, so the comparison is the baseline's.
-        let (a, _) = normal_equations(model, free, &theta, prep, &lin);
+        let (a, _) = normal_equations(model, free, &theta, prep, &lin, flown.as_deref());
         let cov = covariance(&a, free, &baseline.comparison);
         return (baseline.comparison.clone(), cov);
     }
@@ -133,6 +156,7 @@ fn fit(
         let jacobians: Vec<&[f64]> = lin.iter().map(|l| &*l.jac).collect();
         let (cmp, new_fits) = compare_refit(model, prep, &starts, &jacobians);
         let settled = (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2);
+        flown = Some(new_fits.iter().map(|f| f.residuals.clone()).collect());
         lin = new_fits
             .into_iter()
             .map(|f| Linearised::owned(model, f))
@@ -141,12 +165,12 @@ fn fit(
         if settled {
             break;
         }
-        linear = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
+        (linear, flown) = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
     }
     let Some(cmp) = exact else {
         unreachable!("the loop runs at least once");
     };
-    let (a, _) = normal_equations(model, free, &theta, prep, &lin);
+    let (a, _) = normal_equations(model, free, &theta, prep, &lin, flown.as_deref());
     let cov = covariance(&a, free, &cmp);
     (cmp, cov)
 }

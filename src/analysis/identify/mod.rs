@@ -398,7 +398,7 @@ fn normal_sum(
     let mut a = vec![0.0; np * np];
     let mut g = vec![0.0; np];
     for f in flights {
-        let (fa, fg) = normal_equations(model, free, theta, &f.prep, &f.lin);
+        let (fa, fg) = normal_equations(model, free, theta, &f.prep, &f.lin, None);
         a.iter_mut().zip(&fa).for_each(|(s, v)| *s += v);
         g.iter_mut().zip(&fg).for_each(|(s, v)| *s += v);
     }
@@ -410,7 +410,7 @@ fn profile_sum(model: &Model, flights: &[Flight]) -> (f64, Vec<Vec<Vec<f64>>>) {
     let mut chi2 = 0.0;
     let mut dq = Vec::with_capacity(flights.len());
     for f in flights {
-        let (c, d) = linear_profile(model, &f.prep, &f.lin);
+        let (c, d, _) = linear_profile(model, &f.prep, &f.lin);
         chi2 += c;
         dq.push(d);
     }
