@@ -302,6 +302,64 @@ fn ground_effect_on_a_constant_height_pass_is_named_with_its_equals() {
     assert!(shown.contains("cannot tell them apart"), "{shown}");
 }
 
+/// A flight longer than the screening subset: the candidates are screened on a few windows,
+/// and the winner is then fitted on every window — its comparison is that of the model with
+/// it over all of them (what `compare` of that model reports), and its ± are the all-window
+/// ones (as an unscreened diagnosis of the same flight gives), not the subset's.
+#[test]
+fn a_screened_diagnosis_refits_the_winner_on_every_window() {
+    use wireflight::analysis::compare::compare;
+    let case = Case::flight_test(&["wind:north_mps=4,east_mps=-3"], 1);
+    let data = case.data();
+    let base = case.baseline();
+    let mut screened_cfg = case.config();
+    screened_cfg.screen_windows = 5;
+    let screened = diagnose(&base, &data, &[], &screened_cfg).unwrap();
+    let mut whole_cfg = case.config();
+    whole_cfg.screen_windows = 0;
+    let whole = diagnose(&base, &data, &[], &whole_cfg).unwrap();
+    let mut subset_cfg = whole_cfg;
+    subset_cfg.compare.max_windows = 5;
+    let subset = diagnose(&base, &data, &[], &subset_cfg).unwrap();
+    let text =
+        report("screened", &screened) + &report("whole", &whole) + &report("subset", &subset);
+    eprintln!("{text}");
+    assert_eq!(screened.windows, (15, 5), "{text}");
+    assert_eq!(screened.verdict, Verdict::Effect("wind".into()), "{text}");
+    let winner = screened.winner().unwrap();
+    assert_eq!(winner.windows, 15, "{text}");
+    let all = whole.winner().unwrap();
+    let few = subset.winner().unwrap();
+    for name in ["north_mps", "east_mps"] {
+        let ((v, s), (v_all, s_all), (_, s_few)) =
+            (param(winner, name), param(all, name), param(few, name));
+        // The all-window uncertainty: as the unscreened fit's, well below the subset's.
+        assert!(
+            (s / s_all - 1.0).abs() < 0.1,
+            "{name}: ± {s} vs {s_all}\n{text}"
+        );
+        assert!(
+            s < 0.7 * s_few,
+            "{name}: ± {s} vs the subset's {s_few}\n{text}"
+        );
+        assert!(
+            (v - v_all).abs() < s_all,
+            "{name}: {v} vs {v_all} ± {s_all}\n{text}"
+        );
+    }
+    // Its error is the comparison of the model with the wind on every window.
+    let mut with = base.clone();
+    winner.correction.apply(&mut with).unwrap();
+    let alone = compare(&with, &data, screened_cfg.compare);
+    assert_eq!(alone.windows.len(), 15);
+    assert!(
+        (alone.noise_units() / winner.noise_units_after - 1.0).abs() < 1e-3,
+        "{} vs {}\n{text}",
+        alone.noise_units(),
+        winner.noise_units_after
+    );
+}
+
 #[test]
 fn clean_fixed_wing_data_give_no_verdict() {
     for seed in [1, 2] {
