@@ -6,6 +6,7 @@
 //! R_body→NED = Rz(ψ)·Ry(θ)·Rx(φ). The viewer's Z-up frames relate to these through
 //! [`crate::euler::EulerZyx::from_aerospace`] and [`crate::euler::viewer_from_ned`].
 
+pub mod aero;
 pub mod autopilot;
 pub mod data;
 pub mod derive;

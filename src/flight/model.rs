@@ -22,6 +22,8 @@ use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
 use crate::euler::EulerZyx;
 
+pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
+
 /// Number of state variables.
 pub const STATE_LEN: usize = 16;
 
@@ -118,40 +120,6 @@ impl Vehicle {
         }
     }
 }
-
-/// Aerodynamic angles and airspeed of a fixed-wing state.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AirData {
-    /// Airspeed Va, m/s.
-    pub airspeed: f64,
-    /// Angle of attack α, rad.
-    pub alpha: f64,
-    /// Sideslip β, rad.
-    pub beta: f64,
-    /// Air density, kg/m³.
-    pub rho: f64,
-    /// sin α and cos α, from the velocity's components (no trigonometry; exact to rounding).
-    pub sin_alpha: f64,
-    /// cos α.
-    pub cos_alpha: f64,
-}
-
-impl Default for AirData {
-    /// Still air: no airspeed, α = β = 0.
-    fn default() -> Self {
-        Self {
-            airspeed: 0.0,
-            alpha: 0.0,
-            beta: 0.0,
-            rho: 0.0,
-            sin_alpha: 0.0,
-            cos_alpha: 1.0,
-        }
-    }
-}
-
-/// Airspeed below which aerodynamic angles are taken as zero (no division by ~0).
-const MIN_AIRSPEED: f64 = 0.1;
 
 /// A model: vehicle + origin + effects. Cheap to clone (for fitting).
 #[derive(Clone, Debug)]
@@ -687,118 +655,4 @@ impl Rk4Step {
         model.renormalise(&mut out);
         out
     }
-}
-
-/// Airspeed, α = atan2(w_r, u_r), β = asin(v_r/Va) of an air-relative body velocity.
-pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
-    let va = v_r.length();
-    if va < MIN_AIRSPEED {
-        return AirData {
-            airspeed: va,
-            alpha: 0.0,
-            beta: 0.0,
-            rho,
-            sin_alpha: 0.0,
-            cos_alpha: 1.0,
-        };
-    }
-    // α = atan2(w, u), so sin α = w/√(u² + w²) and cos α = u/√(u² + w²); with no velocity in
-    // the symmetry plane α = 0.
-    let in_plane = (v_r.x * v_r.x + v_r.z * v_r.z).sqrt();
-    let (sin_alpha, cos_alpha) = if in_plane > 0.0 {
-        (v_r.z / in_plane, v_r.x / in_plane)
-    } else {
-        (0.0, 1.0)
-    };
-    AirData {
-        airspeed: va,
-        alpha: v_r.z.atan2(v_r.x),
-        beta: (v_r.y / va).clamp(-1.0, 1.0).asin(),
-        rho,
-        sin_alpha,
-        cos_alpha,
-    }
-}
-
-/// Stall blend σ(α) of Beard & McLain:
-/// σ = (1 + e1 + e2)/((1 + e1)(1 + e2)), e1 = e^{−M(α−α0)}, e2 = e^{M(α+α0)}.
-///
-/// Computed as σ = a + b − a·b with the logistic terms a = 1/(1 + e1), b = 1/(1 + e2)
-/// (the same expression multiplied out), which stays finite for any α where the quotient
-/// of exponentials would overflow to ∞/∞.
-pub fn stall_blend(alpha: f64, m: f64, alpha0: f64) -> f64 {
-    let a = 1.0 / (1.0 + (-m * (alpha - alpha0)).exp());
-    let b = 1.0 / (1.0 + (m * (alpha + alpha0)).exp());
-    a + b - a * b
-}
-
-/// Aerodynamic and propulsive force (body) and moment (body) of the fixed-wing model.
-/// `induced_factor` multiplies the induced-drag term (ground effect).
-pub fn aero_force_moment(
-    p: &FixedWingParams,
-    air: &AirData,
-    omega: DVec3,
-    ctl: &Controls,
-    induced_factor: f64,
-) -> (DVec3, DVec3) {
-    let lon = &p.longitudinal;
-    let lat = &p.lateral;
-    let geo = &p.geometry;
-    let va = air.airspeed;
-    let (alpha, beta) = (air.alpha, air.beta);
-    let qbar_s = 0.5 * air.rho * va * va * geo.s_wing;
-    // Non-dimensional rates; zero at (almost) zero airspeed where they are undefined.
-    let (c2v, b2v) = if va > MIN_AIRSPEED {
-        (geo.c / (2.0 * va), geo.b / (2.0 * va))
-    } else {
-        (0.0, 0.0)
-    };
-    let (pr, qr, rr) = (omega.x, omega.y, omega.z);
-
-    let sigma = stall_blend(alpha, lon.m_blend, lon.alpha0);
-    let (sa, ca) = (air.sin_alpha, air.cos_alpha);
-    let cl_lin = lon.c_l_0 + lon.c_l_alpha * alpha;
-    let c_l = (1.0 - sigma) * cl_lin + sigma * 2.0 * alpha.signum() * sa * sa * ca;
-    let aspect = geo.b * geo.b / geo.s_wing;
-    let c_d =
-        lon.c_d_p + induced_factor * cl_lin * cl_lin / (std::f64::consts::PI * geo.e * aspect);
-
-    let lift = qbar_s * (c_l + lon.c_l_q * c2v * qr + lon.c_l_delta_e * ctl.elevator);
-    let drag = qbar_s * (c_d + lon.c_d_q * c2v * qr + lon.c_d_delta_e * ctl.elevator);
-    let fx_aero = -drag * ca + lift * sa;
-    let fz = -drag * sa - lift * ca;
-    let fy = qbar_s
-        * (lat.c_y_0
-            + lat.c_y_beta * beta
-            + lat.c_y_p * b2v * pr
-            + lat.c_y_r * b2v * rr
-            + lat.c_y_delta_a * ctl.aileron
-            + lat.c_y_delta_r * ctl.rudder);
-    let prop = &p.propulsion;
-    let k = prop.k_motor * ctl.throttle;
-    let thrust = 0.5 * air.rho * prop.s_prop * prop.c_prop * (k * k - va * va);
-
-    let l = qbar_s
-        * geo.b
-        * (lat.c_ell_0
-            + lat.c_ell_beta * beta
-            + lat.c_ell_p * b2v * pr
-            + lat.c_ell_r * b2v * rr
-            + lat.c_ell_delta_a * ctl.aileron
-            + lat.c_ell_delta_r * ctl.rudder);
-    let m = qbar_s
-        * geo.c
-        * (lon.c_m_0
-            + lon.c_m_alpha * alpha
-            + lon.c_m_q * c2v * qr
-            + lon.c_m_delta_e * ctl.elevator);
-    let n = qbar_s
-        * geo.b
-        * (lat.c_n_0
-            + lat.c_n_beta * beta
-            + lat.c_n_p * b2v * pr
-            + lat.c_n_r * b2v * rr
-            + lat.c_n_delta_a * ctl.aileron
-            + lat.c_n_delta_r * ctl.rudder);
-    (DVec3::new(fx_aero + thrust, fy, fz), DVec3::new(l, m, n))
 }
