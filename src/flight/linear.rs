@@ -188,3 +188,78 @@ fn mul(a: &ErrorMatrix, b: &ErrorMatrix, n: usize, skip: usize, unit: bool) -> E
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The plain sum I + ha + (ha)²/2 + (ha)³/6 + (ha)⁴/24 over the first `n` rows/columns.
+    fn taylor4(a: &ErrorMatrix, n: usize, h: f64) -> ErrorMatrix {
+        let mut out = [[0.0; ERROR_MAX]; ERROR_MAX];
+        let mut term = [[0.0; ERROR_MAX]; ERROR_MAX];
+        for k in 0..n {
+            out[k][k] = 1.0;
+            term[k][k] = 1.0;
+        }
+        for order in 1..=4 {
+            let mut next = [[0.0; ERROR_MAX]; ERROR_MAX];
+            for r in 0..n {
+                for c in 0..n {
+                    next[r][c] =
+                        (0..n).map(|k| term[r][k] * a[k][c]).sum::<f64>() * h / order as f64;
+                }
+            }
+            term = next;
+            for r in 0..n {
+                for c in 0..n {
+                    out[r][c] += term[r][c];
+                }
+            }
+        }
+        out
+    }
+
+    /// The grouped transition is the 4th-order Taylor polynomial of exp(h·a), with and
+    /// without leading zero columns, and as close to the exponential as that order allows.
+    #[test]
+    fn transition_is_the_fourth_order_taylor_polynomial() {
+        let n = ERROR_MAX;
+        let mut a = [[0.0; ERROR_MAX]; ERROR_MAX];
+        for (r, row) in a.iter_mut().enumerate() {
+            for (c, v) in row.iter_mut().enumerate().skip(3) {
+                *v = ((r * 7 + c * 3) % 11) as f64 * 0.9 - 4.0;
+            }
+        }
+        let h = 0.02;
+        for free in [free_columns(&a, n), 0] {
+            assert_eq!(free_columns(&a, n), 3);
+            let got = transition(&a, n, h, free);
+            let want = taylor4(&a, n, h);
+            for r in 0..n {
+                for c in 0..n {
+                    assert!(
+                        (got[r][c] - want[r][c]).abs() < 1e-13,
+                        "free {free}, ({r}, {c}): {} vs {}",
+                        got[r][c],
+                        want[r][c]
+                    );
+                }
+            }
+        }
+        // A turn at rate w: exp is the rotation by wh; the truncated series is off by about
+        // (wh)⁵/120.
+        let w = 20.0;
+        let mut turn = [[0.0; ERROR_MAX]; ERROR_MAX];
+        turn[3][4] = -w;
+        turn[4][3] = w;
+        let phi = transition(&turn, n, h, free_columns(&turn, n));
+        let (s, c) = (w * h).sin_cos();
+        let err = (phi[3][3] - c)
+            .abs()
+            .max((phi[3][4] + s).abs())
+            .max((phi[4][3] - s).abs());
+        let bound = (w * h).powi(5) / 120.0;
+        assert!(err < 1.1 * bound && err > 0.5 * bound, "{err} vs {bound}");
+        assert_eq!(phi[0][0], 1.0, "a still direction stays put");
+    }
+}
