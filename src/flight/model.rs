@@ -265,6 +265,11 @@ impl Model {
         self.effects.iter().map(|e| e.wind_at(pos_ned, t)).sum()
     }
 
+    /// Whether the equations depend on time itself (an effect says so, or does not say).
+    pub fn varies_in_time(&self) -> bool {
+        self.effects.iter().any(|e| e.varies_in_time())
+    }
+
     /// Air data of a fixed-wing state at time `t` (airspeed, α, β, ρ).
     pub fn air_data(&self, t: f64, x: &State) -> AirData {
         let (wind, rho, _) = self.environment(x.pos_ned(), t);

@@ -32,6 +32,9 @@ impl Effect for ActuatorLag {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         std::slice::from_ref(&self.tau_s)
     }

@@ -29,6 +29,9 @@ impl Effect for DensityAltitude {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn density(&self, altitude_m: f64, _rho: f64) -> f64 {
         isa_density(altitude_m)
     }

@@ -25,6 +25,9 @@ impl Effect for EarthCurvature {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn accel_ned(&self, s: &Sample) -> DVec3 {
         DVec3::new(
             -s.g * s.pos_ned.x / EARTH_RADIUS,

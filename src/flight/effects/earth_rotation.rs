@@ -39,6 +39,9 @@ impl Effect for EarthRotation {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         std::slice::from_ref(&self.latitude_deg)
     }

@@ -23,6 +23,9 @@ impl Effect for GroundEffect {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn induced_drag_factor(&self, s: &Sample) -> f64 {
         if self.span.is_nan() || self.span <= 0.0 {
             return 1.0; // no wing, no ground effect (and no division by zero)

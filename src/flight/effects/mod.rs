@@ -306,6 +306,14 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
         &mut []
     }
 
+    /// Whether any hook depends on time itself, not only on the state (a gust, a schedule).
+    /// None of the catalogue's does. `true`, the default, is the safe answer for an effect
+    /// that does not say: the comparison's tangent then takes the model's Jacobian afresh
+    /// at every pair of steps instead of holding it while the state barely moves.
+    fn varies_in_time(&self) -> bool {
+        true
+    }
+
     /// Wind, NED, m/s, at a position (NED, m) and time (s); summed over effects.
     fn wind_at(&self, _pos_ned: DVec3, _t: f64) -> DVec3 {
         DVec3::ZERO

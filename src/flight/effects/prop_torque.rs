@@ -29,6 +29,9 @@ impl Effect for PropTorque {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         std::slice::from_ref(&self.k_torque)
     }

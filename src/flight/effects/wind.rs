@@ -32,6 +32,9 @@ impl Effect for Wind {
     fn info(&self) -> &'static EffectInfo {
         &INFO
     }
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         self.ned.as_ref()
     }
