@@ -50,6 +50,10 @@ impl Effect for Thermal {
     fn info(&self) -> &'static EffectInfo {
         &THERMAL
     }
+    // The column stands still: the wind depends on where, not when.
+    fn varies_in_time(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         &self.values
     }
