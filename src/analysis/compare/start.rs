@@ -223,10 +223,7 @@ impl Prepared<'_> {
         let mut iteration = 0;
         let mut tries = 0;
         // Jᵀr, taken afresh with the Jacobian and carried by Broyden's update with it.
-        let gradient = |jac: &[f64], r: &[f64]| -> Vec<f64> {
-            (0..np).map(|a| dot(&jac[a * m..(a + 1) * m], r)).collect()
-        };
-        let mut jtr = gradient(&jac, &r);
+        let mut jtr = gradient(&jac, &r, np);
         while iteration < self.cfg.start_iterations && tries < 16 {
             tries += 1;
             let mut a = jtj.clone();
@@ -276,7 +273,7 @@ impl Prepared<'_> {
                 // An updated Jacobian that misleads: take it afresh.
                 self.jacobian_at(model, span, &q, surfaces, &r, scratch, &mut jac);
                 jtj = gram(&jac, np, m);
-                jtr = gradient(&jac, &r);
+                jtr = gradient(&jac, &r, np);
                 fresh = true;
             }
         }
@@ -475,11 +472,6 @@ fn broyden_update(
     np: usize,
     m: usize,
 ) -> Vec<f64> {
-    let gradient = |jac: &[f64]| -> Vec<f64> {
-        (0..np)
-            .map(|k| dot(&jac[k * m..(k + 1) * m], r_new))
-            .collect()
-    };
     let dd: f64 = step.iter().map(|d| d * d).sum();
     // NaN as well as zero: no step to update with.
     if dd.is_nan()
@@ -490,7 +482,7 @@ fn broyden_update(
         || r_old.len() != m
         || r_new.len() != m
     {
-        return gradient(jac);
+        return gradient(jac, r_new, np);
     }
     let mut ju = vec![0.0; np];
     let mut jr = vec![0.0; np];
@@ -522,6 +514,14 @@ fn broyden_update(
         }
     }
     jr
+}
+
+/// Jᵀr for a column-major Jacobian of `np` columns of `r.len()` rows.
+fn gradient(jac: &[f64], r: &[f64], np: usize) -> Vec<f64> {
+    let m = r.len();
+    (0..np)
+        .map(|k| jac.get(k * m..(k + 1) * m).map_or(0.0, |col| dot(col, r)))
+        .collect()
 }
 
 fn sum_sq(r: &[f64]) -> f64 {
