@@ -28,6 +28,7 @@ use glam::{DMat3, DQuat, DVec3};
 
 use super::model::{Model, State, Vehicle};
 use super::Controls;
+use crate::numeric::mul12;
 
 /// Largest error-state dimension (a fixed wing).
 pub const ERROR_MAX: usize = 12;
@@ -136,57 +137,50 @@ pub fn free_columns(a: &ErrorMatrix, n: usize) -> usize {
     (0..3.min(n)).take_while(|&c| zero(c)).count()
 }
 
-/// exp(h·a) over the first `n` rows and columns, by its Taylor series to 4th order,
+/// exp(h·a) over the first `n` rows and columns, into `phi`, by its Taylor series to 4th order,
 /// grouped as Paterson and Stockmeyer do so that it takes two matrix products instead of
 /// three: I + ha + (ha)²·(I/2 + ha/6 + (ha)²/24). `free`: leading columns of `a` that are
 /// zero ([`free_columns`]); they are zero in (ha)² too.
-pub fn transition(a: &ErrorMatrix, n: usize, h: f64, free: usize) -> ErrorMatrix {
-    let a2 = mul(a, a, n, free, false);
+pub fn transition(a: &ErrorMatrix, n: usize, h: f64, free: usize, phi: &mut ErrorMatrix) {
+    let mut a2 = [[0.0; ERROR_MAX]; ERROR_MAX];
+    mul12(a, a, n, free, false, &mut a2);
     let (c2, c3, c4) = (h * h, h * h * h / 6.0, h * h * h * h / 24.0);
-    // I/2 + ha/6 + (ha)²/24, times h²: the factor the square multiplies.
+    // I/2 + ha/6 + (ha)²/24, times h²: the factor the square multiplies. Whole matrices
+    // elementwise (outside the first n rows and columns a and a² are zero), so the loops
+    // vectorise.
     let mut tail = [[0.0; ERROR_MAX]; ERROR_MAX];
+    for ((t, &x), &x2) in tail
+        .as_flattened_mut()
+        .iter_mut()
+        .zip(a.as_flattened())
+        .zip(a2.as_flattened())
+    {
+        *t = c3 * x + c4 * x2;
+    }
     for (r, row) in tail.iter_mut().enumerate().take(n) {
-        for (c, v) in row.iter_mut().enumerate().take(n) {
-            *v = c3 * a[r][c] + c4 * a2[r][c];
-        }
         row[r] += 0.5 * c2;
     }
-    let mut phi = mul(&a2, &tail, n, free, false);
+    mul12(&a2, &tail, n, free, false, phi);
+    for (p, &x) in phi.as_flattened_mut().iter_mut().zip(a.as_flattened()) {
+        *p += h * x;
+    }
     for (r, row) in phi.iter_mut().enumerate().take(n) {
-        for (c, v) in row.iter_mut().enumerate().take(n) {
-            *v += h * a[r][c];
-        }
         row[r] += 1.0;
     }
-    phi
 }
 
-/// The columns of `s` carried over a step with transition matrix `phi`: s ← phi·s. `free`:
-/// leading columns of the step's Jacobian that are zero, so that the same columns of `phi`
-/// are unit vectors.
-pub fn propagate(phi: &ErrorMatrix, n: usize, s: &mut ErrorMatrix, free: usize) {
-    *s = mul(phi, s, n, free, true);
-}
-
-/// a·b over the first `n` rows and columns of `a` (all columns of `b`), for `a` whose first
-/// `skip` columns are zero (`unit`: unit vectors instead). Each row of the product is summed
-/// in a local array the compiler keeps in registers, in the order of the full product.
-fn mul(a: &ErrorMatrix, b: &ErrorMatrix, n: usize, skip: usize, unit: bool) -> ErrorMatrix {
-    let mut out = [[0.0; ERROR_MAX]; ERROR_MAX];
-    for (r, (out_r, a_r)) in out.iter_mut().zip(a).enumerate().take(n) {
-        let mut acc = if unit && r < skip {
-            b[r]
-        } else {
-            [0.0; ERROR_MAX]
-        };
-        for (&a_rk, b_k) in a_r.iter().zip(b).take(n).skip(skip) {
-            for (s, &bv) in acc.iter_mut().zip(b_k) {
-                *s += a_rk * bv;
-            }
-        }
-        *out_r = acc;
-    }
-    out
+/// The columns of `from` carried over a step with transition matrix `phi` into `to`: phi·from.
+/// `free`: leading columns of the step's Jacobian that are zero, so that the same columns of
+/// `phi` are unit vectors. (Into another matrix, not in place: the tangent alternates two,
+/// where returning the product would copy it at every step.)
+pub fn propagate(
+    phi: &ErrorMatrix,
+    n: usize,
+    from: &ErrorMatrix,
+    to: &mut ErrorMatrix,
+    free: usize,
+) {
+    mul12(phi, from, n, free, true, to);
 }
 
 #[cfg(test)]
@@ -233,7 +227,8 @@ mod tests {
         let h = 0.02;
         for free in [free_columns(&a, n), 0] {
             assert_eq!(free_columns(&a, n), 3);
-            let got = transition(&a, n, h, free);
+            let mut got = [[0.0; ERROR_MAX]; ERROR_MAX];
+            transition(&a, n, h, free, &mut got);
             let want = taylor4(&a, n, h);
             for r in 0..n {
                 for c in 0..n {
@@ -252,7 +247,8 @@ mod tests {
         let mut turn = [[0.0; ERROR_MAX]; ERROR_MAX];
         turn[3][4] = -w;
         turn[4][3] = w;
-        let phi = transition(&turn, n, h, free_columns(&turn, n));
+        let mut phi = [[0.0; ERROR_MAX]; ERROR_MAX];
+        transition(&turn, n, h, free_columns(&turn, n), &mut phi);
         let (s, c) = (w * h).sin_cos();
         let err = (phi[3][3] - c)
             .abs()

@@ -21,10 +21,6 @@ use crate::flight::Controls;
 /// Step of the wind's position derivative, m.
 const WIND_STEP: f64 = 1e-2;
 
-/// Rows of one sample's residual Jacobian (13 at most: position, velocity, attitude, rates,
-/// airspeed).
-type SampleRows = [[f64; ERROR_MAX]; 13];
-
 impl Prepared<'_> {
     /// The Jacobian of the weighted residuals `r` over `span` with respect to the start
     /// parameters `q` (and their surface positions) into `jac` (column-major, `r.len()`
@@ -55,10 +51,18 @@ impl Prepared<'_> {
         if trajectory[0] != x0 {
             return false;
         }
-        let mut s = start_sensitivity(model, q, &x0);
-        jac.clear();
-        jac.resize(np * m, 0.0);
-        let mut rows: SampleRows = [[0.0; ERROR_MAX]; 13];
+        // The sensitivity and the next one, alternating (`cur` holds the current one).
+        let mut sens = [
+            start_sensitivity(model, q, &x0),
+            [[0.0; ERROR_MAX]; ERROR_MAX],
+        ];
+        let mut cur = 0;
+        // Every entry is written below: a Jacobian of the right size (the one a fit replaces)
+        // is overwritten, not cleared first.
+        if jac.len() != np * m {
+            jac.clear();
+            jac.resize(np * m, 0.0);
+        }
         let mut a: ErrorMatrix = [[0.0; ERROR_MAX]; ERROR_MAX];
         // exp(h·a), and the h it is for.
         let mut phi = a;
@@ -67,17 +71,13 @@ impl Prepared<'_> {
         // Index of the current state in `trajectory` (= integration steps taken).
         let mut step_count = 0usize;
         let mut hold = Hold::new(model);
+        let mut finite = true;
         for i in start..end {
-            let x = trajectory[step_count];
-            let count = self.jacobian_rows(model, i, &x, &s, &mut rows);
-            if count != per_sample {
-                return false;
-            }
+            let x = &trajectory[step_count];
             let row0 = (i - start) * per_sample;
-            for (k, row) in rows.iter().take(count).enumerate() {
-                for (j, v) in row.iter().take(np).enumerate() {
-                    jac[j * m + row0 + k] = *v;
-                }
+            match self.jacobian_rows(model, i, x, &sens[cur], per_sample, (m, row0), jac) {
+                Some(ok) => finite &= ok,
+                None => return false,
             }
             if i + 1 == end {
                 break;
@@ -115,86 +115,113 @@ impl Prepared<'_> {
                 }
                 step_count += 1;
                 if h != phi_h {
-                    phi = transition(&a, n, h, free);
+                    transition(&a, n, h, free, &mut phi);
                     phi_h = h;
                 }
-                propagate(&phi, n, &mut s, free);
+                let [s0, s1] = &mut sens;
+                let (from, to) = if cur == 0 { (s0, s1) } else { (s1, s0) };
+                propagate(&phi, n, from, to, free);
+                cur = 1 - cur;
             }
         }
-        jac.iter().all(|v| v.is_finite())
+        finite
     }
 
     /// The derivatives of sample `i`'s residual rows (in the order of `residual_rows`) along
-    /// the error-state columns of `s`, at state `x`. Returns the number of rows.
+    /// the error-state columns of `s`, at state `x`, written into the column-major `jac` of
+    /// `m` rows per column from row `row0` on: each column's rows of the sample together, as
+    /// they are computed. None when the sample has other than `per_sample` rows; else whether
+    /// every value is finite.
+    #[allow(clippy::too_many_arguments)]
     fn jacobian_rows(
         &self,
         model: &Model,
         i: usize,
         x: &State,
         s: &ErrorMatrix,
-        out: &mut SampleRows,
-    ) -> usize {
+        per_sample: usize,
+        (m_rows, row0): (usize, usize),
+        jac: &mut [f64],
+    ) -> Option<bool> {
+        let np = jac.len() / m_rows.max(1);
         let d = self.data;
         let m = self.measured.for_vehicle(model);
         let [wp, wv, wa, wr] = &self.weights;
-        let col = |j: usize, k: usize| DVec3::new(s[k][j], s[k + 1][j], s[k + 2][j]);
-        let mut count = 0;
-        let mut put = |v: [DVec3; ERROR_MAX], w: &[f64; 3], count: &mut usize| {
-            for a in 0..3 {
-                for j in 0..ERROR_MAX {
-                    out[*count + a][j] = v[j][a] * w[a];
-                }
-            }
-            *count += 3;
-        };
-        put(std::array::from_fn(|j| col(j, 0)), wp, &mut count);
-        match model.vehicle {
-            Vehicle::PointMass => {
-                if let (true, Some(_)) = (m.velocity, &d.vel_ned) {
-                    put(std::array::from_fn(|j| col(j, 3)), wv, &mut count);
-                }
-            }
-            Vehicle::FixedWing(_) => {
-                let rot = x.rot();
-                let v = x.vel();
-                if let (true, Some(_)) = (m.velocity, &d.vel_ned) {
-                    let dv = |j| rot * (col(j, 3) + col(j, 6).cross(v));
-                    put(std::array::from_fn(dv), wv, &mut count);
-                }
-                if let (true, Some(_)) = (m.attitude, &d.attitude) {
-                    let w = euler_rates_matrix(x, &rot);
-                    put(std::array::from_fn(|j| w * col(j, 6)), wa, &mut count);
-                }
-                if let (true, Some(_)) = (m.rates, &d.rates_body) {
-                    put(std::array::from_fn(|j| col(j, 9)), wr, &mut count);
-                }
-                if let (true, Some(_)) = (m.airspeed, &d.airspeed) {
-                    let t = d.time[i];
-                    let p = x.pos_ned();
-                    let wind = model.wind_at(p, t);
-                    // ∂w/∂p, a column per NED axis.
-                    let grad = DMat3::from_cols(
-                        (model.wind_at(p + DVec3::X * WIND_STEP, t) - wind) / WIND_STEP,
-                        (model.wind_at(p + DVec3::Y * WIND_STEP, t) - wind) / WIND_STEP,
-                        (model.wind_at(p + DVec3::Z * WIND_STEP, t) - wind) / WIND_STEP,
-                    );
-                    let wind_body = rot.transpose() * wind;
-                    let v_r = v - wind_body;
-                    let va = v_r.length();
-                    for (j, o) in out[count].iter_mut().enumerate() {
-                        let dv_r = col(j, 3) + col(j, 6).cross(wind_body)
-                            - rot.transpose() * (grad * col(j, 0));
-                        *o = if va > 0.0 {
-                            v_r.dot(dv_r) / va * self.airspeed_weight
-                        } else {
-                            0.0
-                        };
-                    }
-                    count += 1;
-                }
-            }
+        let fixed_wing = matches!(model.vehicle, Vehicle::FixedWing(_));
+        let velocity = m.velocity && d.vel_ned.is_some();
+        let attitude = fixed_wing && m.attitude && d.attitude.is_some();
+        let rates = fixed_wing && m.rates && d.rates_body.is_some();
+        let airspeed = fixed_wing && m.airspeed && d.airspeed.is_some();
+        let count = 3 * (1 + [velocity, attitude, rates].iter().filter(|&&b| b).count())
+            + usize::from(airspeed);
+        if count != per_sample || np == 0 || count > 13 {
+            return None;
         }
-        count
+        let col = |j: usize, k: usize| DVec3::new(s[k][j], s[k + 1][j], s[k + 2][j]);
+        let rot = x.rot();
+        let v = x.vel();
+        let w = if attitude {
+            euler_rates_matrix(x, &rot)
+        } else {
+            DMat3::IDENTITY
+        };
+        // The airspeed row: v̂ᵣ·(δv + δθ × Rᵀw − Rᵀ·∂w/∂p·δp).
+        let air = airspeed.then(|| {
+            let t = d.time[i];
+            let p = x.pos_ned();
+            let wind = model.wind_at(p, t);
+            // ∂w/∂p, a column per NED axis.
+            let grad = DMat3::from_cols(
+                (model.wind_at(p + DVec3::X * WIND_STEP, t) - wind) / WIND_STEP,
+                (model.wind_at(p + DVec3::Y * WIND_STEP, t) - wind) / WIND_STEP,
+                (model.wind_at(p + DVec3::Z * WIND_STEP, t) - wind) / WIND_STEP,
+            );
+            let wind_body = rot.transpose() * wind;
+            let v_r = v - wind_body;
+            let va = v_r.length();
+            let gain = if va > 0.0 {
+                self.airspeed_weight / va
+            } else {
+                0.0
+            };
+            (v_r * gain, wind_body, rot.transpose() * grad)
+        });
+        let mut finite = true;
+        let mut vals = [0.0; 13];
+        for j in 0..np {
+            let mut k = 0;
+            let mut put = |e: DVec3, wt: &[f64; 3]| {
+                vals[k] = e.x * wt[0];
+                vals[k + 1] = e.y * wt[1];
+                vals[k + 2] = e.z * wt[2];
+                k += 3;
+            };
+            put(col(j, 0), wp);
+            if !fixed_wing {
+                if velocity {
+                    put(col(j, 3), wv);
+                }
+            } else {
+                let turn = col(j, 6);
+                if velocity {
+                    put(rot * (col(j, 3) + turn.cross(v)), wv);
+                }
+                if attitude {
+                    put(w * turn, wa);
+                }
+                if rates {
+                    put(col(j, 9), wr);
+                }
+                if let Some((dir, wind_body, grad_body)) = air {
+                    vals[k] = dir.dot(col(j, 3) + turn.cross(wind_body) - grad_body * col(j, 0));
+                }
+            }
+            let at = j * m_rows + row0;
+            let out = jac.get_mut(at..at + count)?;
+            out.copy_from_slice(&vals[..count]);
+            finite &= vals[..count].iter().all(|v| v.is_finite());
+        }
+        Some(finite)
     }
 }
 

@@ -57,50 +57,9 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize) -> Option<()> {
     b.iter().all(|v| v.is_finite()).then_some(())
 }
 
-/// Dot product of two slices (over the shorter length), summed in four independent lanes:
-/// a single running sum is a chain of dependent additions the compiler may not reorder, and
-/// the start fits' normal equations take dot products of columns ten thousand rows long.
-pub fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let n = a.len().min(b.len());
-    let (a, b) = (&a[..n], &b[..n]);
-    let mut lanes = [0.0; 4];
-    let mut ca = a.chunks_exact(4);
-    let mut cb = b.chunks_exact(4);
-    for (x, y) in (&mut ca).zip(&mut cb) {
-        for k in 0..4 {
-            lanes[k] += x[k] * y[k];
-        }
-    }
-    let tail: f64 = ca
-        .remainder()
-        .iter()
-        .zip(cb.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
-}
+mod kernels;
 
-/// `y += alpha·x` over the shorter length.
-pub fn axpy(alpha: f64, x: &[f64], y: &mut [f64]) {
-    y.iter_mut().zip(x).for_each(|(y, x)| *y += alpha * x);
-}
-
-/// The Gram matrix AᵀA (row-major, `cols`×`cols`) of a column-major matrix of `cols` columns
-/// of `rows` rows each.
-pub fn gram(a: &[f64], cols: usize, rows: usize) -> Vec<f64> {
-    let mut g = vec![0.0; cols * cols];
-    if a.len() != cols * rows {
-        return g;
-    }
-    for i in 0..cols {
-        for k in i..cols {
-            let v = dot(&a[i * rows..(i + 1) * rows], &a[k * rows..(k + 1) * rows]);
-            g[i * cols + k] = v;
-            g[k * cols + i] = v;
-        }
-    }
-    g
-}
+pub use kernels::{axpy, dot, gram, mul12, Mat12};
 
 /// Solve `a·x = b` for a fixed-size system (rows of `a`); `None` when singular.
 pub fn solve<const N: usize>(a: [[f64; N]; N], b: [f64; N]) -> Option<[f64; N]> {
