@@ -272,9 +272,15 @@ impl Model {
 
     /// Air data of a fixed-wing state at time `t` (airspeed, α, β, ρ).
     pub fn air_data(&self, t: f64, x: &State) -> AirData {
-        let (wind, rho, _) = self.environment(x.pos_ned(), t);
+        let (wind, rho) = self.air_at(x.pos_ned(), t);
         let v_r = x.vel() - x.rot().transpose() * wind;
         air_angles(v_r, rho)
+    }
+
+    /// The air at a position and time: (wind NED, m/s; density, kg/m³).
+    pub fn air_at(&self, pos_ned: DVec3, t: f64) -> (DVec3, f64) {
+        let (wind, rho, _) = self.environment(pos_ned, t);
+        (wind, rho)
     }
 
     /// Time derivative of the state under commands `cmd` (held constant).

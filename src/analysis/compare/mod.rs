@@ -224,13 +224,28 @@ pub struct Prediction {
 }
 
 impl Prediction {
-    fn push(&mut self, i: usize, p: &Predicted) {
+    /// Room for `n` samples: an hour's predictions are tens of megabytes, not to be copied
+    /// as they grow.
+    fn with_capacity(n: usize) -> Self {
+        Self {
+            index: Vec::with_capacity(n),
+            pos_ned: Vec::with_capacity(n),
+            vel_ned: Vec::with_capacity(n),
+            attitude: Vec::with_capacity(n),
+            rates: Vec::with_capacity(n),
+            air: Vec::with_capacity(n),
+        }
+    }
+
+    /// Append a prediction whose air data are `air` (taken apart: α and β cost two inverse
+    /// trigonometric functions per sample, and an hour's are taken in parallel).
+    fn push(&mut self, i: usize, p: &Predicted, air: AirData) {
         self.index.push(i);
         self.pos_ned.push(p.pos_ned);
         self.vel_ned.push(p.vel_ned);
         self.attitude.push(p.attitude);
         self.rates.push(p.rates);
-        self.air.push(p.air);
+        self.air.push(air);
     }
 }
 
@@ -360,14 +375,18 @@ impl<'a> Prepared<'a> {
     /// Cut the data into windows, estimate the noise, and precompute what every evaluation
     /// needs.
     pub fn new(data: &'a FlightData, cfg: CompareConfig) -> Self {
-        let unwrapped = data.attitude.as_ref().map(|att| {
-            [
-                unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
-                unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
-                unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
-            ]
-        });
-        let noise = estimate_noise(data);
+        let (unwrapped, noise) = rayon::join(
+            || {
+                data.attitude.as_ref().map(|att| {
+                    [
+                        unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
+                        unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
+                        unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
+                    ]
+                })
+            },
+            || estimate_noise(data),
+        );
         let w = |s: [f64; 3], min: f64| s.map(|v| 1.0 / v.max(min));
         let weights = [
             w(noise.pos_axes, SIGMA_MIN[0]),
@@ -390,6 +409,25 @@ impl<'a> Prepared<'a> {
     /// The settings.
     pub fn config(&self) -> CompareConfig {
         self.cfg
+    }
+
+    /// The same data prepared with at most `max_windows` windows, evenly spread (0: all),
+    /// without estimating the noise again: the subset a diagnosis screens candidates on.
+    pub fn with_max_windows(&self, max_windows: usize) -> Self {
+        let cfg = CompareConfig {
+            max_windows,
+            ..self.cfg
+        };
+        Self {
+            data: self.data,
+            unwrapped: self.unwrapped.clone(),
+            windows: cut_windows(&self.data.time, &cfg),
+            noise: self.noise,
+            measured: self.measured,
+            weights: self.weights,
+            airspeed_weight: self.airspeed_weight,
+            cfg,
+        }
     }
 
     /// Append the weighted residual rows of sample `i` for prediction `p`.
@@ -416,7 +454,7 @@ impl<'a> Prepared<'a> {
             out.extend([e.x * wr[0], e.y * wr[1], e.z * wr[2]]);
         }
         if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
-            out.push((p.air.airspeed - s[i]) * self.airspeed_weight);
+            out.push((p.airspeed() - s[i]) * self.airspeed_weight);
         }
     }
 }
@@ -661,7 +699,7 @@ pub fn compare_many<T: Send>(
         }
     }
     models
-        .iter()
+        .par_iter()
         .zip(by_model)
         .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
         .collect()
@@ -685,4 +723,51 @@ pub fn noise_floor(model: &Model, prep: &Prepared) -> f64 {
         rate_dps: m.rates.then_some(rate),
     }
     .score()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flight::autopilot::Manoeuvre;
+    use crate::flight::effects::Origin;
+    use crate::flight::simulate::{simulate, Noise, SimSpec};
+    use crate::flight::spec::ModelSpec;
+    use crate::flight::VehicleKind;
+
+    /// The screening subset taken from prepared data is the data prepared with that many
+    /// windows: the same windows, noise and weights, without estimating the noise again.
+    #[test]
+    fn a_subset_of_prepared_data_is_the_data_prepared_with_fewer_windows() {
+        let model = ModelSpec::baseline(VehicleKind::FixedWing)
+            .build(Origin::default())
+            .unwrap();
+        let spec = SimSpec {
+            noise: Noise {
+                pos_m: 0.5,
+                att_deg: 0.3,
+                vel_mps: 0.1,
+                rate_dps: 0.5,
+            },
+            ..SimSpec::new(Manoeuvre::FlightTest, 90.0)
+        };
+        let data = simulate(&model, &spec).unwrap();
+        let cfg = CompareConfig::default();
+        let full = Prepared::new(&data, cfg);
+        for max in [0, 3, 5, 100] {
+            let subset = full.with_max_windows(max);
+            let direct = Prepared::new(
+                &data,
+                CompareConfig {
+                    max_windows: max,
+                    ..cfg
+                },
+            );
+            assert_eq!(subset.windows, direct.windows, "{max}");
+            assert_eq!(subset.noise, direct.noise);
+            assert_eq!(subset.weights, direct.weights);
+            assert_eq!(subset.unwrapped, direct.unwrapped);
+            assert_eq!(subset.config(), direct.config());
+        }
+        assert_eq!(full.with_max_windows(3).windows.len(), 3);
+    }
 }

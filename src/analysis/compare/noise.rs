@@ -83,11 +83,11 @@ fn median(v: &mut [f64]) -> f64 {
 
 fn axes3(values: &[DVec3]) -> [f64; 3] {
     let pick = |k: usize| -> Vec<f64> { values.iter().map(|v| v[k]).collect() };
-    [
-        robust_noise(&pick(0)),
-        robust_noise(&pick(1)),
-        robust_noise(&pick(2)),
-    ]
+    let (x, (y, z)) = rayon::join(
+        || robust_noise(&pick(0)),
+        || rayon::join(|| robust_noise(&pick(1)), || robust_noise(&pick(2))),
+    );
+    [x, y, z]
 }
 
 fn rms3(a: [f64; 3]) -> f64 {
@@ -96,29 +96,44 @@ fn rms3(a: [f64; 3]) -> f64 {
 
 /// Measurement noise of every measured channel of the data (derived channels read 0).
 pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
-    let pos_axes = axes3(&d.pos_ned);
-    let vel_axes = match &d.vel_ned {
-        Some(v) if !d.is_derived("vel_ned") => axes3(v),
-        _ => [0.0; 3],
-    };
-    let att_axes = match &d.attitude {
-        Some(att) => {
-            let roll = unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>());
-            let pitch = unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>());
-            let yaw = unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>());
-            [
-                robust_noise(&roll),
-                robust_noise(&pitch),
-                robust_noise(&yaw),
-            ]
-        }
-        None => [0.0; 3],
-    };
-    let rate_axes = match &d.rates_body {
-        Some(w) if !d.is_derived("rates_body") => axes3(w),
-        _ => [0.0; 3],
-    };
-    let airspeed_mps = d.airspeed.as_deref().map_or(0.0, robust_noise);
+    // Channels side by side: each is a median of every sample's difference, twice.
+    let ((pos_axes, vel_axes), (att_axes, (rate_axes, airspeed_mps))) = rayon::join(
+        || {
+            rayon::join(
+                || axes3(&d.pos_ned),
+                || match &d.vel_ned {
+                    Some(v) if !d.is_derived("vel_ned") => axes3(v),
+                    _ => [0.0; 3],
+                },
+            )
+        },
+        || {
+            rayon::join(
+                || match &d.attitude {
+                    Some(att) => {
+                        let angle = |k: usize| {
+                            let a: Vec<f64> =
+                                att.iter().map(|e| [e.roll, e.pitch, e.yaw][k]).collect();
+                            robust_noise(&unwrap_angles(&a))
+                        };
+                        let (roll, (pitch, yaw)) =
+                            rayon::join(|| angle(0), || rayon::join(|| angle(1), || angle(2)));
+                        [roll, pitch, yaw]
+                    }
+                    None => [0.0; 3],
+                },
+                || {
+                    rayon::join(
+                        || match &d.rates_body {
+                            Some(w) if !d.is_derived("rates_body") => axes3(w),
+                            _ => [0.0; 3],
+                        },
+                        || d.airspeed.as_deref().map_or(0.0, robust_noise),
+                    )
+                },
+            )
+        },
+    );
     NoiseEstimate {
         pos_m: rms3(pos_axes),
         vel_mps: rms3(vel_axes),

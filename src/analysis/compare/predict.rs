@@ -8,7 +8,7 @@ use glam::DVec3;
 
 use crate::euler::EulerZyx;
 use crate::flight::data::FlightData;
-use crate::flight::model::{AirData, HeldCommands, Model, State, Vehicle};
+use crate::flight::model::{air_angles, AirData, HeldCommands, Model, State, Vehicle};
 use crate::flight::Controls;
 
 /// What the model predicts at one sample, in the data's frames (NED, aerospace angles).
@@ -22,8 +22,28 @@ pub struct Predicted {
     pub attitude: EulerZyx,
     /// Body rates p, q, r, rad/s (zero for a point mass).
     pub rates: DVec3,
+    /// Velocity relative to the model's air, body axes, m/s (zero for a point mass). α and β
+    /// follow from it ([`Predicted::air`]) when a prediction is reported; the start fits'
+    /// flights need the airspeed alone, and not two inverse trigonometric functions per
+    /// sample.
+    pub air_velocity_body: DVec3,
+    /// Air density, kg/m³ (zero for a point mass).
+    pub rho: f64,
+}
+
+impl Predicted {
+    /// Airspeed, m/s.
+    pub fn airspeed(&self) -> f64 {
+        self.air_velocity_body.length()
+    }
+
     /// Airspeed, angle of attack and sideslip in the model's air (zero for a point mass).
-    pub air: AirData,
+    pub fn air(&self) -> AirData {
+        if self.rho == 0.0 && self.air_velocity_body == DVec3::ZERO {
+            return AirData::default();
+        }
+        air_angles(self.air_velocity_body, self.rho)
+    }
 }
 
 /// Commands in force from sample i (zero for data without controls).
@@ -42,13 +62,18 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
             vel_ned: x.vel(),
             ..Predicted::default()
         },
-        Vehicle::FixedWing(_) => Predicted {
-            pos_ned: x.pos_ned(),
-            vel_ned: x.rot() * x.vel(),
-            attitude: x.attitude(),
-            rates: x.omega(),
-            air: model.air_data(t, x),
-        },
+        Vehicle::FixedWing(_) => {
+            let rot = x.rot();
+            let (wind, rho) = model.air_at(x.pos_ned(), t);
+            Predicted {
+                pos_ned: x.pos_ned(),
+                vel_ned: rot * x.vel(),
+                attitude: EulerZyx::from_matrix(rot).0,
+                rates: x.omega(),
+                air_velocity_body: x.vel() - rot.transpose() * wind,
+                rho,
+            }
+        }
     }
 }
 
@@ -207,6 +232,36 @@ mod tests {
     use super::*;
     use crate::flight::effects::{ActuatorLag, Origin};
     use crate::flight::params::FixedWingParams;
+
+    /// A prediction's air data (taken from the air-relative velocity it carries) are the
+    /// model's, exactly; a point mass reads still air.
+    #[test]
+    fn a_predictions_air_is_the_models_air_data() {
+        let mut model = Model::new(
+            Vehicle::FixedWing(Box::new(FixedWingParams::aerosonde())),
+            Origin::default(),
+        );
+        model
+            .add_effect(
+                crate::flight::spec::EffectSpec::parse("wind:north_mps=4,east_mps=-3,down_mps=1")
+                    .unwrap()
+                    .build(&model.effect_context())
+                    .unwrap(),
+            )
+            .unwrap();
+        let mut x = State::default();
+        x.set_pos_ned(DVec3::new(10.0, -20.0, -100.0));
+        x.set_vel(DVec3::new(24.0, 1.5, 2.0));
+        x.set_attitude(EulerZyx::new(0.7, 0.1, -0.3));
+        x.set_omega(DVec3::new(0.1, -0.05, 0.02));
+        let p = read_out(&model, 3.0, &x);
+        let air = model.air_data(3.0, &x);
+        assert_eq!(p.air(), air);
+        assert_eq!(p.airspeed(), air.airspeed);
+        assert!(air.alpha != 0.0 && air.beta != 0.0 && p.rho > 0.0);
+        let point = Model::new(Vehicle::PointMass, Origin::default());
+        assert_eq!(read_out(&point, 3.0, &x).air(), AirData::default());
+    }
 
     /// The incremental tracker gives exactly the from-the-start filter, on uneven sampling.
     #[test]
