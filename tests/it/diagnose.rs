@@ -203,6 +203,23 @@ fn finds_wind() {
     }
 }
 
+/// Aircraft numbers are scored all together but fitted only when their score could make them
+/// significant: beside a missing wind, which leaves twelve times the noise, every number's
+/// first-order reduction is a few thousandths of that excess, so none is fitted, while all are
+/// still scored as evidence.
+#[test]
+fn numbers_that_could_not_be_significant_are_scored_but_not_fitted() {
+    let d = Case::flight_test(&["wind:north_mps=4,east_mps=-3"], 1).diagnose();
+    let text = report("hidden wind, seed 1", &d);
+    assert!(d.aircraft_scores.len() > 20, "{text}");
+    assert!(d.aircraft_scores[0].reduction > 0.0, "{text}");
+    assert!(
+        d.ranking.iter().all(|c| !c.effect.starts_with("aircraft:")),
+        "{text}"
+    );
+    assert!(d.ranking.iter().any(|c| c.effect == "wind"), "{text}");
+}
+
 #[test]
 fn finds_wind_in_open_loop_doublets() {
     let case = Case {
