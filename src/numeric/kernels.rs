@@ -3,8 +3,9 @@
 //! products of the tangent-linear flight — with an AVX2 + FMA path chosen at run time.
 //!
 //! The portable build targets baseline x86-64 (SSE2: two doubles per instruction, no fused
-//! multiply-add), which leaves these loops at a quarter of what any x86-64 CPU of the last
-//! ten years does. Each kernel checks once per call whether the CPU has AVX2 and FMA
+//! multiply-add), which leaves these loops at half or less of what a CPU with AVX2 does
+//! (measured here: the Gram matrix of a start Jacobian 170 → 82 µs, a 12×12 product 208 →
+//! 74 ns). Each kernel checks once per call whether the CPU has AVX2 and FMA
 //! (`is_x86_feature_detected!` caches the answer) and runs a version compiled for them;
 //! elsewhere, and on other architectures, the portable loop. The two differ only in rounding
 //! (a fused multiply-add rounds once), well inside every tolerance that uses them.
