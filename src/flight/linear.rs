@@ -28,13 +28,14 @@ use glam::{DMat3, DQuat, DVec3};
 
 use super::model::{Model, State, Vehicle};
 use super::Controls;
-use crate::numeric::mul12;
+use crate::numeric::{mul12, Mat12};
 
 /// Largest error-state dimension (a fixed wing).
 pub const ERROR_MAX: usize = 12;
 
-/// A square matrix over the error state (row-major; a point mass uses the top-left 6×6).
-pub type ErrorMatrix = [[f64; ERROR_MAX]; ERROR_MAX];
+/// A square matrix over the error state (row-major; a point mass uses the top-left 6×6): the
+/// 12×12 matrix the products of [`crate::numeric::mul12`] work on.
+pub type ErrorMatrix = Mat12;
 
 /// Forward-difference steps of the force rows, per error block: position m (the
 /// environment changes over tens of metres), velocity m/s, rotation rad, rates rad/s.
