@@ -17,7 +17,7 @@ use crate::analysis::compare::start::{
 use crate::analysis::compare::Prepared;
 use crate::flight::effects::Effect;
 use crate::flight::model::{Model, State};
-use crate::numeric::{dot, gram, solve_in_place};
+use crate::numeric::{axpy, dot, gram, solve_in_place};
 
 /// The effect named `name` in `model`.
 pub(crate) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
@@ -119,6 +119,14 @@ impl Linearised<'_> {
         project_out(&self.jac, &self.gram, self.params, cols, m);
     }
 
+    /// The start parameters whose change from this start absorbs what it can of `r` (another
+    /// model's residuals at this start), to first order: q − (JᵀJ)⁻¹Jᵀr. `r` is left
+    /// projected.
+    pub(crate) fn start_absorbing(&self, r: &mut [f64]) -> Vec<f64> {
+        let dq = self.project(r);
+        self.q.iter().zip(&dq).map(|(q, d)| q + d).collect()
+    }
+
     pub(crate) fn state(&self, model: &Model) -> State {
         state_of(model, &self.q, self.surfaces)
     }
@@ -191,6 +199,9 @@ pub(crate) fn perturbed_models(model: &Model, free: &[Free], theta: &[f64]) -> V
         .collect()
 }
 
+/// Normal equations (A row-major, g), of one window or summed over windows.
+pub(crate) type Normal = (Vec<f64>, Vec<f64>);
+
 /// One window's share of the normal equations: A = D̃ᵀD̃ and g = D̃ᵀr, D̃ the change of the
 /// residuals per scaled parameter with the start directions projected out. `at_start`: the
 /// window's residuals of `model` from `l`'s start when they are at hand (a start fit's own),
@@ -202,8 +213,31 @@ pub(crate) fn window_normal(
     window: (usize, usize),
     l: &Linearised,
     at_start: Option<&[f64]>,
-) -> (Vec<f64>, Vec<f64>) {
+) -> Normal {
+    window_normal_towards(model, perturbed, prep, window, l, at_start, None).0
+}
+
+/// [`window_normal`], and where the window's start would be with the parameters moved by
+/// `towards` (scaled, one per parameter), to first order: the start parameters that absorb
+/// what they can of the residuals r + D·towards (D before projection), `l.q` −
+/// (JᵀJ)⁻¹Jᵀ(r + D·towards). None without `towards`, or when a flight does not fit.
+///
+/// With `towards` the change to the model without a correction (an effect's parameters to
+/// their absent values, a number back to the set's), it predicts that model's fitted start
+/// from the corrected one's: far closer than the warm start when the model lacks what the
+/// correction adds (the base model's start is pulled away from the data's to make up for
+/// it), and at no flight more, the columns being the normal equations' own.
+pub(crate) fn window_normal_towards(
+    model: &Model,
+    perturbed: &[Model],
+    prep: &Prepared,
+    window: (usize, usize),
+    l: &Linearised,
+    at_start: Option<&[f64]>,
+    towards: Option<&[f64]>,
+) -> (Normal, Option<Vec<f64>>) {
     let np = perturbed.len();
+    let nothing = || ((vec![0.0; np * np], vec![0.0; np]), None);
     let span = prep.fit_range(window);
     let mut scratch = Scratch::default();
     let x = l.state(model);
@@ -221,16 +255,23 @@ pub(crate) fn window_normal(
     for (j, pm) in perturbed.iter().enumerate() {
         prep.window_residuals(pm, span, &x, &mut scratch, &mut rj);
         if rj.len() != m {
-            return (vec![0.0; np * np], vec![0.0; np]);
+            return nothing();
         }
         for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(r) {
             *c = (a - b) / PARAM_STEP;
         }
     }
+    let start = towards.filter(|t| t.len() == np).map(|t| {
+        let mut target = r.to_vec();
+        for (j, tj) in t.iter().enumerate() {
+            axpy(*tj, &cols[j * m..(j + 1) * m], &mut target);
+        }
+        l.start_absorbing(&mut target)
+    });
     l.project_out(&mut cols, m);
     // D̃ is orthogonal to the start directions, so D̃ᵀr = D̃ᵀr̃.
     let g = (0..np).map(|i| dot(&cols[i * m..(i + 1) * m], r)).collect();
-    (gram(&cols, np, m), g)
+    ((gram(&cols, np, m), g), start)
 }
 
 pub(crate) fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {

@@ -364,6 +364,15 @@ fn a_screened_diagnosis_refits_the_winner_on_every_window() {
             "{name}: {v} vs {v_all} ± {s_all}\n{text}"
         );
     }
+    // The base's comparison is what `compare` reports, though its starts were fitted from
+    // ones predicted from the winner's fits instead of from the warm starts.
+    let plain = compare(&base, &data, screened_cfg.compare);
+    assert!(
+        (screened.base.chi2 / plain.chi2 - 1.0).abs() < 1e-4,
+        "{} vs {}\n{text}",
+        screened.base.chi2,
+        plain.chi2
+    );
     // Its error is the comparison of the model with the wind on every window.
     let mut with = base.clone();
     winner.correction.apply(&mut with).unwrap();

@@ -629,80 +629,88 @@ fn compare_windows(
     (assemble(model, prep, outcomes), fits)
 }
 
-/// Compare several models in one pass over the windows, each window's start fitted for every
-/// model from the same place (`starts`, or the warm start: what a comparison of that model
-/// alone would begin with), the others' fits beginning with the first one's start Jacobian;
-/// `then(k, window, fit)` runs on every model's start fit (Jacobian included)
-/// while it exists, so nothing per window outlives its pass. Returns each model's comparison
-/// with what `then` returned per window.
-pub fn compare_many<T: Send>(
-    models: &[&Model],
+/// Compare corrections of a model (`candidates`) and the model itself (`base`) in one pass
+/// over the windows. In each window every candidate's start is fitted from the warm start
+/// (with a fresh Jacobian), and `then(k, window, fit)` runs on candidate k's start fit
+/// (Jacobian included) while it exists — nothing per window outlives its pass — returning
+/// what the caller keeps and, optionally, start parameters predicted for `base` from that
+/// fit ([`params_of`](start::params_of)'s). The base's start is then fitted from the first
+/// prediction, or from the warm start without one.
+///
+/// Candidates go first because a model that explains the data has its start near the
+/// data's (the warm start), while the base (lacking what they add) is pulled away from it
+/// to make up for what it lacks; from a prediction the base's fit takes less than half the
+/// flights it takes from the warm start (on the hour benchmark's missing wind: 2.5 flights
+/// and 1.3 tangents a window instead of 6 and 2.2, to the same misfit).
+///
+/// Returns the base's comparison, and each candidate's with what `then` returned per
+/// window.
+pub fn compare_corrections<T: Send>(
+    base: &Model,
+    candidates: &[&Model],
     prep: &Prepared,
-    starts: Option<&[State]>,
-    then: impl Fn(usize, (usize, usize), &StartFit) -> T + Sync,
-) -> Vec<(Comparison, Vec<T>)> {
-    let Some(first) = models.first() else {
-        return Vec::new();
-    };
-    // Surfaces at each window start, per model (its actuator lag, if any).
-    let surfaces: Vec<Vec<DVec3>> = models
+    then: impl Fn(usize, (usize, usize), &StartFit) -> (T, Option<Vec<f64>>) + Sync,
+) -> (Comparison, Vec<(Comparison, Vec<T>)>) {
+    // Surfaces at each window start, per model (its actuator lag, if any); the base's last.
+    let surfaces: Vec<Vec<DVec3>> = candidates
         .iter()
+        .chain([&base])
         .map(|m| {
             let mut tracker = SurfaceTracker::new(m, prep.data);
             prep.windows.iter().map(|w| tracker.at(w.0)).collect()
         })
         .collect();
-    let per_window: Vec<Vec<(WindowOutcome, T)>> = prep
+    let nc = candidates.len();
+    let per_window: Vec<(WindowOutcome, Vec<(WindowOutcome, T)>)> = prep
         .windows
         .par_iter()
         .enumerate()
         .map(|(i, &w)| {
-            let mut x = match starts.and_then(|s| s.get(i)) {
-                Some(x) => *x,
-                None => prep.warm_start(first, w, surfaces[0][i]),
-            };
-            let mut out = Vec::with_capacity(models.len());
-            // The first model's start Jacobian begins the others' fits: they differ from it
-            // by an effect or a number, which moves the start's sensitivities very little,
-            // and a fresh one costs several flights. They begin from the warm start, not from
-            // the first model's fitted one: a model that explains the data has its start
-            // near the data's (the warm start), while the first model's (a model without the
-            // effect) is pulled away to make up for what it lacks (the hour benchmark's wind:
-            // 1.8 flights a window fewer from the warm start).
-            let mut first_jacobian = Vec::new();
-            for (k, m) in models.iter().enumerate() {
-                x.set_surfaces(surfaces[k][i]);
-                let jacobian =
-                    (k > 0 && !first_jacobian.is_empty()).then_some(first_jacobian.as_slice());
-                let mut o = compare_window(m, prep, w, x, jacobian, true);
+            let mut out = Vec::with_capacity(nc);
+            let mut predicted: Option<State> = None;
+            for (k, m) in candidates.iter().enumerate() {
+                let x = prep.warm_start(m, w, surfaces[k][i]);
+                let mut o = compare_window(m, prep, w, x, None, true);
                 let fit = o.fit.take();
-                let extra = match &fit {
+                let (extra, start) = match &fit {
                     Some(f) => then(k, w, f),
                     None => then(k, w, &StartFit::unfitted(o.result.start)),
                 };
-                if k == 0 {
-                    if let Some(f) = fit {
-                        first_jacobian = f.jacobian;
-                    }
+                if predicted.is_none() {
+                    predicted = start
+                        .filter(|q| q.len() == start::param_count(base))
+                        .map(|q| start::state_of(base, &q, surfaces[nc][i]))
+                        .filter(State::is_finite);
                 }
                 out.push((o, extra));
             }
-            out
+            let x = predicted.unwrap_or_else(|| prep.warm_start(base, w, surfaces[nc][i]));
+            (compare_window(base, prep, w, x, None, false), out)
         })
         .collect();
-    let mut by_model: Vec<(Vec<WindowOutcome>, Vec<T>)> =
-        models.iter().map(|_| (Vec::new(), Vec::new())).collect();
-    for window in per_window {
+    let mut base_outcomes = Vec::with_capacity(per_window.len());
+    let mut by_model: Vec<(Vec<WindowOutcome>, Vec<T>)> = candidates
+        .iter()
+        .map(|_| (Vec::new(), Vec::new()))
+        .collect();
+    for (b, window) in per_window {
+        base_outcomes.push(b);
         for (k, (o, t)) in window.into_iter().enumerate() {
             by_model[k].0.push(o);
             by_model[k].1.push(t);
         }
     }
-    models
-        .par_iter()
-        .zip(by_model)
-        .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
-        .collect()
+    let (base_cmp, cmps) = rayon::join(
+        || assemble(base, prep, base_outcomes),
+        || {
+            candidates
+                .par_iter()
+                .zip(by_model)
+                .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
+                .collect()
+        },
+    );
+    (base_cmp, cmps)
 }
 
 /// Compare a model with flight data.

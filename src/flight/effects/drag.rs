@@ -12,6 +12,7 @@ pub static INFO: EffectInfo = EffectInfo {
     params: &[ParamSpec {
         // A drag coefficient may be 1e-5 or 1e-2: the scale follows the value.
         scale_relative: true,
+        absent: Some(0.0),
         start: Some(1e-4),
         ..ParamSpec::new("k", "1/m", (0.0, 1.0), 1e-4)
     }],

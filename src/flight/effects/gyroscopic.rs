@@ -11,6 +11,7 @@ pub static INFO: EffectInfo = EffectInfo {
     summary: "propeller angular momentum k·δt along body x (k_gyro)",
     applies: Applies::FixedWing,
     params: &[ParamSpec {
+        absent: Some(0.0),
         scale_relative: true,
         ..ParamSpec::new("k_gyro", "kg·m²/s", (-1e6, 1e6), 0.01)
     }],

@@ -178,6 +178,11 @@ pub struct ParamSpec {
     /// A property of the place (a latitude), known from the data's metadata when it has one:
     /// then held, not fitted.
     pub from_origin: bool,
+    /// The value at which the parameter's term vanishes, if it has one: with every parameter
+    /// at it the effect changes nothing, and the model is the model without it (a wind of
+    /// 0, a gyroscopic k of 0; a lag's τ has none). The diagnosis then predicts where the
+    /// model without the effect starts a window from the fit with it.
+    pub absent: Option<f64>,
 }
 
 impl ParamSpec {
@@ -196,6 +201,7 @@ impl ParamSpec {
             scale_relative: false,
             start: None,
             from_origin: false,
+            absent: None,
         }
     }
 
@@ -455,6 +461,64 @@ mod tests {
                 }
                 assert!(p.scale > 0.0, "{}.{}", info.name, p.name);
             }
+        }
+    }
+
+    /// An effect whose parameters all have an absent value changes nothing there: the model
+    /// with it flies exactly as the model without it (what the diagnosis's prediction of the
+    /// base model's starts takes for granted). At least wind, drag, the gyroscopic term and
+    /// the propeller torque have one.
+    #[test]
+    fn an_effect_at_its_absent_values_changes_nothing() {
+        use crate::flight::model::State;
+        use crate::flight::spec::ModelSpec;
+        use crate::flight::{Controls, VehicleKind};
+        let mut tried = Vec::new();
+        for info in CATALOGUE {
+            let Some(absent) = info
+                .params
+                .iter()
+                .map(|p| p.absent)
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            if info.params.is_empty() {
+                continue;
+            }
+            for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
+                let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
+                let mut e = info.build(&base.effect_context());
+                if !e.applies_to(kind) {
+                    continue;
+                }
+                for (p, v) in info.params.iter().zip(&absent) {
+                    e.set_param(p.name, *v).unwrap();
+                }
+                let mut with = base.clone();
+                with.add_effect(e).unwrap();
+                let mut x = State::default();
+                x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
+                x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
+                x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
+                x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
+                let cmd = Controls {
+                    throttle: 0.7,
+                    elevator: -0.05,
+                    aileron: 0.02,
+                    rudder: 0.01,
+                };
+                assert_eq!(
+                    with.derivative(1.0, &x, &cmd).0,
+                    base.derivative(1.0, &x, &cmd).0,
+                    "{} at its absent values",
+                    info.name
+                );
+                tried.push(info.name);
+            }
+        }
+        for name in ["wind", "drag", "gyroscopic", "prop_torque"] {
+            assert!(tried.contains(&name), "{name} has no absent values");
         }
     }
 

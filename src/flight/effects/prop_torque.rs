@@ -12,6 +12,7 @@ pub static INFO: EffectInfo = EffectInfo {
     applies: Applies::FixedWing,
     params: &[ParamSpec {
         // 0.5 N·m on a small UAV, several hundred on a light aircraft.
+        absent: Some(0.0),
         scale_relative: true,
         ..ParamSpec::new("k_torque", "N·m", (-1e6, 1e6), 0.1)
     }],

@@ -14,9 +14,18 @@ pub static INFO: EffectInfo = EffectInfo {
     summary: "steady wind in NED",
     applies: Applies::Both,
     params: &[
-        ParamSpec::new("north_mps", "m/s", (-MAX_WIND, MAX_WIND), 1.0),
-        ParamSpec::new("east_mps", "m/s", (-MAX_WIND, MAX_WIND), 1.0),
-        ParamSpec::new("down_mps", "m/s", (-MAX_WIND, MAX_WIND), 1.0),
+        ParamSpec {
+            absent: Some(0.0),
+            ..ParamSpec::new("north_mps", "m/s", (-MAX_WIND, MAX_WIND), 1.0)
+        },
+        ParamSpec {
+            absent: Some(0.0),
+            ..ParamSpec::new("east_mps", "m/s", (-MAX_WIND, MAX_WIND), 1.0)
+        },
+        ParamSpec {
+            absent: Some(0.0),
+            ..ParamSpec::new("down_mps", "m/s", (-MAX_WIND, MAX_WIND), 1.0)
+        },
     ],
     make: |_: &EffectContext| Box::new(Wind::default()),
 };
