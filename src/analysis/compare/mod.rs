@@ -567,6 +567,18 @@ pub fn compare_from(model: &Model, prep: &Prepared, starts: Option<&[State]>) ->
     compare_windows(model, prep, starts, &[], false).0
 }
 
+/// [`compare_from`], each window's fit beginning with `jacobians[k]` instead of a fresh
+/// Jacobian: another model's on that window (the baseline's, for the baseline with an effect
+/// that has nothing to fit), kept current by Broyden's updates ([`Prepared::fit_start_with`]).
+pub fn compare_from_jacobians(
+    model: &Model,
+    prep: &Prepared,
+    starts: &[State],
+    jacobians: &[&[f64]],
+) -> Comparison {
+    compare_windows(model, prep, Some(starts), jacobians, false).0
+}
+
 /// [`compare_from`], also returning each window's start fit (its Jacobian with respect to the
 /// start state: for fitting model parameters with the starts projected out). Memory grows with
 /// the windows (samples × channels × 12 numbers each): for a subset of windows.

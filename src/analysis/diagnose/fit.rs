@@ -10,7 +10,8 @@
 use super::{AircraftChange, Candidate, Correction, DiagnoseConfig};
 use crate::analysis::compare::start::{Scratch, StartFit};
 use crate::analysis::compare::{
-    compare_corrections, compare_from, compare_refit, compare_with_fits, Comparison, Prepared,
+    compare_corrections, compare_from_jacobians, compare_refit, compare_with_fits, Comparison,
+    Prepared,
 };
 use crate::analysis::profile::{
     add_into, aircraft_free, damped_trial, effect, linear_profile, newton_gain, normal_equations,
@@ -74,6 +75,12 @@ fn fit_linearised(
                 lambda *= 10.0;
                 continue;
             };
+            if trial == *theta {
+                // The ranges clamp the step to no move: the parameters that would move are at
+                // their bounds, and a shorter step stops there too (an actuator lag fitted
+                // to its least τ flew eight trials a window for nothing).
+                break;
+            }
             let mut m = model.clone();
             set_values(&mut m, free, &trial);
             let (c, dq_trial, flown_trial) = linear_profile(&m, prep, lin);
@@ -128,7 +135,13 @@ fn fit(
     let fits = &baseline.fits;
     let starts: Vec<State> = fits.iter().map(|f| f.state).collect();
     if np == 0 {
-        return (compare_from(model, prep, Some(&starts)), None);
+        // The effect moves each start little from the baseline's: its fit begins there, with
+        // the baseline's Jacobian instead of a fresh one.
+        let jacobians: Vec<&[f64]> = fits.iter().map(|f| f.jacobian.as_slice()).collect();
+        return (
+            compare_from_jacobians(model, prep, &starts, &jacobians),
+            None,
+        );
     }
     let chi2_base: f64 = fits
         .iter()

@@ -448,6 +448,10 @@ fn lm(
                 lambda *= 10.0;
                 continue;
             };
+            if trial == *theta {
+                // The ranges clamp the step to no move (see `diagnose`'s fit).
+                break;
+            }
             let mut m = model.clone();
             set_values(&mut m, free, &trial);
             let (c, dq_trial) = profile_sum(&m, flights);
