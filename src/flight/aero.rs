@@ -57,16 +57,18 @@ pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
     }
     // α = atan2(w, u), so sin α = w/√(u² + w²) and cos α = u/√(u² + w²); with no velocity in
     // the symmetry plane α = 0.
+    // One division each for the two norms (a division costs several multiplications).
     let in_plane = (v_r.x * v_r.x + v_r.z * v_r.z).sqrt();
     let (sin_alpha, cos_alpha) = if in_plane > 0.0 {
-        (v_r.z / in_plane, v_r.x / in_plane)
+        let inv = 1.0 / in_plane;
+        (v_r.z * inv, v_r.x * inv)
     } else {
         (0.0, 1.0)
     };
     AirData {
         airspeed: va,
         alpha: v_r.z.atan2(v_r.x),
-        beta: (v_r.y / va).clamp(-1.0, 1.0).asin(),
+        beta: (v_r.y * (1.0 / va)).clamp(-1.0, 1.0).asin(),
         rho,
         sin_alpha,
         cos_alpha,
@@ -102,7 +104,8 @@ pub fn aero_force_moment(
     let qbar_s = 0.5 * air.rho * va * va * geo.s_wing;
     // Non-dimensional rates; zero at (almost) zero airspeed where they are undefined.
     let (c2v, b2v) = if va > MIN_AIRSPEED {
-        (geo.c / (2.0 * va), geo.b / (2.0 * va))
+        let half_inv = 0.5 / va;
+        (geo.c * half_inv, geo.b * half_inv)
     } else {
         (0.0, 0.0)
     };
@@ -112,9 +115,9 @@ pub fn aero_force_moment(
     let (sa, ca) = (air.sin_alpha, air.cos_alpha);
     let cl_lin = lon.c_l_0 + lon.c_l_alpha * alpha;
     let c_l = (1.0 - sigma) * cl_lin + sigma * 2.0 * alpha.signum() * sa * sa * ca;
-    let aspect = geo.b * geo.b / geo.s_wing;
-    let c_d =
-        lon.c_d_p + induced_factor * cl_lin * cl_lin / (std::f64::consts::PI * geo.e * aspect);
+    // C_L²/(π·e·AR) with AR = b²/S: one division, not two.
+    let induced = geo.s_wing / (std::f64::consts::PI * geo.e * geo.b * geo.b);
+    let c_d = lon.c_d_p + induced_factor * cl_lin * cl_lin * induced;
 
     let lift = qbar_s * (c_l + lon.c_l_q * c2v * qr + lon.c_l_delta_e * ctl.elevator);
     let drag = qbar_s * (c_d + lon.c_d_q * c2v * qr + lon.c_d_delta_e * ctl.elevator);
