@@ -131,6 +131,41 @@ impl Linearised<'_> {
         state_of(model, &self.q, self.surfaces)
     }
 
+    /// The products d̃ᵀr and d̃ᵀd̃ of d's part that no start change can absorb, d̃ = d −
+    /// J·(JᵀJ)⁻¹Jᵀd, without forming it: d̃ᵀr = dᵀr − (Jᵀd)ᵀ(JᵀJ)⁻¹Jᵀr and d̃ᵀd̃ = dᵀd −
+    /// (Jᵀd)ᵀ(JᵀJ)⁻¹Jᵀd — twelve dot products with d where the projection takes twelve more
+    /// passes to subtract. `jtr`: Jᵀr. A d that a start change absorbs all but a
+    /// hundred-millionth of (in d̃ᵀd̃/dᵀd, beyond what the subtraction resolves) gives (0, 0):
+    /// it explains nothing. Without a Jacobian, d's own products.
+    pub(crate) fn projected_products(&self, d: &[f64], r: &[f64], jtr: &[f64]) -> (f64, f64) {
+        let (np, m) = (self.params, d.len());
+        let (dr, dd) = (dot(d, r), dot(d, d));
+        if np == 0 || self.jac.len() != np * m || jtr.len() != np {
+            return (dr, dd);
+        }
+        let jtd: Vec<f64> = self.jac.chunks(m).map(|col| dot(col, d)).collect();
+        let mut y = jtd.clone();
+        let mut g = self.gram.clone();
+        if solve_in_place(&mut g, &mut y, np).is_none() {
+            return (dr, dd);
+        }
+        let (dr_p, dd_p) = (dr - dot(&y, jtr), dd - dot(&y, &jtd));
+        if dd_p > 1e-8 * dd {
+            (dr_p, dd_p)
+        } else {
+            (0.0, 0.0)
+        }
+    }
+
+    /// Jᵀr, for [`projected_products`](Self::projected_products).
+    pub(crate) fn jt(&self, r: &[f64]) -> Vec<f64> {
+        let m = r.len();
+        if self.params == 0 || self.jac.len() != self.params * m {
+            return Vec::new();
+        }
+        self.jac.chunks(m).map(|col| dot(col, r)).collect()
+    }
+
     /// Replace `r` by what no start change can absorb, r − J·(JᵀJ)⁻¹Jᵀr, and return the start
     /// change that absorbs the rest, −(JᵀJ)⁻¹Jᵀr.
     fn project(&self, r: &mut [f64]) -> Vec<f64> {
@@ -390,4 +425,47 @@ pub(crate) fn damped_trial(
             .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
             .collect(),
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The products of the projected column, taken without forming it, are those of the
+    /// projection itself; a column inside the start directions gives none.
+    #[test]
+    fn projected_products_are_those_of_the_projected_column() {
+        let (np, m) = (3, 50);
+        let jac: Vec<f64> = (0..np * m)
+            .map(|i| ((i * 7919 % 101) as f64 - 50.0) / 25.0)
+            .collect();
+        let fit = StartFit {
+            state: State::default(),
+            iterations: 1,
+            jacobian: jac.clone(),
+            residuals: (0..m).map(|i| (i as f64 * 0.37).sin()).collect(),
+            params: np,
+        };
+        let model = crate::flight::spec::ModelSpec::baseline(crate::flight::VehicleKind::PointMass)
+            .build(crate::flight::effects::Origin::default())
+            .unwrap();
+        let lin = Linearised::of(&model, &fit);
+        let r = &fit.residuals;
+        let jtr = lin.jt(r);
+        let d: Vec<f64> = (0..m)
+            .map(|i| (i as f64 * 0.11).cos() + 0.01 * i as f64)
+            .collect();
+        let mut projected = d.clone();
+        lin.project_out(&mut projected, m);
+        let (dr, dd) = lin.projected_products(&d, r, &jtr);
+        let (want_dr, want_dd) = (dot(&projected, r), dot(&projected, &projected));
+        assert!(
+            (dr - want_dr).abs() < 1e-10 * want_dr.abs().max(1.0),
+            "{dr} vs {want_dr}"
+        );
+        assert!((dd - want_dd).abs() < 1e-10 * want_dd, "{dd} vs {want_dd}");
+        // A combination of the start directions: absorbed entirely.
+        let inside: Vec<f64> = (0..m).map(|i| 2.0 * jac[i] - jac[m + i]).collect();
+        assert_eq!(lin.projected_products(&inside, r, &jtr), (0.0, 0.0));
+    }
 }

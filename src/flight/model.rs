@@ -369,7 +369,8 @@ impl Model {
         let m = p.mass.mass_kg;
         let (pr, qr, rr) = (omega.x, omega.y, omega.z);
         let (u, v, w) = (uvw.x, uvw.y, uvw.z);
-        let uvw_dot = DVec3::new(rr * v - qr * w, pr * w - rr * u, qr * u - pr * v) + force * (1.0 / m);
+        let uvw_dot =
+            DVec3::new(rr * v - qr * w, pr * w - rr * u, qr * u - pr * v) + force * (1.0 / m);
         let gm = &self.gammas.g;
         let (l, mm, n) = (moment.x, moment.y, moment.z);
         let omega_dot = DVec3::new(

@@ -15,7 +15,6 @@ use crate::analysis::compare::Prepared;
 use crate::analysis::profile::Linearised;
 use crate::flight::model::Model;
 use crate::flight::params::keys::{AircraftKey, KEYS};
-use crate::numeric::dot;
 
 /// What one key could do.
 #[derive(Clone, Copy, Debug)]
@@ -58,7 +57,9 @@ pub fn score_aircraft(base: &Model, prep: &Prepared, baseline: &Baseline) -> Vec
             let r = &fit.residuals;
             let m = r.len();
             let mut scratch = Scratch::default();
+            let jtr = lin.jt(r);
             let mut rk = Vec::with_capacity(m);
+            let mut d = Vec::with_capacity(m);
             perturbed
                 .iter()
                 .map(|(_, model, h)| {
@@ -66,9 +67,9 @@ pub fn score_aircraft(base: &Model, prep: &Prepared, baseline: &Baseline) -> Vec
                     if rk.len() != m {
                         return (0.0, 0.0);
                     }
-                    let mut d: Vec<f64> = rk.iter().zip(r).map(|(a, b)| (a - b) / h).collect();
-                    lin.project_out(&mut d, m);
-                    (dot(&d, r), dot(&d, &d))
+                    d.clear();
+                    d.extend(rk.iter().zip(r).map(|(a, b)| (a - b) / h));
+                    lin.projected_products(&d, r, &jtr)
                 })
                 .collect()
         })
