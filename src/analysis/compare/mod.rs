@@ -37,7 +37,7 @@ use rayon::prelude::*;
 
 pub use noise::{estimate_noise, expected_channel_errors, NoiseEstimate};
 pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
-use score::assemble;
+use score::{assemble, assemble_as};
 use start::{Scratch, StartFit};
 
 use crate::euler::EulerZyx;
@@ -656,7 +656,8 @@ fn compare_windows(
 /// and 1.3 tangents a window instead of 6 and 2.2, to the same misfit).
 ///
 /// Returns the base's comparison, and each candidate's with what `then` returned per
-/// window.
+/// window: its windows, errors, total and misfit, without the per-sample prediction and
+/// per-axis errors (a diagnosis reports the base model's).
 pub fn compare_corrections<T: Send>(
     base: &Model,
     candidates: &[&Model],
@@ -683,6 +684,8 @@ pub fn compare_corrections<T: Send>(
             for (k, m) in candidates.iter().enumerate() {
                 let x = prep.warm_start(m, w, surfaces[k][i]);
                 let mut o = compare_window(m, prep, w, x, None, true);
+                // Not assembled in detail (below): its predictions are not kept.
+                o.predicted = Vec::new();
                 let fit = o.fit.take();
                 let (extra, start) = match &fit {
                     Some(f) => then(k, w, f),
@@ -718,7 +721,7 @@ pub fn compare_corrections<T: Send>(
             candidates
                 .par_iter()
                 .zip(by_model)
-                .map(|(m, (outcomes, extras))| (assemble(m, prep, outcomes), extras))
+                .map(|(m, (outcomes, extras))| (assemble_as(m, prep, outcomes, false), extras))
                 .collect()
         },
     );

@@ -6,20 +6,42 @@ use super::*;
 
 /// The comparison of `model` from the outcomes of its windows, in time order.
 pub(super) fn assemble(model: &Model, prep: &Prepared, outcomes: Vec<WindowOutcome>) -> Comparison {
+    assemble_as(model, prep, outcomes, true)
+}
+
+/// [`assemble`], with the per-sample prediction and the per-axis errors only `in_detail`:
+/// without, the windows, channel errors, total and misfit alone (what scores a candidate
+/// correction; its predictions are a hundred megabytes on an hour at 100 Hz, and their air
+/// data and axes a twentieth of a diagnosis).
+pub(super) fn assemble_as(
+    model: &Model,
+    prep: &Prepared,
+    outcomes: Vec<WindowOutcome>,
+    in_detail: bool,
+) -> Comparison {
     let m = prep.measured.for_vehicle(model);
-    let mut prediction =
-        Prediction::with_capacity(outcomes.iter().map(|o| o.predicted.len()).sum());
+    let samples = if in_detail {
+        outcomes.iter().map(|o| o.predicted.len()).sum()
+    } else {
+        0
+    };
+    let mut prediction = Prediction::with_capacity(samples);
     let mut windows = Vec::with_capacity(outcomes.len());
     let (mut sp, mut sv, mut sa, mut sr, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut chi2, mut rows) = (0.0, 0usize);
     let air: Vec<Vec<AirData>> = outcomes
         .par_iter()
-        .map(|o| o.predicted.iter().map(Predicted::air).collect())
+        .map(|o| match in_detail {
+            true => o.predicted.iter().map(Predicted::air).collect(),
+            false => Vec::new(),
+        })
         .collect();
     for (o, air) in outcomes.into_iter().zip(air) {
         let (start, end) = o.result.samples;
-        for ((k, i), air) in (start..end).enumerate().zip(air) {
-            prediction.push(i, &o.predicted[k], air);
+        if in_detail {
+            for ((k, i), air) in (start..end).enumerate().zip(air) {
+                prediction.push(i, &o.predicted[k], air);
+            }
         }
         let w = (end - start) as f64;
         let e = &o.result.errors;
@@ -44,7 +66,10 @@ pub(super) fn assemble(model: &Model, prep: &Prepared, outcomes: Vec<WindowOutco
     } else {
         0
     };
-    let axes = axis_errors(model, prep, &prediction);
+    let axes = match in_detail {
+        true => axis_errors(model, prep, &prediction),
+        false => Vec::new(),
+    };
     Comparison {
         total: total_score(&windows),
         channels,

@@ -157,7 +157,6 @@ impl Prepared<'_> {
         if count != per_sample || np == 0 || count > 13 {
             return None;
         }
-        let col = |j: usize, k: usize| DVec3::new(s[k][j], s[k + 1][j], s[k + 2][j]);
         let rot = x.rot();
         let v = x.vel();
         let w = if attitude {
@@ -186,40 +185,79 @@ impl Prepared<'_> {
             };
             (v_r * gain, wind_body, rot.transpose() * grad)
         });
-        let mut finite = true;
-        let mut vals = [0.0; 13];
-        for j in 0..np {
-            let mut k = 0;
-            let mut put = |e: DVec3, wt: &[f64; 3]| {
-                vals[k] = e.x * wt[0];
-                vals[k + 1] = e.y * wt[1];
-                vals[k + 2] = e.z * wt[2];
-                k += 3;
-            };
-            put(col(j, 0), wp);
-            if !fixed_wing {
-                if velocity {
-                    put(col(j, 3), wv);
-                }
-            } else {
-                let turn = col(j, 6);
-                if velocity {
-                    put(rot * (col(j, 3) + turn.cross(v)), wv);
-                }
-                if attitude {
-                    put(w * turn, wa);
-                }
-                if rates {
-                    put(col(j, 9), wr);
-                }
-                if let Some((dir, wind_body, grad_body)) = air {
-                    vals[k] = dir.dot(col(j, 3) + turn.cross(wind_body) - grad_body * col(j, 0));
+        // Each residual row is a combination of rows of the sensitivity (all its columns at
+        // once, twelve lanes wide): rows[r] = Σₖ c·s[k] over the (k, c) of that row.
+        let mut out = [[0.0; ERROR_MAX]; 13];
+        let mut k = 0;
+        let mut row = |terms: &[(usize, f64)]| {
+            let o = &mut out[k];
+            for &(from, c) in terms {
+                for (o, v) in o.iter_mut().zip(&s[from]) {
+                    *o += c * v;
                 }
             }
+            k += 1;
+        };
+        for (a, &c) in wp.iter().enumerate() {
+            row(&[(a, c)]);
+        }
+        if !fixed_wing {
+            if velocity {
+                for (a, &c) in wv.iter().enumerate() {
+                    row(&[(3 + a, c)]);
+                }
+            }
+        } else {
+            if velocity {
+                // R·(δv + δθ × v), δθ × v = (θy·vz − θz·vy, θz·vx − θx·vz, θx·vy − θy·vx).
+                for (a, &c) in wv.iter().enumerate() {
+                    let r = rot.row(a);
+                    row(&[
+                        (3, c * r.x),
+                        (4, c * r.y),
+                        (5, c * r.z),
+                        (6, c * (r.z * v.y - r.y * v.z)),
+                        (7, c * (r.x * v.z - r.z * v.x)),
+                        (8, c * (r.y * v.x - r.x * v.y)),
+                    ]);
+                }
+            }
+            if attitude {
+                for (a, &c) in wa.iter().enumerate() {
+                    let r = w.row(a);
+                    row(&[(6, c * r.x), (7, c * r.y), (8, c * r.z)]);
+                }
+            }
+            if rates {
+                for (a, &c) in wr.iter().enumerate() {
+                    row(&[(9 + a, c)]);
+                }
+            }
+            if let Some((dir, wind_body, grad_body)) = air {
+                // v̂ᵣ·(δv + δθ × Rᵀw − Rᵀ·∂w/∂p·δp): δθ × u with u = Rᵀw as above, and
+                // the position columns through −(Rᵀ·∂w/∂p)ᵀ·v̂ᵣ.
+                let u = wind_body;
+                let g = -(grad_body.transpose() * dir);
+                row(&[
+                    (0, g.x),
+                    (1, g.y),
+                    (2, g.z),
+                    (3, dir.x),
+                    (4, dir.y),
+                    (5, dir.z),
+                    (6, dir.z * u.y - dir.y * u.z),
+                    (7, dir.x * u.z - dir.z * u.x),
+                    (8, dir.y * u.x - dir.x * u.y),
+                ]);
+            }
+        }
+        let finite = out[..count].iter().flatten().all(|v| v.is_finite());
+        for j in 0..np {
             let at = j * m_rows + row0;
-            let out = jac.get_mut(at..at + count)?;
-            out.copy_from_slice(&vals[..count]);
-            finite &= vals[..count].iter().all(|v| v.is_finite());
+            let dest = jac.get_mut(at..at + count)?;
+            for (d, o) in dest.iter_mut().zip(&out) {
+                *d = o[j];
+            }
         }
         Some(finite)
     }
