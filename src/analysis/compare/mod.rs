@@ -32,6 +32,8 @@ mod score;
 mod sensitivity;
 pub mod start;
 
+use std::sync::Arc;
+
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -243,7 +245,7 @@ impl Prediction {
         self.index.push(i);
         self.pos_ned.push(p.pos_ned);
         self.vel_ned.push(p.vel_ned);
-        self.attitude.push(p.attitude);
+        self.attitude.push(p.attitude());
         self.rates.push(p.rates);
         self.air.push(air);
     }
@@ -328,6 +330,10 @@ pub struct Prepared<'a> {
     pub data: &'a FlightData,
     /// Attitude angles unwrapped per axis (yaw, pitch, roll), rad.
     unwrapped: Option<[Vec<f64>; 3]>,
+    /// Sines and cosines of the measured attitude per sample (roll, pitch, yaw; empty
+    /// without attitude): the attitude residuals are taken from them and the predicted
+    /// rotation ([`attitude_residuals`]). Shared with the screening subset.
+    attitude_trig: Arc<[[f64; 6]]>,
     /// Window sample ranges.
     pub windows: Vec<(usize, usize)>,
     /// The measurement noise.
@@ -375,15 +381,27 @@ impl<'a> Prepared<'a> {
     /// Cut the data into windows, estimate the noise, and precompute what every evaluation
     /// needs.
     pub fn new(data: &'a FlightData, cfg: CompareConfig) -> Self {
-        let (unwrapped, noise) = rayon::join(
+        let ((unwrapped, attitude_trig), noise) = rayon::join(
             || {
-                data.attitude.as_ref().map(|att| {
+                let unwrapped = data.attitude.as_ref().map(|att| {
                     [
                         unwrap_angles(&att.iter().map(|e| e.yaw).collect::<Vec<_>>()),
                         unwrap_angles(&att.iter().map(|e| e.pitch).collect::<Vec<_>>()),
                         unwrap_angles(&att.iter().map(|e| e.roll).collect::<Vec<_>>()),
                     ]
-                })
+                });
+                let trig: Arc<[[f64; 6]]> = match &data.attitude {
+                    Some(att) => att
+                        .par_iter()
+                        .map(|e| {
+                            let ((sr, cr), (sp, cp), (sy, cy)) =
+                                (e.roll.sin_cos(), e.pitch.sin_cos(), e.yaw.sin_cos());
+                            [sr, cr, sp, cp, sy, cy]
+                        })
+                        .collect(),
+                    None => Arc::new([]),
+                };
+                (unwrapped, trig)
             },
             || estimate_noise(data),
         );
@@ -397,6 +415,7 @@ impl<'a> Prepared<'a> {
         Self {
             data,
             unwrapped,
+            attitude_trig,
             windows: cut_windows(&data.time, &cfg),
             noise,
             measured: Measured::of(data),
@@ -421,6 +440,7 @@ impl<'a> Prepared<'a> {
         Self {
             data: self.data,
             unwrapped: self.unwrapped.clone(),
+            attitude_trig: Arc::clone(&self.attitude_trig),
             windows: cut_windows(&self.data.time, &cfg),
             noise: self.noise,
             measured: self.measured,
@@ -442,12 +462,8 @@ impl<'a> Prepared<'a> {
             out.extend([e.x * wv[0], e.y * wv[1], e.z * wv[2]]);
         }
         if let (true, Some(a)) = (m.attitude, &d.attitude) {
-            let (pa, ma) = (p.attitude, a[i]);
-            out.extend([
-                wrap(pa.roll - ma.roll) * wa[0],
-                wrap(pa.pitch - ma.pitch) * wa[1],
-                wrap(pa.yaw - ma.yaw) * wa[2],
-            ]);
+            let e = attitude_residuals(p, &a[i], self.attitude_trig.get(i));
+            out.extend([e[0] * wa[0], e[1] * wa[1], e[2] * wa[2]]);
         }
         if let (true, Some(w)) = (m.rates, &d.rates_body) {
             let e = p.rates - w[i];
@@ -457,6 +473,61 @@ impl<'a> Prepared<'a> {
             out.push((p.airspeed() - s[i]) * self.airspeed_weight);
         }
     }
+}
+
+/// Predicted − measured roll, pitch and yaw, each wrapped into (−π, π], from the predicted
+/// rotation and the measured angles' sines and cosines (`trig`: roll, pitch, yaw): the angle
+/// of sin(a − b) and cos(a − b) written out with a's sine and cosine as the rotation matrix
+/// holds them (for roll r₂₁ and r₂₂, scaled by cos θ), in one `atan2` of a small argument each
+/// ([`small_atan2`]) instead of the three of the predicted Euler angles. In gimbal lock, or
+/// without `trig`, from the Euler angles themselves.
+fn attitude_residuals(p: &Predicted, measured: &EulerZyx, trig: Option<&[f64; 6]>) -> [f64; 3] {
+    let r = glam::DMat3::from_quat(p.quat);
+    let (r00, r10, r20) = (r.x_axis.x, r.x_axis.y, r.x_axis.z);
+    let (r21, r22) = (r.y_axis.z, r.z_axis.z);
+    let cos_pitch = (r00 * r00 + r10 * r10).sqrt();
+    match trig {
+        Some(&[sr, cr, sp, cp, sy, cy]) if cos_pitch >= 1e3 * crate::euler::GIMBAL_LOCK_COS => [
+            small_atan2(r21 * cr - r22 * sr, r22 * cr + r21 * sr),
+            small_atan2(-r20 * cp - cos_pitch * sp, cos_pitch * cp - r20 * sp),
+            small_atan2(r10 * cy - r00 * sy, r00 * cy + r10 * sy),
+        ],
+        _ => {
+            let pa = p.attitude();
+            [
+                wrap(pa.roll - measured.roll),
+                wrap(pa.pitch - measured.pitch),
+                wrap(pa.yaw - measured.yaw),
+            ]
+        }
+    }
+}
+
+/// atan2(y, x), by its series where |y| ≤ x/8 (a residual's angle mostly is): z − z³/3 + … +
+/// z¹⁷/17 with z = y/x, whose next term is below 10⁻¹⁷·|z| there — a division and nine
+/// multiply-adds against a library `atan2` twice as long.
+fn small_atan2(y: f64, x: f64) -> f64 {
+    if !(x > 0.0 && y.abs() <= 0.125 * x) {
+        return y.atan2(x);
+    }
+    const C: [f64; 9] = [
+        1.0,
+        -1.0 / 3.0,
+        1.0 / 5.0,
+        -1.0 / 7.0,
+        1.0 / 9.0,
+        -1.0 / 11.0,
+        1.0 / 13.0,
+        -1.0 / 15.0,
+        1.0 / 17.0,
+    ];
+    let z = y / x;
+    let z2 = z * z;
+    let mut s = C[8];
+    for c in C[..8].iter().rev() {
+        s = c + z2 * s;
+    }
+    z * s
 }
 
 /// An angle difference wrapped into (−π, π].
@@ -525,7 +596,7 @@ fn compare_window(
             sv += (p.vel_ned - v[i]).length_squared();
         }
         if let (true, Some(a)) = (m.attitude, &d.attitude) {
-            sa += attitude_error_deg(&p.attitude, &a[i]).powi(2);
+            sa += attitude_error_deg(&p.attitude(), &a[i]).powi(2);
         }
         if let (true, Some(w)) = (m.rates, &d.rates_body) {
             sr += (p.rates - w[i]).length_squared();
@@ -756,6 +827,82 @@ mod tests {
     use crate::flight::simulate::{simulate, Noise, SimSpec};
     use crate::flight::spec::ModelSpec;
     use crate::flight::VehicleKind;
+
+    /// The series atan2 is the library's to a few units in the last place where it is used,
+    /// and the library's elsewhere.
+    #[test]
+    fn small_atan2_is_atan2() {
+        for i in -1000..=1000 {
+            for x in [1e-300, 1e-8, 0.3, 1.0, 7.0, 1e8] {
+                let y = x * (i as f64) * 2e-4;
+                let (got, want) = (small_atan2(y, x), y.atan2(x));
+                assert!(
+                    (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
+                    "atan2({y}, {x}): {got} vs {want}"
+                );
+            }
+        }
+        for (y, x) in [
+            (1.0, -1.0),
+            (-0.1, -1.0),
+            (0.0, -1.0),
+            (1.0, 0.0),
+            (0.5, 1.0),
+        ] {
+            assert_eq!(small_atan2(y, x), f64::atan2(y, x));
+        }
+    }
+
+    /// The attitude residuals from the rotation and the measured angles' sines and cosines
+    /// are the wrapped differences of the Euler angles: small and large, across ±180° of
+    /// roll and yaw, near the vertical, and in gimbal lock (where the angles themselves are
+    /// used).
+    #[test]
+    fn attitude_residuals_are_the_wrapped_angle_differences() {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let trig = |e: &EulerZyx| {
+            let ((sr, cr), (sp, cp), (sy, cy)) =
+                (e.roll.sin_cos(), e.pitch.sin_cos(), e.yaw.sin_cos());
+            [sr, cr, sp, cp, sy, cy]
+        };
+        let angles = [
+            EulerZyx::new(0.3, 0.1, -0.2),
+            EulerZyx::new(PI - 0.01, 0.5, -PI + 0.02),
+            EulerZyx::new(-3.0, -1.2, 3.1),
+            EulerZyx::new(1.0, FRAC_PI_2 - 1e-4, 0.4),
+            EulerZyx::new(0.2, -FRAC_PI_2, 0.0),
+        ];
+        for predicted in &angles {
+            for measured in &angles {
+                for offset in [0.0, 1e-3, 0.05, 2.0] {
+                    let pe = EulerZyx::new(
+                        predicted.yaw + offset,
+                        predicted.pitch,
+                        predicted.roll - offset,
+                    );
+                    let p = Predicted {
+                        quat: glam::DQuat::from_mat3(&pe.to_matrix()).normalize(),
+                        ..Predicted::default()
+                    };
+                    let want = {
+                        let a = p.attitude();
+                        [
+                            wrap(a.roll - measured.roll),
+                            wrap(a.pitch - measured.pitch),
+                            wrap(a.yaw - measured.yaw),
+                        ]
+                    };
+                    let got = attitude_residuals(&p, measured, Some(&trig(measured)));
+                    for k in 0..3 {
+                        let d = (got[k] - want[k]).abs();
+                        // ±π are the same angle.
+                        let d = d.min((d - 2.0 * PI).abs());
+                        assert!(d < 1e-12, "{pe:?} vs {measured:?}: {got:?} vs {want:?}");
+                    }
+                }
+            }
+        }
+    }
 
     /// The screening subset taken from prepared data is the data prepared with that many
     /// windows: the same windows, noise and weights, without estimating the noise again.

@@ -4,7 +4,7 @@
 //! Surface positions under `actuator_lag` are states no sensor measures: they follow from the
 //! command history alone ([`SurfaceTracker`]), carried from window to window in O(samples).
 
-use glam::DVec3;
+use glam::{DMat3, DQuat, DVec3};
 
 use crate::euler::EulerZyx;
 use crate::flight::data::FlightData;
@@ -18,8 +18,11 @@ pub struct Predicted {
     pub pos_ned: DVec3,
     /// Velocity, NED, m/s.
     pub vel_ned: DVec3,
-    /// Attitude (identity for a point mass).
-    pub attitude: EulerZyx,
+    /// Attitude, body to NED, as the state carries it (identity for a point mass). Its Euler
+    /// angles follow when they are reported ([`Predicted::attitude`]); a fit's flights
+    /// compare it with the measured angles without the three `atan2` per sample they take
+    /// (a tenth of a flight).
+    pub quat: DQuat,
     /// Body rates p, q, r, rad/s (zero for a point mass).
     pub rates: DVec3,
     /// Velocity relative to the model's air, body axes, m/s (zero for a point mass). α and β
@@ -32,6 +35,12 @@ pub struct Predicted {
 }
 
 impl Predicted {
+    /// The attitude as aerospace Euler angles (exactly those of the state's rotation matrix,
+    /// [`EulerZyx::from_matrix`]).
+    pub fn attitude(&self) -> EulerZyx {
+        EulerZyx::from_matrix(DMat3::from_quat(self.quat)).0
+    }
+
     /// Airspeed, m/s.
     pub fn airspeed(&self) -> f64 {
         self.air_velocity_body.length()
@@ -68,7 +77,7 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
             Predicted {
                 pos_ned: x.pos_ned(),
                 vel_ned: rot * x.vel(),
-                attitude: EulerZyx::from_matrix(rot).0,
+                quat: x.quat(),
                 rates: x.omega(),
                 air_velocity_body: x.vel() - rot.transpose() * wind,
                 rho,
