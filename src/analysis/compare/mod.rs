@@ -503,6 +503,24 @@ fn attitude_residuals(p: &Predicted, measured: &EulerZyx, trig: Option<&[f64; 6]
     }
 }
 
+/// The angle between the predicted and the measured attitude, degrees
+/// ([`attitude_error_deg`]), with the measured rotation built from its angles' sines and
+/// cosines (`trig`, as in [`attitude_residuals`]) instead of six more.
+fn attitude_error_at(p: &Predicted, measured: &EulerZyx, trig: Option<&[f64; 6]>) -> f64 {
+    let Some(&[sr, cr, sp, cp, sy, cy]) = trig else {
+        return attitude_error_deg(&p.attitude(), measured);
+    };
+    let r = glam::DMat3::from_quat(p.quat);
+    let m = glam::DMat3::from_cols(
+        DVec3::new(cy * cp, sy * cp, -sp),
+        DVec3::new(cy * sp * sr - sy * cr, sy * sp * sr + cy * cr, cp * sr),
+        DVec3::new(cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr),
+    );
+    // tr(RᵀM) = 1 + 2·cos(angle).
+    let trace = r.x_axis.dot(m.x_axis) + r.y_axis.dot(m.y_axis) + r.z_axis.dot(m.z_axis);
+    ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos().to_degrees()
+}
+
 /// atan2(y, x), by its series where |y| ≤ x/8 (a residual's angle mostly is): z − z³/3 + … +
 /// z¹⁷/17 with z = y/x, whose next term is below 10⁻¹⁷·|z| there — a division and nine
 /// multiply-adds against a library `atan2` twice as long.
@@ -596,7 +614,7 @@ fn compare_window(
             sv += (p.vel_ned - v[i]).length_squared();
         }
         if let (true, Some(a)) = (m.attitude, &d.attitude) {
-            sa += attitude_error_deg(&p.attitude(), &a[i]).powi(2);
+            sa += attitude_error_at(p, &a[i], prep.attitude_trig.get(i)).powi(2);
         }
         if let (true, Some(w)) = (m.rates, &d.rates_body) {
             sr += (p.rates - w[i]).length_squared();
@@ -856,7 +874,8 @@ mod tests {
     /// The attitude residuals from the rotation and the measured angles' sines and cosines
     /// are the wrapped differences of the Euler angles: small and large, across ±180° of
     /// roll and yaw, near the vertical, and in gimbal lock (where the angles themselves are
-    /// used).
+    /// used); the attitude error angle is the one from both Euler angles (to the 1e-5° an
+    /// arccosine near 1 resolves: 1.2e-6° is one rounding of the trace).
     #[test]
     fn attitude_residuals_are_the_wrapped_angle_differences() {
         use std::f64::consts::{FRAC_PI_2, PI};
@@ -893,6 +912,11 @@ mod tests {
                         ]
                     };
                     let got = attitude_residuals(&p, measured, Some(&trig(measured)));
+                    let (angle, want_angle) = (
+                        attitude_error_at(&p, measured, Some(&trig(measured))),
+                        attitude_error_deg(&p.attitude(), measured),
+                    );
+                    assert!((angle - want_angle).abs() < 1e-5, "{angle} vs {want_angle}");
                     for k in 0..3 {
                         let d = (got[k] - want[k]).abs();
                         // ±π are the same angle.
