@@ -336,30 +336,34 @@ impl Model {
         let vel_ned = rot * uvw;
         let v_r = uvw - rot.transpose() * wind;
         let air = air_angles(v_r, rho);
-        let s = Sample {
-            t,
-            pos_ned: pos,
-            vel_ned,
-            rot,
-            omega,
-            altitude_m: self.altitude(pos),
-            rho,
-            g,
-            air_vel_ned: rot * v_r,
-            controls: ctl,
-            mass: p.mass.mass_kg,
-        };
 
         let mut induced_factor = 1.0;
         let mut force = DVec3::ZERO;
         let mut moment = DVec3::ZERO;
         let mut acc_ned = DVec3::new(0.0, 0.0, g);
-        for e in &self.effects {
-            induced_factor *= e.induced_drag_factor(&s);
-            let (f, m) = e.force_moment_body(&s);
-            force += f;
-            moment += m;
-            acc_ned += e.accel_ned(&s);
+        // What the effects see, only when there are any: the bare airframe (every flight of
+        // a model without effects) has no use for it.
+        if !self.effects.is_empty() {
+            let s = Sample {
+                t,
+                pos_ned: pos,
+                vel_ned,
+                rot,
+                omega,
+                altitude_m: self.altitude(pos),
+                rho,
+                g,
+                air_vel_ned: rot * v_r,
+                controls: ctl,
+                mass: p.mass.mass_kg,
+            };
+            for e in &self.effects {
+                induced_factor *= e.induced_drag_factor(&s);
+                let (f, m) = e.force_moment_body(&s);
+                force += f;
+                moment += m;
+                acc_ned += e.accel_ned(&s);
+            }
         }
         let (f_aero, m_aero) = aero_force_moment(p, &air, omega, &ctl, induced_factor);
         // Gravity (and the world-frame accelerations of effects) in body axes, times mass.
