@@ -87,14 +87,32 @@ pub fn stall_blend(alpha: f64, m: f64, alpha0: f64) -> f64 {
     a + b - a * b
 }
 
+/// [`stall_blend`] with `c` = e^{Mα0} given (a model's, taken once): with E = e^{Mα},
+/// e1 = c/E and e2 = c·E, so a = E/(E + c) and b = 1/(1 + c·E) — one exponential per
+/// evaluation instead of two. Where E or c is not a finite positive number (|Mα| past 709),
+/// [`stall_blend`] itself.
+pub fn stall_blend_with(alpha: f64, m: f64, alpha0: f64, c: f64) -> f64 {
+    let e = (m * alpha).exp();
+    let sum = e + c;
+    if !(e > 0.0 && sum.is_finite()) {
+        return stall_blend(alpha, m, alpha0);
+    }
+    let a = e / sum;
+    let b = 1.0 / (1.0 + c * e);
+    a + b - a * b
+}
+
 /// Aerodynamic and propulsive force (body) and moment (body) of the fixed-wing model.
-/// `induced_factor` multiplies the induced-drag term (ground effect).
+/// `induced_factor` multiplies the induced-drag term (ground effect); `stall_c` is
+/// e^{M·α0} of the stall blend ([`stall_blend_with`]; any value falls back to
+/// [`stall_blend`] where it is not finite).
 pub fn aero_force_moment(
     p: &FixedWingParams,
     air: &AirData,
     omega: DVec3,
     ctl: &Controls,
     induced_factor: f64,
+    stall_c: f64,
 ) -> (DVec3, DVec3) {
     let lon = &p.longitudinal;
     let lat = &p.lateral;
@@ -111,7 +129,7 @@ pub fn aero_force_moment(
     };
     let (pr, qr, rr) = (omega.x, omega.y, omega.z);
 
-    let sigma = stall_blend(alpha, lon.m_blend, lon.alpha0);
+    let sigma = stall_blend_with(alpha, lon.m_blend, lon.alpha0, stall_c);
     let (sa, ca) = (air.sin_alpha, air.cos_alpha);
     let cl_lin = lon.c_l_0 + lon.c_l_alpha * alpha;
     let c_l = (1.0 - sigma) * cl_lin + sigma * 2.0 * alpha.signum() * sa * sa * ca;
@@ -157,4 +175,32 @@ pub fn aero_force_moment(
             + lat.c_n_delta_a * ctl.aileron
             + lat.c_n_delta_r * ctl.rudder);
     (DVec3::new(fx_aero + thrust, fy, fz), DVec3::new(l, m, n))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The one-exponential stall blend is the two-exponential one to rounding (1e-13: an
+    /// exponent of 25 carries 25 units in the last place into either), across α and
+    /// sharpnesses, and is that one itself where the exponentials overflow.
+    #[test]
+    fn stall_blend_with_one_exponential_is_the_blend() {
+        for m in [0.5f64, 50.0, 500.0, 5000.0] {
+            for alpha0 in [0.1, 0.4712] {
+                let c = (m * alpha0).exp();
+                for i in -700..=700 {
+                    let alpha = i as f64 * std::f64::consts::PI / 700.0;
+                    let (got, want) = (
+                        stall_blend_with(alpha, m, alpha0, c),
+                        stall_blend(alpha, m, alpha0),
+                    );
+                    assert!(
+                        (got - want).abs() <= 1e-13,
+                        "M {m}, α0 {alpha0}, α {alpha}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -27,7 +27,7 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::model::{Model, State, Vehicle};
-use super::Controls;
+use super::{Controls, G0};
 use crate::numeric::{mul12, Mat12};
 
 /// Largest error-state dimension (a fixed wing).
@@ -96,7 +96,14 @@ impl Model {
         // Without effects the equations do not depend on position (uniform air, constant
         // gravity): those columns are zero, and not worth three evaluations.
         let first = if self.effects.is_empty() { 3 } else { 0 };
+        // Nor does anything but gravity turn with the body: R' = R·(I + [δθ]×) makes the
+        // body's gravity Rᵀg + Rᵀg × δθ, so the forces' rotation columns are [Rᵀg]× and the
+        // moments' zero — three more evaluations saved.
+        let bare = self.effects.is_empty() && matches!(self.vehicle, Vehicle::FixedWing(_));
         for j in first..n {
+            if bare && (6..9).contains(&j) {
+                continue;
+            }
             let h = STEPS[j / 3];
             e[j] = h;
             let f = self.derivative(t, &self.perturbed(x, &e[..n]), cmd);
@@ -117,11 +124,15 @@ impl Model {
                 let r_v = rot * -skew(x.vel());
                 // δθ̇ = −[ω]×·δθ + δω
                 let w = -skew(x.omega());
+                let turn = skew(rot.transpose() * DVec3::new(0.0, 0.0, G0));
                 for r in 0..3 {
                     for c in 0..3 {
                         a[r][3 + c] = rot.col(c)[r];
                         a[r][6 + c] = r_v.col(c)[r];
                         a[6 + r][6 + c] = w.col(c)[r];
+                        if bare {
+                            a[3 + r][6 + c] = turn.col(c)[r];
+                        }
                     }
                     a[6 + r][9 + r] = 1.0;
                 }

@@ -131,6 +131,16 @@ pub struct Model {
     /// Effects, applied in order.
     pub effects: Vec<Box<dyn Effect>>,
     gammas: Gammas,
+    /// e^{M·α0} of the stall blend, taken once ([`super::aero::stall_blend_with`]).
+    stall_c: f64,
+}
+
+/// e^{M·α0} of a fixed wing's stall blend (NaN for a point mass: never used).
+fn stall_c(vehicle: &Vehicle) -> f64 {
+    match vehicle {
+        Vehicle::FixedWing(p) => (p.longitudinal.m_blend * p.longitudinal.alpha0).exp(),
+        Vehicle::PointMass => f64::NAN,
+    }
 }
 
 impl Model {
@@ -141,6 +151,7 @@ impl Model {
             Vehicle::PointMass => Gammas { g: [0.0; 8] },
         };
         Self {
+            stall_c: stall_c(&vehicle),
             vehicle,
             origin,
             effects: Vec::new(),
@@ -188,6 +199,7 @@ impl Model {
             Vehicle::FixedWing(p) => {
                 super::params::keys::set(p, key, value)?;
                 self.gammas = Gammas::new(&p.mass);
+                self.stall_c = stall_c(&self.vehicle);
                 Ok(())
             }
             Vehicle::PointMass => Err(format!("a point mass has no aircraft parameter `{key}`")),
@@ -365,7 +377,8 @@ impl Model {
                 acc_ned += e.accel_ned(&s);
             }
         }
-        let (f_aero, m_aero) = aero_force_moment(p, &air, omega, &ctl, induced_factor);
+        let (f_aero, m_aero) =
+            aero_force_moment(p, &air, omega, &ctl, induced_factor, self.stall_c);
         // Gravity (and the world-frame accelerations of effects) in body axes, times mass.
         force += f_aero + p.mass.mass_kg * (rot.transpose() * acc_ned);
         moment += m_aero;
