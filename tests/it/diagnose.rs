@@ -386,6 +386,35 @@ fn a_screened_diagnosis_refits_the_winner_on_every_window() {
     );
 }
 
+/// The full pass predicts the base model's starts from the winner's fits whatever the winner
+/// is: linearly for a number of the set, from the base's own residuals for an effect without
+/// absent values (a lag's τ); either way the base's comparison is what `compare` reports.
+#[test]
+fn a_screened_diagnosis_compares_the_base_as_compare_does_whatever_the_winner() {
+    use wireflight::analysis::compare::compare;
+    for (hidden, winner) in [
+        ("actuator_lag:tau_s=0.15", "actuator_lag"),
+        ("aircraft:c_m_alpha=-3.3", "aircraft:c_m_alpha"),
+    ] {
+        let case = Case::flight_test(Box::leak(Box::new([hidden])), 1);
+        let data = case.data();
+        let base = case.baseline();
+        let mut cfg = case.config();
+        cfg.screen_windows = 5;
+        let d = diagnose(&base, &data, &[], &cfg).unwrap();
+        let text = report(hidden, &d);
+        assert_eq!(d.windows, (15, 5), "{text}");
+        assert_eq!(d.verdict, Verdict::Effect(winner.into()), "{text}");
+        let plain = compare(&base, &data, cfg.compare);
+        assert!(
+            (d.base.chi2 / plain.chi2 - 1.0).abs() < 1e-4,
+            "{hidden}: {} vs {}\n{text}",
+            d.base.chi2,
+            plain.chi2
+        );
+    }
+}
+
 #[test]
 fn clean_fixed_wing_data_give_no_verdict() {
     for seed in [1, 2] {
