@@ -366,13 +366,7 @@ fn a_screened_diagnosis_refits_the_winner_on_every_window() {
     }
     // The base's comparison is what `compare` reports, though its starts were fitted from
     // ones predicted from the winner's fits instead of from the warm starts.
-    let plain = compare(&base, &data, screened_cfg.compare);
-    assert!(
-        (screened.base.chi2 / plain.chi2 - 1.0).abs() < 1e-4,
-        "{} vs {}\n{text}",
-        screened.base.chi2,
-        plain.chi2
-    );
+    assert_base_is_compares(&screened, &base, &data, &screened_cfg, &text);
     // Its error is the comparison of the model with the wind on every window.
     let mut with = base.clone();
     winner.correction.apply(&mut with).unwrap();
@@ -391,7 +385,6 @@ fn a_screened_diagnosis_refits_the_winner_on_every_window() {
 /// absent values (a lag's τ); either way the base's comparison is what `compare` reports.
 #[test]
 fn a_screened_diagnosis_compares_the_base_as_compare_does_whatever_the_winner() {
-    use wireflight::analysis::compare::compare;
     for (hidden, winner) in [
         ("actuator_lag:tau_s=0.15", "actuator_lag"),
         ("aircraft:c_m_alpha=-3.3", "aircraft:c_m_alpha"),
@@ -405,14 +398,28 @@ fn a_screened_diagnosis_compares_the_base_as_compare_does_whatever_the_winner() 
         let text = report(hidden, &d);
         assert_eq!(d.windows, (15, 5), "{text}");
         assert_eq!(d.verdict, Verdict::Effect(winner.into()), "{text}");
-        let plain = compare(&base, &data, cfg.compare);
-        assert!(
-            (d.base.chi2 / plain.chi2 - 1.0).abs() < 1e-4,
-            "{hidden}: {} vs {}\n{text}",
-            d.base.chi2,
-            plain.chi2
-        );
+        assert_base_is_compares(&d, &base, &data, &cfg, &text);
     }
+}
+
+/// The diagnosis's comparison of the base model is `compare`'s, to 5e-4 of its misfit: the
+/// start fits of a model far from the data stop within a few 1e-4 of their optimum, and from
+/// different starts at different places (measured: 1.3e-4 with c_m_alpha wrong, the
+/// warm-started `compare` the higher).
+fn assert_base_is_compares(
+    d: &Diagnosis,
+    base: &Model,
+    data: &FlightData,
+    cfg: &DiagnoseConfig,
+    text: &str,
+) {
+    let plain = wireflight::analysis::compare::compare(base, data, cfg.compare);
+    assert!(
+        (d.base.chi2 / plain.chi2 - 1.0).abs() < 5e-4,
+        "{} vs {}\n{text}",
+        d.base.chi2,
+        plain.chi2
+    );
 }
 
 #[test]

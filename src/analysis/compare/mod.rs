@@ -26,6 +26,7 @@
 //! measured noise ([`noise::expected_channel_errors`]). [`Comparison::axes`] splits the error
 //! per axis (signed mean and RMS) to say where it is.
 
+mod attitude;
 pub mod noise;
 pub mod predict;
 mod score;
@@ -37,6 +38,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use rayon::prelude::*;
 
+use attitude::{attitude_error_at, attitude_residuals, wrap};
 pub use noise::{estimate_noise, expected_channel_errors, NoiseEstimate};
 pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
 use score::{assemble, assemble_as};
@@ -45,7 +47,6 @@ use start::{Scratch, StartFit};
 use crate::euler::EulerZyx;
 use crate::flight::data::{unwrap_angles, FlightData};
 use crate::flight::model::{AirData, Model, State, Vehicle};
-use crate::numeric::attitude_error_deg;
 
 /// Smallest noise deviation a channel is weighted with: position m, velocity m/s, attitude
 /// rad, rates rad/s, airspeed m/s. Noise-free data would otherwise get infinite weights.
@@ -475,94 +476,6 @@ impl<'a> Prepared<'a> {
     }
 }
 
-/// Predicted − measured roll, pitch and yaw, each wrapped into (−π, π], from the predicted
-/// rotation and the measured angles' sines and cosines (`trig`: roll, pitch, yaw): the angle
-/// of sin(a − b) and cos(a − b) written out with a's sine and cosine as the rotation matrix
-/// holds them (for roll r₂₁ and r₂₂, scaled by cos θ), in one `atan2` of a small argument each
-/// ([`small_atan2`]) instead of the three of the predicted Euler angles. In gimbal lock, or
-/// without `trig`, from the Euler angles themselves.
-fn attitude_residuals(p: &Predicted, measured: &EulerZyx, trig: Option<&[f64; 6]>) -> [f64; 3] {
-    let r = glam::DMat3::from_quat(p.quat);
-    let (r00, r10, r20) = (r.x_axis.x, r.x_axis.y, r.x_axis.z);
-    let (r21, r22) = (r.y_axis.z, r.z_axis.z);
-    let cos_pitch = (r00 * r00 + r10 * r10).sqrt();
-    match trig {
-        Some(&[sr, cr, sp, cp, sy, cy]) if cos_pitch >= 1e3 * crate::euler::GIMBAL_LOCK_COS => [
-            small_atan2(r21 * cr - r22 * sr, r22 * cr + r21 * sr),
-            small_atan2(-r20 * cp - cos_pitch * sp, cos_pitch * cp - r20 * sp),
-            small_atan2(r10 * cy - r00 * sy, r00 * cy + r10 * sy),
-        ],
-        _ => {
-            let pa = p.attitude();
-            [
-                wrap(pa.roll - measured.roll),
-                wrap(pa.pitch - measured.pitch),
-                wrap(pa.yaw - measured.yaw),
-            ]
-        }
-    }
-}
-
-/// The angle between the predicted and the measured attitude, degrees
-/// ([`attitude_error_deg`]), with the measured rotation built from its angles' sines and
-/// cosines (`trig`, as in [`attitude_residuals`]) instead of six more.
-fn attitude_error_at(p: &Predicted, measured: &EulerZyx, trig: Option<&[f64; 6]>) -> f64 {
-    let Some(&[sr, cr, sp, cp, sy, cy]) = trig else {
-        return attitude_error_deg(&p.attitude(), measured);
-    };
-    let r = glam::DMat3::from_quat(p.quat);
-    let m = glam::DMat3::from_cols(
-        DVec3::new(cy * cp, sy * cp, -sp),
-        DVec3::new(cy * sp * sr - sy * cr, sy * sp * sr + cy * cr, cp * sr),
-        DVec3::new(cy * sp * cr + sy * sr, sy * sp * cr - cy * sr, cp * cr),
-    );
-    // tr(RᵀM) = 1 + 2·cos(angle).
-    let trace = r.x_axis.dot(m.x_axis) + r.y_axis.dot(m.y_axis) + r.z_axis.dot(m.z_axis);
-    ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos().to_degrees()
-}
-
-/// atan2(y, x), by its series where |y| ≤ x/8 (a residual's angle mostly is): z − z³/3 + … +
-/// z¹⁷/17 with z = y/x, whose next term is below 10⁻¹⁷·|z| there — a division and nine
-/// multiply-adds against a library `atan2` twice as long.
-fn small_atan2(y: f64, x: f64) -> f64 {
-    if !(x > 0.0 && y.abs() <= 0.125 * x) {
-        return y.atan2(x);
-    }
-    const C: [f64; 9] = [
-        1.0,
-        -1.0 / 3.0,
-        1.0 / 5.0,
-        -1.0 / 7.0,
-        1.0 / 9.0,
-        -1.0 / 11.0,
-        1.0 / 13.0,
-        -1.0 / 15.0,
-        1.0 / 17.0,
-    ];
-    let z = y / x;
-    let z2 = z * z;
-    let mut s = C[8];
-    for c in C[..8].iter().rev() {
-        s = c + z2 * s;
-    }
-    z * s
-}
-
-/// An angle difference wrapped into (−π, π].
-fn wrap(a: f64) -> f64 {
-    use std::f64::consts::{PI, TAU};
-    // Most differences are small: no division for them.
-    if a.abs() < PI {
-        return a;
-    }
-    let r = a.rem_euclid(TAU);
-    if r > PI {
-        r - TAU
-    } else {
-        r
-    }
-}
-
 /// One window compared: its result, its predictions and (when asked for) its start fit.
 struct WindowOutcome {
     result: WindowResult,
@@ -845,88 +758,6 @@ mod tests {
     use crate::flight::simulate::{simulate, Noise, SimSpec};
     use crate::flight::spec::ModelSpec;
     use crate::flight::VehicleKind;
-
-    /// The series atan2 is the library's to a few units in the last place where it is used,
-    /// and the library's elsewhere.
-    #[test]
-    fn small_atan2_is_atan2() {
-        for i in -1000..=1000 {
-            for x in [1e-300, 1e-8, 0.3, 1.0, 7.0, 1e8] {
-                let y = x * (i as f64) * 2e-4;
-                let (got, want) = (small_atan2(y, x), y.atan2(x));
-                assert!(
-                    (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
-                    "atan2({y}, {x}): {got} vs {want}"
-                );
-            }
-        }
-        for (y, x) in [
-            (1.0, -1.0),
-            (-0.1, -1.0),
-            (0.0, -1.0),
-            (1.0, 0.0),
-            (0.5, 1.0),
-        ] {
-            assert_eq!(small_atan2(y, x), f64::atan2(y, x));
-        }
-    }
-
-    /// The attitude residuals from the rotation and the measured angles' sines and cosines
-    /// are the wrapped differences of the Euler angles: small and large, across ±180° of
-    /// roll and yaw, near the vertical, and in gimbal lock (where the angles themselves are
-    /// used); the attitude error angle is the one from both Euler angles (to the 1e-5° an
-    /// arccosine near 1 resolves: 1.2e-6° is one rounding of the trace).
-    #[test]
-    fn attitude_residuals_are_the_wrapped_angle_differences() {
-        use std::f64::consts::{FRAC_PI_2, PI};
-        let trig = |e: &EulerZyx| {
-            let ((sr, cr), (sp, cp), (sy, cy)) =
-                (e.roll.sin_cos(), e.pitch.sin_cos(), e.yaw.sin_cos());
-            [sr, cr, sp, cp, sy, cy]
-        };
-        let angles = [
-            EulerZyx::new(0.3, 0.1, -0.2),
-            EulerZyx::new(PI - 0.01, 0.5, -PI + 0.02),
-            EulerZyx::new(-3.0, -1.2, 3.1),
-            EulerZyx::new(1.0, FRAC_PI_2 - 1e-4, 0.4),
-            EulerZyx::new(0.2, -FRAC_PI_2, 0.0),
-        ];
-        for predicted in &angles {
-            for measured in &angles {
-                for offset in [0.0, 1e-3, 0.05, 2.0] {
-                    let pe = EulerZyx::new(
-                        predicted.yaw + offset,
-                        predicted.pitch,
-                        predicted.roll - offset,
-                    );
-                    let p = Predicted {
-                        quat: glam::DQuat::from_mat3(&pe.to_matrix()).normalize(),
-                        ..Predicted::default()
-                    };
-                    let want = {
-                        let a = p.attitude();
-                        [
-                            wrap(a.roll - measured.roll),
-                            wrap(a.pitch - measured.pitch),
-                            wrap(a.yaw - measured.yaw),
-                        ]
-                    };
-                    let got = attitude_residuals(&p, measured, Some(&trig(measured)));
-                    let (angle, want_angle) = (
-                        attitude_error_at(&p, measured, Some(&trig(measured))),
-                        attitude_error_deg(&p.attitude(), measured),
-                    );
-                    assert!((angle - want_angle).abs() < 1e-5, "{angle} vs {want_angle}");
-                    for k in 0..3 {
-                        let d = (got[k] - want[k]).abs();
-                        // ±π are the same angle.
-                        let d = d.min((d - 2.0 * PI).abs());
-                        assert!(d < 1e-12, "{pe:?} vs {measured:?}: {got:?} vs {want:?}");
-                    }
-                }
-            }
-        }
-    }
 
     /// The screening subset taken from prepared data is the data prepared with that many
     /// windows: the same windows, noise and weights, without estimating the noise again.
