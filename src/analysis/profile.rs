@@ -143,7 +143,7 @@ impl Linearised<'_> {
         if np == 0 || self.jac.len() != np * m || jtr.len() != np {
             return (dr, dd);
         }
-        let jtd: Vec<f64> = self.jac.chunks(m).map(|col| dot(col, d)).collect();
+        let jtd = self.jt(d);
         let mut y = jtd.clone();
         let mut g = self.gram.clone();
         if solve_in_place(&mut g, &mut y, np).is_none() {
@@ -309,7 +309,7 @@ pub(crate) fn window_normal_towards(
     ((gram(&cols, np, m), g), start)
 }
 
-pub(crate) fn add_into(sum: &mut (Vec<f64>, Vec<f64>), part: &(Vec<f64>, Vec<f64>)) {
+pub(crate) fn add_into(sum: &mut Normal, part: &Normal) {
     sum.0.iter_mut().zip(&part.0).for_each(|(s, v)| *s += v);
     sum.1.iter_mut().zip(&part.1).for_each(|(s, v)| *s += v);
 }
@@ -324,10 +324,10 @@ pub(crate) fn normal_equations(
     prep: &Prepared,
     lin: &[Linearised],
     at_starts: Option<&[Vec<f64>]>,
-) -> (Vec<f64>, Vec<f64>) {
+) -> Normal {
     let np = free.len();
     let perturbed = perturbed_models(model, free, theta);
-    let parts: Vec<(Vec<f64>, Vec<f64>)> = prep
+    let parts: Vec<Normal> = prep
         .windows
         .par_iter()
         .zip(lin.par_iter())
