@@ -7,6 +7,7 @@ use glam::DVec3;
 
 use super::params::FixedWingParams;
 use super::Controls;
+use crate::numeric::small_atan2;
 
 /// Aerodynamic angles and airspeed of a fixed-wing state.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -43,6 +44,10 @@ impl Default for AirData {
 const MIN_AIRSPEED: f64 = 0.1;
 
 /// Airspeed, α = atan2(w_r, u_r), β = asin(v_r/Va) of an air-relative body velocity.
+///
+/// β is taken as atan2(v_r, √(u_r² + w_r²)), the same angle (Va² = u_r² + w_r² + v_r²), and
+/// both angles by [`small_atan2`]: in flight they are small, and the library's `atan2` and
+/// `asin` were a tenth of the model's derivative.
 pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
     let va = v_r.length();
     if va < MIN_AIRSPEED {
@@ -67,8 +72,8 @@ pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
     };
     AirData {
         airspeed: va,
-        alpha: v_r.z.atan2(v_r.x),
-        beta: (v_r.y * (1.0 / va)).clamp(-1.0, 1.0).asin(),
+        alpha: small_atan2(v_r.z, v_r.x),
+        beta: small_atan2(v_r.y, in_plane),
         rho,
         sin_alpha,
         cos_alpha,
@@ -103,16 +108,15 @@ pub fn stall_blend_with(alpha: f64, m: f64, alpha0: f64, c: f64) -> f64 {
 }
 
 /// Aerodynamic and propulsive force (body) and moment (body) of the fixed-wing model.
-/// `induced_factor` multiplies the induced-drag term (ground effect); `stall_c` is
-/// e^{M·α0} of the stall blend ([`stall_blend_with`]; any value falls back to
-/// [`stall_blend`] where it is not finite).
+/// `induced_factor` multiplies the induced-drag term (ground effect); `sigma` is the stall
+/// blend σ(α) ([`stall_blend`], [`stall_blend_with`]).
 pub fn aero_force_moment(
     p: &FixedWingParams,
     air: &AirData,
     omega: DVec3,
     ctl: &Controls,
     induced_factor: f64,
-    stall_c: f64,
+    sigma: f64,
 ) -> (DVec3, DVec3) {
     let lon = &p.longitudinal;
     let lat = &p.lateral;
@@ -129,7 +133,6 @@ pub fn aero_force_moment(
     };
     let (pr, qr, rr) = (omega.x, omega.y, omega.z);
 
-    let sigma = stall_blend_with(alpha, lon.m_blend, lon.alpha0, stall_c);
     let (sa, ca) = (air.sin_alpha, air.cos_alpha);
     let cl_lin = lon.c_l_0 + lon.c_l_alpha * alpha;
     let c_l = (1.0 - sigma) * cl_lin + sigma * 2.0 * alpha.signum() * sa * sa * ca;

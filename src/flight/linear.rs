@@ -85,7 +85,8 @@ impl Model {
     pub fn error_jacobian(&self, t: f64, x: &State, cmd: &Controls) -> ErrorMatrix {
         let n = self.error_dim();
         let mut a = [[0.0; ERROR_MAX]; ERROR_MAX];
-        let f0 = self.derivative(t, x, cmd);
+        let frame = self.frame(t, x);
+        let f0 = self.derivative_in(t, x, cmd, &frame);
         // Rows of the forces: the velocity block's state slots, and for a fixed wing the
         // rates' (state 10..13 → error 9..12).
         let force_rows: &[(usize, usize)] = match self.vehicle {
@@ -93,9 +94,10 @@ impl Model {
             Vehicle::FixedWing(_) => &[(3, 3), (4, 4), (5, 5), (9, 10), (10, 11), (11, 12)],
         };
         let mut e = [0.0; ERROR_MAX];
-        // Without effects the equations do not depend on position (uniform air, constant
-        // gravity): those columns are zero, and not worth three evaluations.
-        let first = if self.effects.is_empty() { 3 } else { 0 };
+        // Equations that do not depend on the position (uniform air, constant gravity: the
+        // bare airframe, and effects such as a steady wind) have those columns zero, not
+        // worth three evaluations.
+        let first = if self.varies_in_space() { 0 } else { 3 };
         // Nor does anything but gravity turn with the body: R' = R·(I + [δθ]×) makes the
         // body's gravity Rᵀg + Rᵀg × δθ, so the forces' rotation columns are [Rᵀg]× and the
         // moments' zero — three more evaluations saved.
@@ -106,7 +108,14 @@ impl Model {
             }
             let h = STEPS[j / 3];
             e[j] = h;
-            let f = self.derivative(t, &self.perturbed(x, &e[..n]), cmd);
+            let moved = self.perturbed(x, &e[..n]);
+            // A change of the body rates leaves the frame (environment, air data, stall
+            // blend) as it was: only what the rates change is evaluated again.
+            let f = if j >= 9 {
+                self.derivative_in(t, &moved, cmd, &frame)
+            } else {
+                self.derivative(t, &moved, cmd)
+            };
             e[j] = 0.0;
             for &(row, slot) in force_rows {
                 a[row][j] = (f.0[slot] - f0.0[slot]) / h;

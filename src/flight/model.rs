@@ -22,6 +22,7 @@ use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
 use crate::euler::EulerZyx;
 
+use super::aero::stall_blend_with;
 pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
 
 /// Number of state variables.
@@ -93,6 +94,23 @@ impl State {
     pub fn is_finite(&self) -> bool {
         self.0.iter().all(|v| v.is_finite())
     }
+}
+
+/// What the model's derivative at a time and state takes from the time, position, velocity
+/// and attitude alone — not from the commands, the body rates or the surfaces: the rotation,
+/// the environment, the air data and the stall blend (the square roots, arctangents and the
+/// exponential of a derivative). Where several derivatives share one ([`Model::frame`],
+/// [`Model::derivative_in`]), the others evaluate only what the commands and rates change.
+#[derive(Clone, Copy, Debug)]
+pub struct Frame {
+    rot: DMat3,
+    wind: DVec3,
+    rho: f64,
+    g: f64,
+    /// Air-relative velocity, body axes (zero for a point mass).
+    v_r: DVec3,
+    air: AirData,
+    stall_sigma: f64,
 }
 
 /// The vehicle family and its parameters.
@@ -277,6 +295,12 @@ impl Model {
         self.effects.iter().map(|e| e.wind_at(pos_ned, t)).sum()
     }
 
+    /// Whether the equations depend on the position itself (an effect says so, or does not
+    /// say): the bare airframe's air and gravity are the same everywhere.
+    pub fn varies_in_space(&self) -> bool {
+        self.effects.iter().any(|e| e.varies_in_space())
+    }
+
     /// Whether the equations depend on time itself (an effect says so, or does not say).
     pub fn varies_in_time(&self) -> bool {
         self.effects.iter().any(|e| e.varies_in_time())
@@ -297,16 +321,55 @@ impl Model {
 
     /// Time derivative of the state under commands `cmd` (held constant).
     pub fn derivative(&self, t: f64, x: &State, cmd: &Controls) -> State {
+        self.derivative_in(t, x, cmd, &self.frame(t, x))
+    }
+
+    /// What the derivative at time `t` and state `x` takes from the time, position, velocity
+    /// and attitude alone ([`Frame`]).
+    pub fn frame(&self, t: f64, x: &State) -> Frame {
+        let (wind, rho, g) = self.environment(x.pos_ned(), t);
         match &self.vehicle {
-            Vehicle::PointMass => self.point_mass_derivative(t, x),
-            Vehicle::FixedWing(p) => self.fixed_wing_derivative(p, t, x, cmd),
+            Vehicle::PointMass => Frame {
+                rot: DMat3::IDENTITY,
+                wind,
+                rho,
+                g,
+                v_r: DVec3::ZERO,
+                air: AirData::default(),
+                stall_sigma: 0.0,
+            },
+            Vehicle::FixedWing(p) => {
+                let rot = DMat3::from_quat(x.quat());
+                let v_r = x.vel() - rot.transpose() * wind;
+                let air = air_angles(v_r, rho);
+                let lon = &p.longitudinal;
+                Frame {
+                    rot,
+                    wind,
+                    rho,
+                    g,
+                    v_r,
+                    air,
+                    stall_sigma: stall_blend_with(air.alpha, lon.m_blend, lon.alpha0, self.stall_c),
+                }
+            }
         }
     }
 
-    fn point_mass_derivative(&self, t: f64, x: &State) -> State {
+    /// [`derivative`](Self::derivative) with its [`Frame`] given: `frame` must be
+    /// [`frame`](Self::frame) of the same time and of a state that differs from `x` at most
+    /// in its body rates and surfaces (RK4's first stage and a read inside its step under
+    /// other commands; the rate columns of the model's Jacobian).
+    pub fn derivative_in(&self, t: f64, x: &State, cmd: &Controls, frame: &Frame) -> State {
+        match &self.vehicle {
+            Vehicle::PointMass => self.point_mass_derivative(t, x, frame),
+            Vehicle::FixedWing(p) => self.fixed_wing_derivative(p, t, x, cmd, frame),
+        }
+    }
+
+    fn point_mass_derivative(&self, t: f64, x: &State, frame: &Frame) -> State {
         let pos = x.pos_ned();
         let vel = x.vel();
-        let (wind, rho, g) = self.environment(pos, t);
         let s = Sample {
             t,
             pos_ned: pos,
@@ -314,13 +377,13 @@ impl Model {
             rot: DMat3::IDENTITY,
             omega: DVec3::ZERO,
             altitude_m: self.altitude(pos),
-            rho,
-            g,
-            air_vel_ned: vel - wind,
+            rho: frame.rho,
+            g: frame.g,
+            air_vel_ned: vel - frame.wind,
             controls: Controls::default(),
             mass: 1.0,
         };
-        let mut acc = DVec3::new(0.0, 0.0, g);
+        let mut acc = DVec3::new(0.0, 0.0, frame.g);
         for e in &self.effects {
             acc += e.accel_ned(&s);
         }
@@ -336,23 +399,21 @@ impl Model {
         t: f64,
         x: &State,
         cmd: &Controls,
+        frame: &Frame,
     ) -> State {
         let pos = x.pos_ned();
         let uvw = x.vel();
         let q = x.quat();
-        let rot = DMat3::from_quat(q);
+        let rot = frame.rot;
         let omega = x.omega();
-        let (wind, rho, g) = self.environment(pos, t);
         let tau = self.actuator_tau();
         let ctl = self.surfaces_in_effect(x, cmd);
         let vel_ned = rot * uvw;
-        let v_r = uvw - rot.transpose() * wind;
-        let air = air_angles(v_r, rho);
 
         let mut induced_factor = 1.0;
         let mut force = DVec3::ZERO;
         let mut moment = DVec3::ZERO;
-        let mut acc_ned = DVec3::new(0.0, 0.0, g);
+        let mut acc_ned = DVec3::new(0.0, 0.0, frame.g);
         // What the effects see, only when there are any: the bare airframe (every flight of
         // a model without effects) has no use for it.
         if !self.effects.is_empty() {
@@ -363,9 +424,9 @@ impl Model {
                 rot,
                 omega,
                 altitude_m: self.altitude(pos),
-                rho,
-                g,
-                air_vel_ned: rot * v_r,
+                rho: frame.rho,
+                g: frame.g,
+                air_vel_ned: rot * frame.v_r,
                 controls: ctl,
                 mass: p.mass.mass_kg,
             };
@@ -377,8 +438,14 @@ impl Model {
                 acc_ned += e.accel_ned(&s);
             }
         }
-        let (f_aero, m_aero) =
-            aero_force_moment(p, &air, omega, &ctl, induced_factor, self.stall_c);
+        let (f_aero, m_aero) = aero_force_moment(
+            p,
+            &frame.air,
+            omega,
+            &ctl,
+            induced_factor,
+            frame.stall_sigma,
+        );
         // Gravity (and the world-frame accelerations of effects) in body axes, times mass.
         force += f_aero + p.mass.mass_kg * (rot.transpose() * acc_ned);
         moment += m_aero;
@@ -453,6 +520,7 @@ impl Model {
                     t: held.times.first().copied().unwrap_or(0.0),
                     start: *x,
                     cmds: [Controls::default(); 3],
+                    frame: None,
                     stages: [State([0.0; STATE_LEN]); 4],
                     dt: 0.0,
                     end: *x,
@@ -510,7 +578,9 @@ impl Model {
             }
             r
         };
-        let k1 = self.derivative(t, x, cmds[0]);
+        // The first stage's frame, kept for reads inside the step (`Rk4Step::at`).
+        let frame = self.frame(t, x);
+        let k1 = self.derivative_in(t, x, cmds[0], &frame);
         let k2 = self.derivative(t + 0.5 * dt, &stage(x, &k1, 0.5 * dt), cmds[1]);
         let k3 = self.derivative(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmds[2]);
         let k4 = self.derivative(t + dt, &stage(x, &k3, dt), cmds[3]);
@@ -527,6 +597,7 @@ impl Model {
             t,
             start: *x,
             cmds: [*cmds[0], *cmds[1], *cmds[3]],
+            frame: Some(frame),
             stages: [k1, k2, k3, k4],
             dt,
             end: out,
@@ -631,6 +702,8 @@ pub struct Rk4Step {
     start: State,
     /// The stage commands (k₁, k₂ = k₃, k₄).
     cmds: [Controls; 3],
+    /// The frame of the first stage (none for a step of no length).
+    frame: Option<Frame>,
     stages: [State; 4],
     dt: f64,
     /// The state at the end of the step.
@@ -672,7 +745,11 @@ impl Rk4Step {
         // Constant commands leave only rounding here.
         if delta.iter().map(|d| d.abs()).sum::<f64>() > 1e-12 {
             let probe = Controls::from_array(std::array::from_fn(|j| c1[j] + delta[j]));
-            let kp = model.derivative(self.t, &self.start, &probe);
+            // At the first stage's time and state: its frame.
+            let kp = match &self.frame {
+                Some(frame) => model.derivative_in(self.t, &self.start, &probe, frame),
+                None => model.derivative(self.t, &self.start, &probe),
+            };
             for (i, o) in out.iter_mut().enumerate() {
                 *o += h * (kp.0[i] - k1.0[i]);
             }

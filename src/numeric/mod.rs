@@ -162,6 +162,39 @@ pub fn quad_fit(t: &[f64], y: &[f64], t0: f64) -> (f64, f64) {
     }
 }
 
+/// atan2(y, x), by its series where |y| ≤ x/8 (an angle of attack, a sideslip and a
+/// residual's angle mostly are): z − z³/3 + … + z¹⁷/17 with z = y/x, whose next term is below
+/// 10⁻¹⁷·|z| there; the library's `atan2` elsewhere. A division and a polynomial evaluated by
+/// Estrin's scheme (powers of z² side by side, not one long chain of multiply-adds): in the
+/// model's derivative, α's atan2 lies on the path from the state to the lift, and the
+/// library's function saves and restores the rounding mode at every call.
+#[inline]
+pub fn small_atan2(y: f64, x: f64) -> f64 {
+    if !(x > 0.0 && y.abs() <= 0.125 * x) {
+        return y.atan2(x);
+    }
+    const C: [f64; 9] = [
+        1.0,
+        -1.0 / 3.0,
+        1.0 / 5.0,
+        -1.0 / 7.0,
+        1.0 / 9.0,
+        -1.0 / 11.0,
+        1.0 / 13.0,
+        -1.0 / 15.0,
+        1.0 / 17.0,
+    ];
+    let z = y / x;
+    let s = z * z;
+    let (s2, s4) = (s * s, s * s * (s * s));
+    let p01 = C[0] + C[1] * s;
+    let p23 = C[2] + C[3] * s;
+    let p45 = C[4] + C[5] * s;
+    let p67 = C[6] + C[7] * s;
+    let p47 = p45 + p67 * s2 + C[8] * s4;
+    z * ((p01 + p23 * s2) + p47 * s4)
+}
+
 /// The angle between two attitudes, degrees: the rotation angle of R_aᵀ·R_b. It does not
 /// depend on how either is split into angles, so it has no trouble at gimbal lock or ±180°.
 pub fn attitude_error_deg(a: &EulerZyx, b: &EulerZyx) -> f64 {
@@ -278,6 +311,31 @@ pub fn chi2_quantile(p: f64, dof: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The series atan2 is the library's to a few units in the last place where it is used,
+    /// and the library's elsewhere.
+    #[test]
+    fn small_atan2_is_atan2() {
+        for i in -1000..=1000 {
+            for x in [1e-300, 1e-8, 0.3, 1.0, 7.0, 1e8] {
+                let y = x * (i as f64) * 2e-4;
+                let (got, want) = (small_atan2(y, x), y.atan2(x));
+                assert!(
+                    (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
+                    "atan2({y}, {x}): {got} vs {want}"
+                );
+            }
+        }
+        for (y, x) in [
+            (1.0, -1.0),
+            (-0.1, -1.0),
+            (0.0, -1.0),
+            (1.0, 0.0),
+            (0.5, 1.0),
+        ] {
+            assert_eq!(small_atan2(y, x), f64::atan2(y, x));
+        }
+    }
 
     /// The four-lane dot product and the Gram matrix are the plain sums, for every length
     /// remainder.

@@ -6,7 +6,7 @@ use glam::{DMat3, DVec3};
 
 use super::Predicted;
 use crate::euler::EulerZyx;
-use crate::numeric::attitude_error_deg;
+use crate::numeric::{attitude_error_deg, small_atan2};
 
 /// Predicted − measured roll, pitch and yaw, each wrapped into (−π, π], from the predicted
 /// rotation and the measured angles' sines and cosines (`trig`: roll, pitch, yaw): the angle
@@ -62,33 +62,6 @@ pub(super) fn attitude_error_at(
     ((trace - 1.0) / 2.0).clamp(-1.0, 1.0).acos().to_degrees()
 }
 
-/// atan2(y, x), by its series where |y| ≤ x/8 (a residual's angle mostly is): z − z³/3 + … +
-/// z¹⁷/17 with z = y/x, whose next term is below 10⁻¹⁷·|z| there — a division and nine
-/// multiply-adds against a library `atan2` twice as long.
-fn small_atan2(y: f64, x: f64) -> f64 {
-    if !(x > 0.0 && y.abs() <= 0.125 * x) {
-        return y.atan2(x);
-    }
-    const C: [f64; 9] = [
-        1.0,
-        -1.0 / 3.0,
-        1.0 / 5.0,
-        -1.0 / 7.0,
-        1.0 / 9.0,
-        -1.0 / 11.0,
-        1.0 / 13.0,
-        -1.0 / 15.0,
-        1.0 / 17.0,
-    ];
-    let z = y / x;
-    let z2 = z * z;
-    let mut s = C[8];
-    for c in C[..8].iter().rev() {
-        s = c + z2 * s;
-    }
-    z * s
-}
-
 /// An angle difference wrapped into (−π, π].
 pub(super) fn wrap(a: f64) -> f64 {
     use std::f64::consts::{PI, TAU};
@@ -107,31 +80,6 @@ pub(super) fn wrap(a: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The series atan2 is the library's to a few units in the last place where it is used,
-    /// and the library's elsewhere.
-    #[test]
-    fn small_atan2_is_atan2() {
-        for i in -1000..=1000 {
-            for x in [1e-300, 1e-8, 0.3, 1.0, 7.0, 1e8] {
-                let y = x * (i as f64) * 2e-4;
-                let (got, want) = (small_atan2(y, x), y.atan2(x));
-                assert!(
-                    (got - want).abs() <= 4.0 * f64::EPSILON * want.abs(),
-                    "atan2({y}, {x}): {got} vs {want}"
-                );
-            }
-        }
-        for (y, x) in [
-            (1.0, -1.0),
-            (-0.1, -1.0),
-            (0.0, -1.0),
-            (1.0, 0.0),
-            (0.5, 1.0),
-        ] {
-            assert_eq!(small_atan2(y, x), f64::atan2(y, x));
-        }
-    }
 
     /// The attitude residuals from the rotation and the measured angles' sines and cosines
     /// are the wrapped differences of the Euler angles: small and large, across ±180° of

@@ -35,6 +35,9 @@ impl Effect for ActuatorLag {
     fn varies_in_time(&self) -> bool {
         false
     }
+    fn varies_in_space(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         std::slice::from_ref(&self.tau_s)
     }

@@ -42,6 +42,9 @@ impl Effect for EarthRotation {
     fn varies_in_time(&self) -> bool {
         false
     }
+    fn varies_in_space(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         std::slice::from_ref(&self.latitude_deg)
     }

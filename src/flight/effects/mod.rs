@@ -320,6 +320,15 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
         true
     }
 
+    /// Whether any hook depends on the position itself (a density or gravity that changes
+    /// with height, the ground's nearness, a wind that changes from place to place). `true`,
+    /// the default, is the safe answer for an effect that does not say: the model's
+    /// Jacobian then differences the position as well, where it would skip three columns
+    /// that are zero.
+    fn varies_in_space(&self) -> bool {
+        true
+    }
+
     /// Wind, NED, m/s, at a position (NED, m) and time (s); summed over effects.
     fn wind_at(&self, _pos_ned: DVec3, _t: f64) -> DVec3 {
         DVec3::ZERO
@@ -519,6 +528,66 @@ mod tests {
         }
         for name in ["wind", "drag", "gyroscopic", "prop_torque"] {
             assert!(tried.contains(&name), "{name} has no absent values");
+        }
+    }
+
+    /// An effect that says it does not depend on the position does not: the derivative at
+    /// positions kilometres apart (and at another height) is the same to the bit, with the
+    /// effect's parameters at their defaults and moved across their ranges. The position-
+    /// dependent ones say so.
+    #[test]
+    fn an_effect_that_does_not_vary_in_space_does_not() {
+        use crate::flight::model::State;
+        use crate::flight::spec::ModelSpec;
+        use crate::flight::{Controls, VehicleKind};
+        let mut still = Vec::new();
+        for info in CATALOGUE {
+            for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
+                let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
+                let e = info.build(&base.effect_context());
+                if !e.applies_to(kind) || e.varies_in_space() {
+                    continue;
+                }
+                still.push(info.name);
+                for at in [0.2, 0.5, 0.8] {
+                    let mut e = e.clone();
+                    for p in info.params {
+                        let (lo, hi) = p.range;
+                        let v = lo.max(-1e3) + at * (hi.min(1e3) - lo.max(-1e3));
+                        e.set_param(p.name, v).unwrap();
+                    }
+                    let mut with = base.clone();
+                    with.add_effect(e).unwrap();
+                    let mut x = State::default();
+                    x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
+                    x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
+                    x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
+                    x.set_surfaces(glam::DVec3::new(-0.02, 0.01, 0.0));
+                    let cmd = Controls {
+                        throttle: 0.7,
+                        elevator: -0.05,
+                        aileron: 0.02,
+                        rudder: 0.01,
+                    };
+                    let mut there = x;
+                    x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
+                    there.set_pos_ned(glam::DVec3::new(-3000.0, 2500.0, -900.0));
+                    let (here, there) = (
+                        with.derivative(1.0, &x, &cmd),
+                        with.derivative(1.0, &there, &cmd),
+                    );
+                    assert_eq!(here.0, there.0, "{} at {at}", info.name);
+                }
+            }
+        }
+        for name in ["wind", "drag", "gyroscopic", "prop_torque", "actuator_lag"] {
+            assert!(still.contains(&name), "{name} says it varies in space");
+        }
+        for name in ["density_altitude", "gravity_model", "ground_effect"] {
+            assert!(
+                !still.contains(&name),
+                "{name} says it does not vary in space"
+            );
         }
     }
 

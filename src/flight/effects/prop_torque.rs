@@ -33,6 +33,9 @@ impl Effect for PropTorque {
     fn varies_in_time(&self) -> bool {
         false
     }
+    fn varies_in_space(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         std::slice::from_ref(&self.k_torque)
     }

@@ -44,6 +44,9 @@ impl Effect for Wind {
     fn varies_in_time(&self) -> bool {
         false
     }
+    fn varies_in_space(&self) -> bool {
+        false
+    }
     fn values(&self) -> &[f64] {
         self.ned.as_ref()
     }
