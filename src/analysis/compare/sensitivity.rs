@@ -169,12 +169,16 @@ impl Prepared<'_> {
             let t = d.time[i];
             let p = x.pos_ned();
             let wind = model.wind_at(p, t);
-            // ∂w/∂p, a column per NED axis.
-            let grad = DMat3::from_cols(
-                (model.wind_at(p + DVec3::X * WIND_STEP, t) - wind) / WIND_STEP,
-                (model.wind_at(p + DVec3::Y * WIND_STEP, t) - wind) / WIND_STEP,
-                (model.wind_at(p + DVec3::Z * WIND_STEP, t) - wind) / WIND_STEP,
-            );
+            // ∂w/∂p, a column per NED axis (zero where nothing depends on the position).
+            let grad = if model.varies_in_space() {
+                DMat3::from_cols(
+                    (model.wind_at(p + DVec3::X * WIND_STEP, t) - wind) / WIND_STEP,
+                    (model.wind_at(p + DVec3::Y * WIND_STEP, t) - wind) / WIND_STEP,
+                    (model.wind_at(p + DVec3::Z * WIND_STEP, t) - wind) / WIND_STEP,
+                )
+            } else {
+                DMat3::ZERO
+            };
             let wind_body = rot.transpose() * wind;
             let v_r = v - wind_body;
             let va = v_r.length();
@@ -186,16 +190,12 @@ impl Prepared<'_> {
             (v_r * gain, wind_body, rot.transpose() * grad)
         });
         // Each residual row is a combination of rows of the sensitivity (all its columns at
-        // once, twelve lanes wide): rows[r] = Σₖ c·s[k] over the (k, c) of that row.
+        // once, twelve lanes wide): rows[r] = Σₖ c·s[k] over the (k, c) of that row, summed
+        // in registers and stored once.
         let mut out = [[0.0; ERROR_MAX]; 13];
         let mut k = 0;
         let mut row = |terms: &[(usize, f64)]| {
-            let o = &mut out[k];
-            for &(from, c) in terms {
-                for (o, v) in o.iter_mut().zip(&s[from]) {
-                    *o += c * v;
-                }
-            }
+            out[k] = combine(s, terms);
             k += 1;
         };
         for (a, &c) in wp.iter().enumerate() {
@@ -261,6 +261,19 @@ impl Prepared<'_> {
         }
         Some(finite)
     }
+}
+
+/// Σₖ c·s[k] over the terms (k, c): a residual row's derivative along every column of the
+/// sensitivity `s` at once.
+#[inline(always)]
+fn combine(s: &ErrorMatrix, terms: &[(usize, f64)]) -> [f64; ERROR_MAX] {
+    let mut acc = [0.0; ERROR_MAX];
+    for &(from, c) in terms {
+        for (a, v) in acc.iter_mut().zip(&s[from]) {
+            *a += c * v;
+        }
+    }
+    acc
 }
 
 /// Where the model Jacobian was last taken, and whether it may be held instead of taken
