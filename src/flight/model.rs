@@ -340,7 +340,13 @@ impl Model {
             },
             Vehicle::FixedWing(p) => {
                 let rot = DMat3::from_quat(x.quat());
-                let v_r = x.vel() - rot.transpose() * wind;
+                // In still air the body velocity is the air-relative one: the air data then
+                // need not wait for the rotation (they begin the derivative's longest chain).
+                let v_r = if wind == DVec3::ZERO {
+                    x.vel()
+                } else {
+                    x.vel() - rot.transpose() * wind
+                };
                 let air = air_angles(v_r, rho);
                 let lon = &p.longitudinal;
                 Frame {
