@@ -12,7 +12,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use crate::analysis::compare::start::{
-    params_of, project_column, project_out, state_of, Scratch, StartFit,
+    param_count, params_of, project_column, project_out, state_of, Scratch, StartFit,
 };
 use crate::analysis::compare::Prepared;
 use crate::flight::effects::Effect;
@@ -249,7 +249,69 @@ pub(crate) fn window_normal(
     l: &Linearised,
     at_start: Option<&[f64]>,
 ) -> Normal {
-    window_normal_towards(model, perturbed, prep, window, l, at_start, None).0
+    let free: &[Free] = &[];
+    window_normal_towards(
+        model,
+        perturbed,
+        free,
+        prep,
+        window,
+        l,
+        at_start,
+        (None, false),
+    )
+    .0
+}
+
+/// A steady, uniform wind's columns of the normal equations without a flight, where the
+/// model is the airframe (or point mass) with that wind alone and `l` its own start fit of
+/// `m` residuals over `span`: None otherwise, or when a free parameter is not the wind's.
+///
+/// Such a wind is a moving frame. The flight from start velocity v₀ in wind W and the one
+/// from v₀ + δW in wind W + δW move the same through the air — the same air-relative
+/// velocity, attitude and rates — and differ by δW·t in position and δW in velocity over
+/// the ground (Galilean invariance; RK4 keeps it to its truncation error). So the residuals
+/// change per wind component by E − J_v: E that drift of the position and velocity rows
+/// ([`Prepared::drift_rows`]), J_v the start Jacobian's column of that velocity component.
+/// What the normal equations take is the columns with the start directions projected out,
+/// among which J_v lies: the projected columns are E's, whatever the Jacobian's accuracy
+/// along J_v — where the forward differences of three flights carry their own error.
+fn wind_columns(
+    model: &Model,
+    free: &[Free],
+    prep: &Prepared,
+    span: (usize, usize),
+    l: &Linearised,
+    m: usize,
+) -> Option<Vec<f64>> {
+    let [wind] = model.effects.as_slice() else {
+        return None;
+    };
+    if wind.name() != "wind" || wind.varies_in_space() || wind.varies_in_time() {
+        return None;
+    }
+    let starts = param_count(model);
+    if l.params != starts || l.jac.len() != starts * m || starts < 6 {
+        return None;
+    }
+    let mut cols = vec![0.0; free.len() * m];
+    for (f, col) in free.iter().zip(cols.chunks_exact_mut(m.max(1))) {
+        let axis = match (f.owner, f.name) {
+            (Owner::Effect("wind"), "north_mps") => 0,
+            (Owner::Effect("wind"), "east_mps") => 1,
+            (Owner::Effect("wind"), "down_mps") => 2,
+            _ => return None,
+        };
+        if !prep.drift_rows(model, span, axis, col) {
+            return None;
+        }
+        // Start parameters 3..6 are the NED velocity.
+        let j_v = &l.jac[(3 + axis) * m..(4 + axis) * m];
+        for (c, v) in col.iter_mut().zip(j_v) {
+            *c = f.scale * (*c - v);
+        }
+    }
+    Some(cols)
 }
 
 /// [`window_normal`], and where the window's start would be with the parameters moved by
@@ -262,14 +324,19 @@ pub(crate) fn window_normal(
 /// from the corrected one's: far closer than the warm start when the model lacks what the
 /// correction adds (the base model's start is pulled away from the data's to make up for
 /// it), and at no flight more, the columns being the normal equations' own.
+///
+/// `own`: `l` is `model`'s own start fit, its Jacobian the model's at `l`'s start. A wind's
+/// columns then need no flight ([`wind_columns`]).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn window_normal_towards(
     model: &Model,
     perturbed: &[Model],
+    free: &[Free],
     prep: &Prepared,
     window: (usize, usize),
     l: &Linearised,
     at_start: Option<&[f64]>,
-    towards: Option<&[f64]>,
+    (towards, own): (Option<&[f64]>, bool),
 ) -> (Normal, Option<Vec<f64>>) {
     let np = perturbed.len();
     let nothing = || ((vec![0.0; np * np], vec![0.0; np]), None);
@@ -285,17 +352,28 @@ pub(crate) fn window_normal_towards(
         }
     };
     let m = r.len();
-    let mut cols = vec![0.0; np * m];
-    let mut rj = Vec::with_capacity(m);
-    for (j, pm) in perturbed.iter().enumerate() {
-        prep.window_residuals(pm, span, &x, &mut scratch, &mut rj);
-        if rj.len() != m {
-            return nothing();
+    let wind = own
+        .then(|| wind_columns(model, free, prep, span, l, m))
+        .flatten()
+        .filter(|_| free.len() == np);
+    let cols = match wind {
+        Some(cols) => cols,
+        None => {
+            let mut cols = vec![0.0; np * m];
+            let mut rj = Vec::with_capacity(m);
+            for (j, pm) in perturbed.iter().enumerate() {
+                prep.window_residuals(pm, span, &x, &mut scratch, &mut rj);
+                if rj.len() != m {
+                    return nothing();
+                }
+                for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(r) {
+                    *c = (a - b) / PARAM_STEP;
+                }
+            }
+            cols
         }
-        for ((c, a), b) in cols[j * m..(j + 1) * m].iter_mut().zip(&rj).zip(r) {
-            *c = (a - b) / PARAM_STEP;
-        }
-    }
+    };
+    let mut cols = cols;
     let start = towards.filter(|t| t.len() == np).map(|t| {
         let mut target = r.to_vec();
         for (j, tj) in t.iter().enumerate() {

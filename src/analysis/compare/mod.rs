@@ -452,6 +452,46 @@ impl<'a> Prepared<'a> {
     }
 
     /// Append the weighted residual rows of sample `i` for prediction `p`.
+    /// The change of the residual rows over `span` (laid out as `out`, [`Self::residual_rows`]
+    /// per sample) when every predicted position drifts along NED `axis` by the time since
+    /// the span's start and every predicted NED velocity by one along it: the read-out of a
+    /// frame moving at unit speed. False when `out` is not the span's rows.
+    pub(crate) fn drift_rows(
+        &self,
+        model: &Model,
+        (start, end): (usize, usize),
+        axis: usize,
+        out: &mut [f64],
+    ) -> bool {
+        let d = self.data;
+        let m = self.measured.for_vehicle(model);
+        let velocity = m.velocity && d.vel_ned.is_some();
+        let count = 3
+            + 3 * [
+                velocity,
+                m.attitude && d.attitude.is_some(),
+                m.rates && d.rates_body.is_some(),
+            ]
+            .iter()
+            .filter(|&&b| b)
+            .count()
+            + usize::from(m.airspeed && d.airspeed.is_some());
+        let samples = end.saturating_sub(start);
+        if axis > 2 || samples == 0 || out.len() != count * samples {
+            return false;
+        }
+        let [wp, wv, _, _] = &self.weights;
+        let t0 = d.time[start];
+        out.fill(0.0);
+        for (rows, i) in out.chunks_exact_mut(count).zip(start..end) {
+            rows[axis] = wp[axis] * (d.time[i] - t0);
+            if velocity {
+                rows[3 + axis] = wv[axis];
+            }
+        }
+        true
+    }
+
     pub(crate) fn residual_rows(&self, model: &Model, i: usize, p: &Predicted, out: &mut Vec<f64>) {
         let d = self.data;
         let m = self.measured.for_vehicle(model);
