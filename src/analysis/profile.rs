@@ -243,13 +243,12 @@ pub(crate) type Normal = (Vec<f64>, Vec<f64>);
 /// saving that flight.
 pub(crate) fn window_normal(
     model: &Model,
-    perturbed: &[Model],
+    (perturbed, free, own): (&[Model], &[Free], bool),
     prep: &Prepared,
     window: (usize, usize),
     l: &Linearised,
     at_start: Option<&[f64]>,
 ) -> Normal {
-    let free: &[Free] = &[];
     window_normal_towards(
         model,
         perturbed,
@@ -258,7 +257,7 @@ pub(crate) fn window_normal(
         window,
         l,
         at_start,
-        (None, false),
+        (None, own),
     )
     .0
 }
@@ -394,10 +393,11 @@ pub(crate) fn add_into(sum: &mut Normal, part: &Normal) {
 
 /// Normal equations of the profiled misfit in the scaled free parameters, summed over windows
 /// (see [`window_normal`]). `at_starts`: each window's residuals of `model` from `lin`'s
-/// starts, when they are at hand ([`linear_profile`]'s, or the start fits' own).
+/// starts, when they are at hand ([`linear_profile`]'s, or the start fits' own). `own`:
+/// `lin` are `model`'s own start fits ([`window_normal_towards`]).
 pub(crate) fn normal_equations(
     model: &Model,
-    free: &[Free],
+    (free, own): (&[Free], bool),
     theta: &[f64],
     prep: &Prepared,
     lin: &[Linearised],
@@ -412,7 +412,7 @@ pub(crate) fn normal_equations(
         .enumerate()
         .map(|(k, (&w, l))| {
             let r = at_starts.and_then(|r| r.get(k)).map(|r| r.as_slice());
-            window_normal(model, &perturbed, prep, w, l, r)
+            window_normal(model, (&perturbed, free, own), prep, w, l, r)
         })
         .collect();
     let mut sum = (vec![0.0; np * np], vec![0.0; np]);

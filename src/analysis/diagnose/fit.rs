@@ -51,7 +51,7 @@ fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
 #[allow(clippy::too_many_arguments)]
 fn fit_linearised(
     model: &mut Model,
-    free: &[Free],
+    (free, own): (&[Free], bool),
     theta: &mut Vec<f64>,
     prep: &Prepared,
     lin: &mut [Linearised],
@@ -62,7 +62,7 @@ fn fit_linearised(
     let mut pending: Option<Vec<Vec<f64>>> = None;
     let mut lambda = 1e-3;
     for _ in 0..iterations {
-        let (a0, g) = normal_equations(model, free, theta, prep, lin, Some(&flown));
+        let (a0, g) = normal_equations(model, (free, own), theta, prep, lin, Some(&flown));
         if let Some(dq) = pending.take() {
             move_starts(lin, &dq);
         }
@@ -150,13 +150,16 @@ fn fit(
     let mut theta = values(model, free);
     let mut lin: Vec<Linearised> = fits.iter().map(|f| Linearised::of(model, f)).collect();
     // `flown`: each window's residuals of `model` from `lin`'s starts, while they are at hand.
+    // `lin` begins as the fits of the model without the correction, and is the model's own
+    // after a refit.
+    let mut own = false;
     let (mut linear, mut flown) =
-        fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
+        fit_linearised(model, (free, own), &mut theta, prep, &mut lin, iterations);
     let gain = chi2_base - linear;
     if gain.is_nan() || gain <= FIT_TOL.max(1e-6 * chi2_base) {
         // The effect explains nothing the starts could not: its best values change the misfit
         // by less than a hundredth of a noise unit, so the comparison is the baseline's.
-        let (a, _) = normal_equations(model, free, &theta, prep, &lin, flown.as_deref());
+        let (a, _) = normal_equations(model, (free, own), &theta, prep, &lin, flown.as_deref());
         let cov = covariance(&a, free, &baseline.comparison);
         return (baseline.comparison.clone(), cov);
     }
@@ -174,16 +177,18 @@ fn fit(
             .into_iter()
             .map(|f| Linearised::owned(model, f))
             .collect();
+        own = true;
         exact = Some(cmp);
         if settled {
             break;
         }
-        (linear, flown) = fit_linearised(model, free, &mut theta, prep, &mut lin, iterations);
+        (linear, flown) =
+            fit_linearised(model, (free, own), &mut theta, prep, &mut lin, iterations);
     }
     let Some(cmp) = exact else {
         unreachable!("the loop runs at least once");
     };
-    let (a, _) = normal_equations(model, free, &theta, prep, &lin, flown.as_deref());
+    let (a, _) = normal_equations(model, (free, own), &theta, prep, &lin, flown.as_deref());
     let cov = covariance(&a, free, &cmp);
     (cmp, cov)
 }
@@ -700,7 +705,7 @@ mod tests {
             let lin = Linearised::of(&with, &fit);
             let plain = crate::analysis::profile::window_normal(
                 &with,
-                &perturbed,
+                (&perturbed, &free, false),
                 &prep,
                 w,
                 &lin,

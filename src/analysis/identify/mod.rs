@@ -398,7 +398,7 @@ fn normal_sum(
     let mut a = vec![0.0; np * np];
     let mut g = vec![0.0; np];
     for f in flights {
-        let (fa, fg) = normal_equations(model, free, theta, &f.prep, &f.lin, None);
+        let (fa, fg) = normal_equations(model, (free, false), theta, &f.prep, &f.lin, None);
         a.iter_mut().zip(&fa).for_each(|(s, v)| *s += v);
         g.iter_mut().zip(&fg).for_each(|(s, v)| *s += v);
     }
