@@ -48,6 +48,7 @@ const MIN_AIRSPEED: f64 = 0.1;
 /// β is taken as atan2(v_r, √(u_r² + w_r²)), the same angle (Va² = u_r² + w_r² + v_r²), and
 /// both angles by [`small_atan2`]: in flight they are small, and the library's `atan2` and
 /// `asin` were a tenth of the model's derivative.
+#[inline]
 pub fn air_angles(v_r: DVec3, rho: f64) -> AirData {
     let va = v_r.length();
     if va < MIN_AIRSPEED {

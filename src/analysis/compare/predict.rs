@@ -106,6 +106,11 @@ pub fn fly_window(
 ) {
     out.clear();
     states.clear();
+    // A sample each, and a state each where steps span samples (more where they are
+    // sub-stepped): room for them at once, not grown and copied flight after flight.
+    let samples = end.saturating_sub(start);
+    out.reserve(samples);
+    states.reserve(samples + 1);
     let mut x = *x0;
     states.push(x);
     let mut i = start;
