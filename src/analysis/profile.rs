@@ -262,6 +262,26 @@ pub(crate) fn window_normal(
     .0
 }
 
+/// The NED axis of each free parameter where the model is a moving frame — the airframe (or
+/// point mass) with a steady, uniform wind alone — and every free parameter is a component
+/// of that wind ([`wind_columns`]); None otherwise.
+pub(crate) fn moving_frame(model: &Model, free: &[Free]) -> Option<Vec<usize>> {
+    let [wind] = model.effects.as_slice() else {
+        return None;
+    };
+    if wind.name() != "wind" || wind.varies_in_space() || wind.varies_in_time() {
+        return None;
+    }
+    free.iter()
+        .map(|f| match (f.owner, f.name) {
+            (Owner::Effect("wind"), "north_mps") => Some(0),
+            (Owner::Effect("wind"), "east_mps") => Some(1),
+            (Owner::Effect("wind"), "down_mps") => Some(2),
+            _ => None,
+        })
+        .collect()
+}
+
 /// A steady, uniform wind's columns of the normal equations without a flight, where the
 /// model is the airframe (or point mass) with that wind alone and `l` its own start fit of
 /// `m` residuals over `span`: None otherwise, or when a free parameter is not the wind's.
@@ -283,24 +303,13 @@ fn wind_columns(
     l: &Linearised,
     m: usize,
 ) -> Option<Vec<f64>> {
-    let [wind] = model.effects.as_slice() else {
-        return None;
-    };
-    if wind.name() != "wind" || wind.varies_in_space() || wind.varies_in_time() {
-        return None;
-    }
+    let axes = moving_frame(model, free)?;
     let starts = param_count(model);
     if l.params != starts || l.jac.len() != starts * m || starts < 6 {
         return None;
     }
     let mut cols = vec![0.0; free.len() * m];
-    for (f, col) in free.iter().zip(cols.chunks_exact_mut(m.max(1))) {
-        let axis = match (f.owner, f.name) {
-            (Owner::Effect("wind"), "north_mps") => 0,
-            (Owner::Effect("wind"), "east_mps") => 1,
-            (Owner::Effect("wind"), "down_mps") => 2,
-            _ => return None,
-        };
+    for ((f, col), axis) in free.iter().zip(cols.chunks_exact_mut(m.max(1))).zip(axes) {
         if !prep.drift_rows(model, span, axis, col) {
             return None;
         }
