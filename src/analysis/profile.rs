@@ -263,20 +263,22 @@ pub(crate) fn window_normal(
 }
 
 /// The NED axis of each free parameter where the model is a moving frame — the airframe (or
-/// point mass) with a steady, uniform wind alone — and every free parameter is a component
-/// of that wind ([`wind_columns`]); None otherwise.
+/// point mass) with a steady, uniform wind alone ([`Effect::is_uniform_wind`]) — and every
+/// free parameter is a component of that wind ([`wind_columns`]); None otherwise.
 pub(crate) fn moving_frame(model: &Model, free: &[Free]) -> Option<Vec<usize>> {
     let [wind] = model.effects.as_slice() else {
         return None;
     };
-    if wind.name() != "wind" || wind.varies_in_space() || wind.varies_in_time() {
+    if !wind.is_uniform_wind() || wind.varies_in_space() || wind.varies_in_time() {
         return None;
     }
+    let params = wind.info().params;
     free.iter()
-        .map(|f| match (f.owner, f.name) {
-            (Owner::Effect("wind"), "north_mps") => Some(0),
-            (Owner::Effect("wind"), "east_mps") => Some(1),
-            (Owner::Effect("wind"), "down_mps") => Some(2),
+        .map(|f| match f.owner {
+            Owner::Effect(name) if name == wind.name() => params
+                .iter()
+                .position(|p| p.name == f.name)
+                .filter(|&axis| axis < 3),
             _ => None,
         })
         .collect()

@@ -329,6 +329,15 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
         true
     }
 
+    /// Whether the effect is a steady wind, the same everywhere, whose parameters are its
+    /// north, east and down components in m/s, in that order, and which does nothing but
+    /// blow ([`wind_at`](Self::wind_at) alone). An airframe with such a wind alone is a
+    /// frame moving with the air, and the comparison takes the wind's parameter columns from
+    /// the start's instead of flying them. `false`, the default, is the safe answer.
+    fn is_uniform_wind(&self) -> bool {
+        false
+    }
+
     /// Wind, NED, m/s, at a position (NED, m) and time (s); summed over effects.
     fn wind_at(&self, _pos_ned: DVec3, _t: f64) -> DVec3 {
         DVec3::ZERO
@@ -589,6 +598,66 @@ mod tests {
                 "{name} says it does not vary in space"
             );
         }
+    }
+
+    /// An effect that says it is a uniform wind is one: its parameters are the north, east
+    /// and down components, and the airframe with it moves as the airframe without it
+    /// would at the air-relative velocity (rates, attitude and moments alike; the body
+    /// acceleration differs by ω × Rᵀw, the ground velocity by w), to rounding.
+    #[test]
+    fn an_effect_that_says_it_is_a_uniform_wind_is_one() {
+        use crate::flight::model::State;
+        use crate::flight::spec::ModelSpec;
+        use crate::flight::{Controls, VehicleKind};
+        let base = ModelSpec::baseline(VehicleKind::FixedWing)
+            .build(Origin::default())
+            .unwrap();
+        let mut winds = Vec::new();
+        for info in CATALOGUE {
+            let mut e = info.build(&base.effect_context());
+            if !e.is_uniform_wind() {
+                continue;
+            }
+            winds.push(info.name);
+            let w = glam::DVec3::new(4.0, -3.0, 0.5);
+            for (p, v) in info.params.iter().zip(w.to_array()) {
+                e.set_param(p.name, v).unwrap();
+            }
+            let mut with = base.clone();
+            with.add_effect(e).unwrap();
+            let mut x = State::default();
+            x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
+            x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
+            x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
+            x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
+            let cmd = Controls {
+                throttle: 0.7,
+                elevator: -0.05,
+                aileron: 0.02,
+                rudder: 0.01,
+            };
+            let w_body = x.rot().transpose() * w;
+            let mut air = x;
+            air.set_vel(x.vel() - w_body);
+            let (a, b) = (
+                with.derivative(1.0, &x, &cmd),
+                base.derivative(1.0, &air, &cmd),
+            );
+            let shift = x.omega().cross(w_body);
+            let mut want = b.0;
+            for k in 0..3 {
+                want[k] += w[k];
+                want[3 + k] -= shift[k];
+            }
+            for (k, (g, e)) in a.0.iter().zip(want).enumerate() {
+                assert!(
+                    (g - e).abs() < 1e-12 * (1.0 + e.abs()),
+                    "{}[{k}]: {g} vs {e}",
+                    info.name
+                );
+            }
+        }
+        assert_eq!(winds, ["wind"]);
     }
 
     #[test]

@@ -47,6 +47,9 @@ impl Effect for Wind {
     fn varies_in_space(&self) -> bool {
         false
     }
+    fn is_uniform_wind(&self) -> bool {
+        true
+    }
     fn values(&self) -> &[f64] {
         self.ned.as_ref()
     }
