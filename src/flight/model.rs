@@ -96,6 +96,24 @@ impl State {
     }
 }
 
+/// The surface deflections in effect under an actuator lag `tau` (the state's), or without
+/// one (the commands).
+#[inline]
+fn surfaces_under(tau: Option<f64>, x: &State, cmd: &Controls) -> Controls {
+    match tau {
+        Some(_) => {
+            let s = x.surfaces();
+            Controls {
+                throttle: cmd.throttle,
+                elevator: s.x,
+                aileron: s.y,
+                rudder: s.z,
+            }
+        }
+        None => *cmd,
+    }
+}
+
 /// What the model's derivative at a time and state takes from the time, position, velocity
 /// and attitude alone — not from the commands, the body rates or the surfaces: the rotation,
 /// the environment, the air data and the stall blend (the square roots, arctangents and the
@@ -254,17 +272,7 @@ impl Model {
     /// The surface deflections in effect: the lagged state under `actuator_lag`, else the
     /// commands.
     pub fn surfaces_in_effect(&self, x: &State, cmd: &Controls) -> Controls {
-        if self.actuator_tau().is_some() {
-            let s = x.surfaces();
-            Controls {
-                throttle: cmd.throttle,
-                elevator: s.x,
-                aileron: s.y,
-                rudder: s.z,
-            }
-        } else {
-            *cmd
-        }
+        surfaces_under(self.actuator_tau(), x, cmd)
     }
 
     /// Altitude above sea level, m, of a NED position.
@@ -413,16 +421,17 @@ impl Model {
         let rot = frame.rot;
         let omega = x.omega();
         let tau = self.actuator_tau();
-        let ctl = self.surfaces_in_effect(x, cmd);
+        let ctl = surfaces_under(tau, x, cmd);
         let vel_ned = rot * uvw;
 
         let mut induced_factor = 1.0;
         let mut force = DVec3::ZERO;
         let mut moment = DVec3::ZERO;
         let mut acc_ned = DVec3::new(0.0, 0.0, frame.g);
-        // What the effects see, only when there are any: the bare airframe (every flight of
-        // a model without effects) has no use for it.
-        if !self.effects.is_empty() {
+        // What the effects see, only when any acts on the body: the bare airframe (every
+        // flight of a model without effects) and a wind (it only blows: its air is in the
+        // frame already) have no use for it.
+        if self.effects.iter().any(|e| !e.is_uniform_wind()) {
             let s = Sample {
                 t,
                 pos_ned: pos,
