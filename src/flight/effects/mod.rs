@@ -482,15 +482,31 @@ mod tests {
         }
     }
 
+    /// A fixed wing in flight (turning, climbing, rolling) and commands for it: where the
+    /// effects' derivatives are compared.
+    fn flying() -> (crate::flight::model::State, crate::flight::Controls) {
+        let mut x = crate::flight::model::State::default();
+        x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
+        x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
+        x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
+        x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
+        let cmd = crate::flight::Controls {
+            throttle: 0.7,
+            elevator: -0.05,
+            aileron: 0.02,
+            rudder: 0.01,
+        };
+        (x, cmd)
+    }
+
     /// An effect whose parameters all have an absent value changes nothing there: the model
     /// with it flies exactly as the model without it (what the diagnosis's prediction of the
     /// base model's starts takes for granted). At least wind, drag, the gyroscopic term and
     /// the propeller torque have one.
     #[test]
     fn an_effect_at_its_absent_values_changes_nothing() {
-        use crate::flight::model::State;
         use crate::flight::spec::ModelSpec;
-        use crate::flight::{Controls, VehicleKind};
+        use crate::flight::VehicleKind;
         let mut tried = Vec::new();
         for info in CATALOGUE {
             let Some(absent) = info
@@ -515,17 +531,7 @@ mod tests {
                 }
                 let mut with = base.clone();
                 with.add_effect(e).unwrap();
-                let mut x = State::default();
-                x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
-                x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
-                x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
-                x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
-                let cmd = Controls {
-                    throttle: 0.7,
-                    elevator: -0.05,
-                    aileron: 0.02,
-                    rudder: 0.01,
-                };
+                let (x, cmd) = flying();
                 assert_eq!(
                     with.derivative(1.0, &x, &cmd).0,
                     base.derivative(1.0, &x, &cmd).0,
@@ -546,9 +552,8 @@ mod tests {
     /// dependent ones say so.
     #[test]
     fn an_effect_that_does_not_vary_in_space_does_not() {
-        use crate::flight::model::State;
         use crate::flight::spec::ModelSpec;
-        use crate::flight::{Controls, VehicleKind};
+        use crate::flight::VehicleKind;
         let mut still = Vec::new();
         for info in CATALOGUE {
             for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
@@ -567,19 +572,9 @@ mod tests {
                     }
                     let mut with = base.clone();
                     with.add_effect(e).unwrap();
-                    let mut x = State::default();
-                    x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
-                    x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
-                    x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
+                    let (mut x, cmd) = flying();
                     x.set_surfaces(glam::DVec3::new(-0.02, 0.01, 0.0));
-                    let cmd = Controls {
-                        throttle: 0.7,
-                        elevator: -0.05,
-                        aileron: 0.02,
-                        rudder: 0.01,
-                    };
                     let mut there = x;
-                    x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
                     there.set_pos_ned(glam::DVec3::new(-3000.0, 2500.0, -900.0));
                     let (here, there) = (
                         with.derivative(1.0, &x, &cmd),
@@ -606,9 +601,8 @@ mod tests {
     /// acceleration differs by ω × Rᵀw, the ground velocity by w), to rounding.
     #[test]
     fn an_effect_that_says_it_is_a_uniform_wind_is_one() {
-        use crate::flight::model::State;
         use crate::flight::spec::ModelSpec;
-        use crate::flight::{Controls, VehicleKind};
+        use crate::flight::VehicleKind;
         let base = ModelSpec::baseline(VehicleKind::FixedWing)
             .build(Origin::default())
             .unwrap();
@@ -625,17 +619,7 @@ mod tests {
             }
             let mut with = base.clone();
             with.add_effect(e).unwrap();
-            let mut x = State::default();
-            x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
-            x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
-            x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
-            x.set_attitude(crate::euler::EulerZyx::new(0.5, 0.1, -0.3));
-            let cmd = Controls {
-                throttle: 0.7,
-                elevator: -0.05,
-                aileron: 0.02,
-                rudder: 0.01,
-            };
+            let (x, cmd) = flying();
             let w_body = x.rot().transpose() * w;
             let mut air = x;
             air.set_vel(x.vel() - w_body);
