@@ -1,25 +1,40 @@
 //! wireflight: a wireframe flight viewer and flight-model workbench.
 //!
-//! Data flows one way: model ([`mesh`]) → transform ([`euler`], [`camera`]) → clip ([`clip`],
-//! in homogeneous space) → project ([`pipeline`]) → compose ([`scene`]) → draw ([`render`])
-//! → write ([`output`]). The flight side: [`flight`] models, data and simulation →
-//! [`analysis`] (model vs measurements). [`app`] is the command line on top: each command a
-//! thin file over these stages. See `ARCHITECTURE.md`.
+//! The work is done by the library crates, one layer each, and this crate puts them under
+//! one roof (the paths below) with the command line and the window on top ([`app`]):
+//!
+//! * `wireflight-geometry`: [`euler`], [`camera`], [`clip`], [`pipeline`], [`mesh`] (with the
+//!   loaders of `wireflight-draw`), [`lines`] — pure geometry.
+//! * `wireflight-fsio`: [`fsio`] — bounded reads, atomic writes.
+//! * `wireflight-flight`: [`flight`], [`numeric`] — the flight model and flight data.
+//! * `wireflight-analysis`: [`analysis`] — model vs measurements (with `plots` from the
+//!   drawing crate).
+//! * `wireflight-draw`: [`scene`], [`render`], [`output`], [`progress`] — pictures.
+//!
+//! See `ARCHITECTURE.md`.
 
 #![warn(missing_docs)]
 
-pub mod analysis;
 pub mod app;
-pub mod camera;
-pub mod clip;
-pub mod clip_io;
-pub mod euler;
-pub mod flight;
-pub mod fsio;
-pub mod mesh;
-pub mod numeric;
-pub mod output;
-pub mod pipeline;
-pub mod progress;
-pub mod render;
-pub mod scene;
+
+pub use wireflight_draw::{output, progress, render, scene};
+pub use wireflight_flight::numeric;
+pub use wireflight_fsio as fsio;
+pub use wireflight_geometry::{camera, clip, euler, lines, pipeline};
+
+/// The flight model and flight data (`wireflight-flight`).
+pub mod flight {
+    pub use wireflight_flight::*;
+}
+
+/// Wireframe models: the geometry crate's meshes and the drawing crate's file loaders.
+pub mod mesh {
+    pub use wireflight_draw::mesh_files::{gltf, load, load_named, obj, MeshError};
+    pub use wireflight_geometry::mesh::*;
+}
+
+/// Model vs measurements (`wireflight-analysis`) and its plots (`wireflight-draw`).
+pub mod analysis {
+    pub use wireflight_analysis::*;
+    pub use wireflight_draw::plots;
+}

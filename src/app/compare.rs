@@ -9,13 +9,14 @@ use crate::analysis::compare::{
 use crate::analysis::conditions::{conditions, explain_growth, growth_exponent, Condition};
 use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
 use crate::analysis::report::{
-    axes_text, candidate_json, comparison_json, conditions_json, count, fixed, fmt_opt, fmt_params,
+    axes_text, candidate_json, comparison_json, conditions_json, count, fmt_opt, fmt_params,
     model_label, noise_json, noise_text, windows_json, Table,
 };
 use crate::app::cli::CompareArgs;
 use crate::clip::Clipper;
 use crate::flight::data::FlightData;
 use crate::flight::model::Model;
+use crate::numeric::format::fixed;
 use crate::output::{write_frames, FrameOut};
 use crate::render::Rasterizer;
 use crate::scene::replay::ReplayScene;
@@ -291,7 +292,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         t.row([
             format!("{} ({})", c.name, c.unit),
             c.correlation
-                .map_or("n/a".to_string(), |r| crate::analysis::report::signed(r, 2)),
+                .map_or("n/a".to_string(), |r| crate::numeric::format::signed(r, 2)),
             c.note.clone().unwrap_or_default(),
         ]);
     }

@@ -4,10 +4,9 @@ use serde_json::json;
 
 use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{self, add_fitted, DiagnoseConfig};
-use crate::analysis::report::{
-    candidate_json, diagnosis_json, diagnosis_text, fixed, model_label, Table,
-};
+use crate::analysis::report::{candidate_json, diagnosis_json, diagnosis_text, model_label, Table};
 use crate::app::cli::DiagnoseArgs;
+use crate::numeric::format::fixed;
 
 /// Run `wireflight diagnose`.
 ///

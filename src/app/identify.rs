@@ -7,11 +7,12 @@ use serde_json::json;
 use crate::analysis::compare::{compare, Prepared};
 use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
 use crate::analysis::identify::{free_keys, identify, Identification, IdentifyConfig};
-use crate::analysis::report::{fixed, fmt_number, model_label, signed, Table};
+use crate::analysis::report::{model_label, Table};
 use crate::app::cli::IdentifyArgs;
 use crate::flight::data::FlightData;
 use crate::flight::model::{Model, Vehicle};
 use crate::flight::params::keys;
+use crate::numeric::format::{fixed, fmt_number, signed};
 
 /// A held-out flight's error before and after, in noise units.
 struct Validation {

@@ -1,6 +1,7 @@
 //! Command-line syntax (clap derive) and the parsers that validate raw values.
 
 mod analysis;
+mod clip;
 mod data;
 mod euler;
 
@@ -20,6 +21,7 @@ use crate::flight::VehicleKind;
 use crate::render::Backend;
 
 pub use analysis::*;
+pub use clip::*;
 pub use data::*;
 pub use euler::*;
 
@@ -67,7 +69,7 @@ pub enum Command {
     /// pictures of the rotations, gimbal lock and interpolation.
     Euler(EulerArgs),
     /// Clip edges from a CSV file with a chosen algorithm (the clipping lab).
-    Clip(crate::app::clip::ClipArgs),
+    Clip(ClipArgs),
     /// Read a PX4 log or any CSV through a column map, say what was found, write flight data.
     Import(ImportArgs),
 }

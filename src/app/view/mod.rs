@@ -1,28 +1,14 @@
 //! `wireflight view`: the fly-through window.
 //!
 //! This module is the I/O shell — winit window and events, the wgpu surface ([`surface`]), the
-//! egui HUD, files. Everything it shows comes from a [`session::Session`], which is pure:
-//! model → transform → clip (on the CPU, Blinn) → draw, one way.
-//!
-//! * [`flight`]: the kinematic aircraft (body rates integrated as a quaternion).
-//! * [`cameras`]: chase, cockpit, orbit, free-fly.
-//! * [`scene`]: one frame as a [`LineScene`](crate::render::LineScene), through
-//!   [`crate::pipeline`].
-//! * [`script`]: timed control inputs for deterministic runs.
-//! * [`compare`]: `--compare`, the flight model beside the recording, effects ticked on and
-//!   off, recomputed in the background.
-//! * [`gimbal`]: the Euler-angle panel: a convention's angles, its gimbal rings around the
-//!   aircraft, sliders that set the attitude.
-//! * [`session`]: all of it together, driven by time steps and held keys.
+//! egui HUD, files. Everything it shows comes from a [`Session`](session::Session) of
+//! [`wireflight_draw::flythrough`], which is pure: model → transform → clip (on the CPU,
+//! Blinn) → draw, one way.
 
-pub mod cameras;
-pub mod compare;
-pub mod flight;
-pub mod gimbal;
 mod hud;
-pub mod script;
-pub mod session;
 pub mod surface;
+
+pub use wireflight_draw::flythrough::{cameras, compare, flight, gimbal, script, session};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;

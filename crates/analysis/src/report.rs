@@ -1,0 +1,512 @@
+//! Results as people and programs read them: the text tables and the JSON of comparisons and
+//! diagnoses, one formatter for every command and the window. Pure: builds strings and JSON
+//! values, writes nothing.
+
+use std::fmt::Write as _;
+
+use serde_json::{json, Map, Value};
+
+use super::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
+use super::conditions::Condition;
+use super::diagnose::{Candidate, Diagnosis, Verdict};
+use wireflight_flight::model::Model;
+use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
+
+/// A text table whose columns line up: numbers right-aligned, names and words left-aligned
+/// (the first column always left; another column right when every cell under its header is
+/// a number: it starts with a digit, a sign or `±`, or is `n/a`, `—` or empty), widths
+/// measured in characters (so °, ± and → count as one).
+#[derive(Clone, Debug, Default)]
+pub struct Table {
+    rows: Vec<Vec<String>>,
+}
+
+impl Table {
+    /// A table with a header row.
+    pub fn new<S: Into<String>>(header: impl IntoIterator<Item = S>) -> Self {
+        Self {
+            rows: vec![header.into_iter().map(Into::into).collect()],
+        }
+    }
+
+    /// Add a row.
+    pub fn row<S: Into<String>>(&mut self, cells: impl IntoIterator<Item = S>) -> &mut Self {
+        self.rows.push(cells.into_iter().map(Into::into).collect());
+        self
+    }
+
+    /// The table, each line indented by `indent` spaces and ending in a newline.
+    pub fn render(&self, indent: usize) -> String {
+        let cols = self.rows.iter().map(Vec::len).max().unwrap_or(0);
+        let mut width = vec![0; cols];
+        for r in &self.rows {
+            for (w, c) in width.iter_mut().zip(r) {
+                *w = (*w).max(c.chars().count());
+            }
+        }
+        let right: Vec<bool> = (0..cols)
+            .map(|k| {
+                let mut body = self.rows.iter().skip(1).filter_map(|r| r.get(k));
+                k > 0 && body.all(|c| is_numeric_cell(c))
+            })
+            .collect();
+        let mut out = String::new();
+        for r in &self.rows {
+            let mut line = " ".repeat(indent);
+            for (k, w) in width.iter().enumerate() {
+                let cell = r.get(k).map(String::as_str).unwrap_or("");
+                let pad = w - cell.chars().count();
+                if k == 0 {
+                    line.push_str(cell);
+                    line.push_str(&" ".repeat(pad));
+                } else if !right[k] {
+                    line.push_str("  ");
+                    line.push_str(cell);
+                    line.push_str(&" ".repeat(pad));
+                } else {
+                    line.push_str("  ");
+                    line.push_str(&" ".repeat(pad));
+                    line.push_str(cell);
+                }
+            }
+            out.push_str(line.trim_end());
+            out.push('\n');
+        }
+        out
+    }
+}
+
+/// A cell that reads as a number (for alignment): it starts with a digit, possibly after a
+/// sign or `±`, or is `n/a`, `—` or empty.
+fn is_numeric_cell(c: &str) -> bool {
+    let c = c.trim();
+    if c.is_empty() || c == "n/a" || c == "—" {
+        return true;
+    }
+    let c = c.trim_start_matches(['+', '-', '−', '±']);
+    c.starts_with(|ch: char| ch.is_ascii_digit())
+}
+
+/// A value with its unit, or "—" when the data lack the channel.
+pub fn fmt_opt(v: Option<f64>, unit: &str) -> String {
+    v.map(|x| format!("{} {unit}", fixed(x, 3)))
+        .unwrap_or_else(|| "—".into())
+}
+
+/// `k=v±σ ...` of a candidate's parameters (held ones marked, the change from the set in %
+/// for aircraft numbers), or "" without parameters.
+pub fn fmt_params(c: &Candidate) -> String {
+    let changes = c.changes_percent();
+    c.params
+        .iter()
+        .zip(&c.uncertainty)
+        .zip(&c.held)
+        .map(|(((k, v), u), held)| {
+            let change = changes
+                .iter()
+                .find(|(key, _)| key == k)
+                .map(|(_, pct)| format!(" ({}% from the set)", signed(*pct, 1)))
+                .unwrap_or_default();
+            if *held {
+                format!("{k}={} (held)", fmt_number(*v))
+            } else if u.is_finite() {
+                format!("{k}={}±{}{change}", fmt_number(*v), fmt_number(*u))
+            } else {
+                format!("{k}={} (not determined){change}", fmt_number(*v))
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// "baseline" or "+ a + b": the effects of a model, for titles and tables.
+pub fn model_effects_label(model: &Model) -> String {
+    if model.effects.is_empty() {
+        "baseline".to_string()
+    } else {
+        format!("+ {}", model.effect_names().join(" + "))
+    }
+}
+
+/// "fixed-wing baseline", "point-mass + drag": a model in a few words.
+pub fn model_label(model: &Model) -> String {
+    format!("{} {}", model.vehicle.kind(), model_effects_label(model))
+}
+
+/// "1 window", "3 windows".
+pub fn count(n: usize, what: &str) -> String {
+    if n == 1 {
+        format!("1 {what}")
+    } else {
+        format!("{n} {what}s")
+    }
+}
+
+// ------------------------------------------------------------------------------------------
+// JSON
+// ------------------------------------------------------------------------------------------
+
+/// The per-channel errors as JSON.
+pub fn channels_json(c: &ChannelErrors) -> Value {
+    json!({
+        "position_m": c.position_m,
+        "velocity_mps": c.velocity_mps,
+        "attitude_deg": c.attitude_deg,
+        "rate_dps": c.rate_dps,
+    })
+}
+
+fn axes_json(axes: &[AxisError]) -> Value {
+    Value::Array(
+        axes.iter()
+            .map(|a| {
+                json!({"channel": a.channel, "axis": a.axis, "unit": a.unit,
+                       "mean": a.mean, "rms": a.rms})
+            })
+            .collect(),
+    )
+}
+
+/// `{"total", "channels", "noise_units", "axes", ...}` of a comparison.
+pub fn comparison_json(c: &Comparison) -> Value {
+    json!({
+        "total": c.total,
+        "channels": channels_json(&c.channels),
+        "noise_units": c.noise_units(),
+        "chi2": c.chi2,
+        "dof": c.dof,
+        "residual_autocorrelation": c.residual_autocorrelation(),
+        "axes": axes_json(&c.axes),
+    })
+}
+
+/// The windows, worst first, with their dominant channel.
+pub fn windows_json(c: &Comparison) -> Value {
+    Value::Array(
+        c.worst_windows()
+            .iter()
+            .map(|w| {
+                json!({
+                    "t0": w.t0, "t1": w.t1, "score": w.score,
+                    "dominant_channel": w.errors.dominant(),
+                    "channels": channels_json(&w.errors),
+                    "noise_units": (w.chi2 / w.residuals.max(1) as f64).sqrt(),
+                })
+            })
+            .collect(),
+    )
+}
+
+/// The measured noise, per channel (RMS over axes) and per axis.
+pub fn noise_json(n: &NoiseEstimate) -> Value {
+    let deg = |a: [f64; 3]| a.map(f64::to_degrees);
+    json!({
+        "position_m": n.pos_m,
+        "velocity_mps": n.vel_mps,
+        "attitude_deg": n.att_rad.to_degrees(),
+        "rate_dps": n.rate_radps.to_degrees(),
+        "airspeed_mps": n.airspeed_mps,
+        "axes": {
+            "position_m": n.pos_axes,
+            "velocity_mps": n.vel_axes,
+            "attitude_deg": deg(n.att_axes),
+            "rate_dps": deg(n.rate_axes),
+        },
+    })
+}
+
+/// Flight conditions and their correlation with the window error (`null` where undefined).
+pub fn conditions_json(conds: &[Condition]) -> Value {
+    Value::Array(
+        conds
+            .iter()
+            .map(|c| json!({"name": c.name, "unit": c.unit, "correlation": c.correlation}))
+            .collect(),
+    )
+}
+
+/// One tried effect: parameters, uncertainty (1σ), correlations, errors, significance.
+pub fn candidate_json(c: &Candidate) -> Value {
+    let params: Map<String, Value> = c
+        .params
+        .iter()
+        .map(|(k, v)| (k.clone(), json!(v)))
+        .collect();
+    let unc: Map<String, Value> = c
+        .params
+        .iter()
+        .zip(&c.uncertainty)
+        .filter(|(_, u)| u.is_finite())
+        .map(|((k, _), u)| (k.clone(), json!(u)))
+        .collect();
+    let held: Vec<&String> = c
+        .params
+        .iter()
+        .zip(&c.held)
+        .filter(|(_, h)| **h)
+        .map(|((k, _), _)| k)
+        .collect();
+    let change: Map<String, Value> = c
+        .changes_percent()
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), json!(v)))
+        .collect();
+    json!({
+        "effect": c.effect,
+        "params": params,
+        "change_percent": change,
+        "uncertainty": unc,
+        "uncertainty_level": "1 sigma",
+        "held": held,
+        "correlation": c.correlation,
+        "error_before": c.error_before,
+        "error_after": c.error_after,
+        "error_reduction": c.error_reduction,
+        "noise_units_before": c.noise_units_before,
+        "noise_units_after": c.noise_units_after,
+        "excess_removed": c.excess_removed,
+        "lr_statistic": c.lr_statistic,
+        "lr_critical": c.lr_critical,
+        "significant": c.significant,
+        "partial": c.partial,
+        "windows": c.windows,
+    })
+}
+
+/// A diagnosis as JSON: verdict (`effect`, `none` or `unexplained`), errors, ranking.
+pub fn diagnosis_json(d: &Diagnosis) -> Value {
+    json!({
+        "verdict": d.verdict.to_string(),
+        "base_error": d.base_error,
+        "noise_floor": d.noise_floor,
+        "noise_units": d.noise_units,
+        "windows": d.windows.0,
+        "windows_screened": d.windows.1,
+        "ranking": d.ranking.iter().map(candidate_json).collect::<Vec<_>>(),
+        "evidence": d.evidence,
+        "alternatives": d.alternatives,
+        "aircraft_scores": d.aircraft_scores.iter().take(10).map(|s| json!({
+            "key": s.key.name, "term": s.key.term, "reduction_chi2": s.reduction,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+// ------------------------------------------------------------------------------------------
+// Text
+// ------------------------------------------------------------------------------------------
+
+/// The measured noise in one line.
+pub fn noise_text(n: &NoiseEstimate) -> String {
+    let mut parts = vec![format!("position {} m", fmt_number(n.pos_m))];
+    if n.vel_mps > 0.0 {
+        parts.push(format!("velocity {} m/s", fmt_number(n.vel_mps)));
+    }
+    if n.att_rad > 0.0 {
+        parts.push(format!("attitude {}°", fmt_number(n.att_rad.to_degrees())));
+    }
+    if n.rate_radps > 0.0 {
+        parts.push(format!(
+            "rates {}°/s",
+            fmt_number(n.rate_radps.to_degrees())
+        ));
+    }
+    if n.airspeed_mps > 0.0 {
+        parts.push(format!("airspeed {} m/s", fmt_number(n.airspeed_mps)));
+    }
+    format!("measurement noise (1σ per axis): {}", parts.join(", "))
+}
+
+/// The per-axis errors as a table: signed mean (bias) and RMS.
+pub fn axes_text(before: &Comparison, after: Option<&Comparison>) -> String {
+    let mut t = if after.is_some() {
+        Table::new(["axis", "mean", "RMS", "→ mean", "→ RMS", "unit"])
+    } else {
+        Table::new(["axis", "mean", "RMS", "unit"])
+    };
+    for a in &before.axes {
+        let mut row = vec![
+            format!("{} {}", a.channel, a.axis),
+            signed(a.mean, 3),
+            fixed(a.rms, 3),
+        ];
+        if let Some(after) = after {
+            match after
+                .axes
+                .iter()
+                .find(|b| b.channel == a.channel && b.axis == a.axis)
+            {
+                Some(b) => row.extend([signed(b.mean, 3), fixed(b.rms, 3)]),
+                None => row.extend(["—".to_string(), "—".to_string()]),
+            }
+        }
+        row.push(a.unit.to_string());
+        t.row(row);
+    }
+    t.render(2)
+}
+
+/// The ranking table and verdict of a diagnosis, as text.
+pub fn diagnosis_text(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "  error {} (noise floor {}; {} × the noise), {}{}",
+        fixed(d.base_error, 3),
+        fixed(d.noise_floor, 3),
+        fixed(d.noise_units, 2),
+        count(d.windows.0, "window"),
+        if d.windows.1 < d.windows.0 {
+            format!(", candidates screened on {}", d.windows.1)
+        } else {
+            String::new()
+        }
+    );
+    let mut t = Table::new([
+        "candidate",
+        "error after",
+        "× noise",
+        "removed",
+        "significant",
+        "fitted parameters (±1σ)",
+    ]);
+    for c in &d.ranking {
+        t.row([
+            c.effect.clone(),
+            fixed(c.error_after, 3),
+            fixed(c.noise_units_after, 2),
+            format!("{}%", fixed(100.0 * c.excess_removed.clamp(-1.0, 1.0), 0)),
+            if c.partial {
+                "partial".into()
+            } else if c.significant {
+                "yes".into()
+            } else {
+                "no".into()
+            },
+            fmt_params(c),
+        ]);
+    }
+    out.push_str(&t.render(2));
+    let _ = writeln!(out, "  verdict: {}", verdict_text(d));
+    if !d.alternatives.is_empty() {
+        let _ = writeln!(
+            out,
+            "  as good an explanation: {} — these data cannot tell them apart; a flight that \
+             varies what they differ in would",
+            d.alternatives.join(", ")
+        );
+    }
+    for e in &d.evidence {
+        let _ = writeln!(out, "  evidence: {e}");
+    }
+    if let Some(w) = d.winner() {
+        let corr = correlations_text(w);
+        if !corr.is_empty() {
+            let _ = writeln!(out, "  correlations of the fitted parameters: {corr}");
+        }
+    }
+    if d.windows.1 < d.windows.0 {
+        let _ = writeln!(
+            out,
+            "  (candidates were fitted on {} of the {} windows; the best one again on all)",
+            d.windows.1, d.windows.0
+        );
+    }
+    out
+}
+
+/// "a/b +0.12, a/c −0.40": the correlations of a candidate's fitted parameters, or "" for
+/// fewer than two.
+pub fn correlations_text(c: &Candidate) -> String {
+    let names: Vec<&str> = c
+        .params
+        .iter()
+        .zip(&c.held)
+        .filter(|(_, h)| !**h)
+        .map(|((k, _), _)| k.as_str())
+        .collect();
+    let n = names.len();
+    if n < 2 || c.correlation.len() != n * n {
+        return String::new();
+    }
+    let mut parts = Vec::new();
+    for i in 0..n {
+        for k in i + 1..n {
+            parts.push(format!(
+                "{}/{} {}",
+                names[i],
+                names[k],
+                signed(c.correlation[i * n + k], 2)
+            ));
+        }
+    }
+    parts.join(", ")
+}
+
+/// The verdict in a sentence.
+pub fn verdict_text(d: &Diagnosis) -> String {
+    match (&d.verdict, d.winner()) {
+        (Verdict::Effect(name), Some(w)) => {
+            let params = fmt_params(w);
+            let what = if name.starts_with("aircraft:") {
+                "is wrong in the set"
+            } else {
+                "is missing"
+            };
+            format!(
+                "`{name}` {what}{}; with it the error falls {} → {} ({} × the noise)",
+                if params.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({params})")
+                },
+                fixed(w.error_before, 3),
+                fixed(w.error_after, 3),
+                fixed(w.noise_units_after, 2)
+            )
+        }
+        (Verdict::None, _) => format!(
+            "none — the error is at the noise floor ({} × the noise): nothing is missing that \
+             these data can show",
+            fixed(d.noise_units, 2)
+        ),
+        _ => {
+            let partial: Vec<&str> = d
+                .ranking
+                .iter()
+                .filter(|c| c.partial)
+                .map(|c| c.effect.as_str())
+                .collect();
+            let mut s = format!(
+                "unexplained — the error stays {} × the noise and no candidate brings it to the \
+                 floor",
+                fixed(d.noise_units, 2)
+            );
+            if !partial.is_empty() {
+                let _ = write!(s, "; partial: {}", partial.join(", "));
+            }
+            s
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tables_put_numbers_right_and_words_left() {
+        let mut t = Table::new(["candidate", "error", "significant", "r"]);
+        t.row(["wind", "0.123", "yes", "+0.50"]);
+        t.row(["ground_effect", "12.5", "no", "n/a"]);
+        assert_eq!(
+            t.render(2),
+            "  candidate      error  significant      r\n\
+             \x20 wind           0.123  yes          +0.50\n\
+             \x20 ground_effect   12.5  no             n/a\n"
+        );
+        assert_eq!(fixed(-0.0004, 2), "0.00");
+        assert_eq!(signed(-0.0004, 1), "+0.0");
+        assert_eq!(count(1, "window"), "1 window");
+        assert_eq!(count(3, "window"), "3 windows");
+    }
+}

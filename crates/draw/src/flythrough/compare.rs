@@ -1,0 +1,546 @@
+//! `wireflight view --compare`: the measured flight and the model's beside it, with a
+//! checkbox per catalogue effect. Ticking one re-runs the model's multiple-shooting
+//! comparison ([`compare_prepared`]) on a worker thread; the result (errors and the model's
+//! path) replaces the current one when it arrives. The effects' parameters come from one
+//! diagnosis ([`diagnose`]) run on another worker thread at start-up; until it finishes, a
+//! ticked effect uses the catalogue's defaults (zero wind, ...).
+//!
+//! No window code: the window reads this state, tests drive it directly ([`Compare::wait`],
+//! [`Compare::wait_fit`]).
+
+use std::panic::AssertUnwindSafe;
+use std::sync::mpsc::{self, Receiver, TryRecvError};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{bail, Context};
+
+use crate::scene::track::ModelTrack;
+use wireflight_analysis::compare::{
+    compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
+};
+use wireflight_analysis::diagnose::{diagnose, Correction, DiagnoseConfig, Diagnosis, Verdict};
+use wireflight_flight::data::FlightData;
+use wireflight_flight::effects::{Effect, Param, CATALOGUE};
+use wireflight_flight::model::Model;
+use wireflight_flight::spec::EffectSpec;
+
+/// Columns of the precomputed error-over-time curve (the window's plot scales it).
+pub const ERROR_BINS: usize = 600;
+
+/// One catalogue effect that applies to the vehicle: a checkbox.
+#[derive(Debug)]
+pub struct EffectRow {
+    /// Catalogue name.
+    pub name: &'static str,
+    /// Ticked: in the model now.
+    pub on: bool,
+    /// Already in the base model (`--flight-model` or `--effects`): always on, not a choice.
+    pub in_base: bool,
+    /// Parameters given on the command line (`--add name:k=v`): kept over fitted values.
+    pub fixed: Vec<(String, f64)>,
+    /// The effect as the diagnosis fitted it, once it has finished.
+    pub fitted: Option<Box<dyn Effect>>,
+    /// The diagnosis's error with this effect added (for the panel), once finished.
+    pub fitted_error: Option<f64>,
+    default: Box<dyn Effect>,
+}
+
+impl EffectRow {
+    /// The effect as it would be added now: fitted (or default) parameters, with the
+    /// command line's fixed ones on top.
+    pub fn effect(&self) -> Box<dyn Effect> {
+        let mut e = self.fitted.as_ref().unwrap_or(&self.default).clone();
+        for (k, v) in &self.fixed {
+            // Checked when the row was made.
+            let _ = e.set_param(k, *v);
+        }
+        e
+    }
+
+    /// Its parameters as they would be added now.
+    pub fn params(&self) -> Vec<Param> {
+        self.effect().params()
+    }
+
+    /// Whether a parameter still waits for the diagnosis (the default stands in for it).
+    fn waits_for_fit(&self) -> bool {
+        self.fitted.is_none()
+            && self
+                .default
+                .params()
+                .iter()
+                .any(|p| !self.fixed.iter().any(|(k, _)| k == p.name))
+    }
+}
+
+/// One evaluation of a model against the data.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// Effects added to the base model, in catalogue order.
+    pub effects: Vec<String>,
+    /// Total error (RMS of the window scores).
+    pub total: f64,
+    /// RMS errors per channel.
+    pub channels: ChannelErrors,
+    /// The model's flight, for drawing.
+    pub track: ModelTrack,
+    /// Largest position error per time bin ([`ERROR_BINS`] over the flight), m.
+    pub error_bins: Vec<f32>,
+    /// Time of the comparison itself (worker thread), s.
+    pub compute_s: f64,
+    /// From the request to the result being taken in (thread start, comparison, hand-over), s.
+    pub latency_s: f64,
+}
+
+/// Where the effect-parameter fit (the diagnosis) stands.
+#[derive(Debug)]
+pub enum Fit {
+    /// Not started (tests).
+    Off,
+    /// Running on its worker thread since then.
+    Running(Instant),
+    /// Finished: the verdict, and how long it took.
+    Done {
+        /// The conclusion.
+        verdict: Verdict,
+        /// Error expected from the noise alone.
+        noise_floor: f64,
+        /// Seconds it took.
+        seconds: f64,
+    },
+    /// The diagnosis could not run (the message says why), or its thread died.
+    Failed(String),
+}
+
+type Job = Receiver<anyhow::Result<Outcome>>;
+type FitJob = Receiver<Result<Diagnosis, String>>;
+
+/// The comparison state of a `--compare` session.
+pub struct Compare {
+    data: Arc<FlightData>,
+    base: Model,
+    cfg: CompareConfig,
+    /// The catalogue effects that apply to the vehicle, in catalogue order.
+    pub rows: Vec<EffectRow>,
+    /// The base model (nothing ticked).
+    pub before: Outcome,
+    /// The model with the ticked effects (the last result in).
+    pub now: Outcome,
+    /// The parameter fit.
+    pub fit: Fit,
+    /// The last recomputation's error, if it failed.
+    pub error: Option<String>,
+    job: Option<(Job, Instant)>,
+    /// A change came in while a job ran: start another when it ends.
+    stale: bool,
+    fit_job: Option<FitJob>,
+}
+
+impl Compare {
+    /// Compare `base` with `data`, with the `adds` (`name[:k=v,...]`) ticked; start the
+    /// parameter fit in the background. The first comparisons run here, synchronously.
+    ///
+    /// # Errors
+    /// An `--add` that is not a catalogue effect, does not apply, is in the base model already
+    /// or has a bad parameter; a flight too short to compare.
+    pub fn new(data: Arc<FlightData>, base: Model, adds: &[String]) -> anyhow::Result<Self> {
+        let cfg = CompareConfig {
+            window_s: CompareConfig::default_window_s(base.vehicle.kind()),
+            ..CompareConfig::default()
+        };
+        Self::with_config(data, base, adds, cfg, true)
+    }
+
+    /// [`new`](Self::new) with a comparison window, and the fit started or not.
+    ///
+    /// # Errors
+    /// As [`new`](Self::new).
+    pub fn with_config(
+        data: Arc<FlightData>,
+        base: Model,
+        adds: &[String],
+        cfg: CompareConfig,
+        start_fit: bool,
+    ) -> anyhow::Result<Self> {
+        let kind = base.vehicle.kind();
+        let ctx = base.effect_context();
+        let mut rows: Vec<EffectRow> = CATALOGUE
+            .iter()
+            .filter_map(|info| {
+                let name = info.name;
+                let default = info.build(&ctx);
+                default.applies_to(kind).then(|| EffectRow {
+                    name,
+                    on: base.has_effect(name),
+                    in_base: base.has_effect(name),
+                    fixed: Vec::new(),
+                    fitted: None,
+                    fitted_error: None,
+                    default,
+                })
+            })
+            .collect();
+        for text in adds {
+            let spec = EffectSpec::parse(text).map_err(anyhow::Error::msg)?;
+            let Some(row) = rows.iter_mut().find(|r| r.name == spec.name) else {
+                bail!(
+                    "--add {text}: effect `{}` does not apply to a {kind} model",
+                    spec.name
+                );
+            };
+            if row.in_base {
+                bail!(
+                    "--add {text}: `{}` is already in the base model (--effects or the model file)",
+                    spec.name
+                );
+            }
+            spec.build(&ctx)
+                .map_err(|e| anyhow::anyhow!("--add {text}: {e}"))?;
+            row.on = true;
+            row.fixed = spec.params;
+        }
+        let empty = Vec::new();
+        let before = evaluate(&data, &base, &empty, cfg, Instant::now())
+            .context("comparing the base model with the flight")?;
+        let mut s = Self {
+            now: before.clone(),
+            before,
+            data,
+            base,
+            cfg,
+            rows,
+            fit: Fit::Off,
+            error: None,
+            job: None,
+            stale: false,
+            fit_job: None,
+        };
+        if s.rows.iter().any(|r| r.on && !r.in_base) {
+            s.request();
+            s.wait();
+        }
+        if start_fit {
+            s.start_fit();
+        }
+        Ok(s)
+    }
+
+    /// Length of the comparison windows (the model is restarted from the data after each), s.
+    pub fn window_s(&self) -> f64 {
+        self.cfg.window_s
+    }
+
+    /// The flight.
+    pub fn data(&self) -> &FlightData {
+        &self.data
+    }
+
+    /// The model as ticked now.
+    pub fn model(&self) -> Model {
+        let mut m = self.base.clone();
+        for r in self.rows.iter().filter(|r| r.on && !r.in_base) {
+            // Rows apply to the vehicle and are not in the base: cannot fail.
+            let _ = m.add_effect(r.effect());
+        }
+        m
+    }
+
+    /// Tick or untick the effect in row `i` (rows in the base model stay on); the model is
+    /// recomputed in the background.
+    pub fn set(&mut self, i: usize, on: bool) {
+        let Some(row) = self.rows.get_mut(i) else {
+            return;
+        };
+        if row.in_base || row.on == on {
+            return;
+        }
+        row.on = on;
+        self.request();
+    }
+
+    /// Tick or untick an effect by name; false if there is no such row.
+    pub fn set_by_name(&mut self, name: &str, on: bool) -> bool {
+        match self.rows.iter().position(|r| r.name == name) {
+            Some(i) => {
+                self.set(i, on);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Start recomputing the model as ticked (or, if a recomputation is running, start
+    /// another when it ends).
+    pub fn request(&mut self) {
+        if self.job.is_some() {
+            self.stale = true;
+            return;
+        }
+        self.stale = false;
+        let (tx, rx) = mpsc::channel();
+        let data = Arc::clone(&self.data);
+        let model = self.model();
+        let effects = self.ticked_names();
+        let cfg = self.cfg;
+        let asked = Instant::now();
+        std::thread::spawn(move || {
+            // A panic is a bug: the panel says so (and the exit status, see `app`).
+            let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                evaluate(&data, &model, &effects, cfg, asked)
+            }))
+            .unwrap_or_else(|p| Err(anyhow::anyhow!(panic_message(&*p))));
+            let _ = tx.send(outcome);
+        });
+        self.job = Some((rx, asked));
+    }
+
+    fn ticked_names(&self) -> Vec<String> {
+        self.rows
+            .iter()
+            .filter(|r| r.on && !r.in_base)
+            .map(|r| r.name.to_string())
+            .collect()
+    }
+
+    fn start_fit(&mut self) {
+        let (tx, rx) = mpsc::channel();
+        let data = Arc::clone(&self.data);
+        let base = self.base.clone();
+        let defaults = DiagnoseConfig::default();
+        let cfg = DiagnoseConfig {
+            compare: CompareConfig {
+                max_windows: defaults.compare.max_windows,
+                ..self.cfg
+            },
+            ..defaults
+        };
+        std::thread::spawn(move || {
+            let outcome =
+                std::panic::catch_unwind(AssertUnwindSafe(|| diagnose(&base, &data, &[], &cfg)))
+                    .unwrap_or_else(|p| Err(panic_message(&*p)));
+            let _ = tx.send(outcome);
+        });
+        self.fit = Fit::Running(Instant::now());
+        self.fit_job = Some(rx);
+    }
+
+    /// Whether a recomputation or the fit is still running.
+    pub fn busy(&self) -> bool {
+        self.job.is_some() || self.fit_job.is_some()
+    }
+
+    /// Whether a recomputation is running.
+    pub fn recomputing(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Take in finished work, without waiting; true if anything changed.
+    pub fn poll(&mut self) -> bool {
+        self.take(false)
+    }
+
+    /// Wait for the recomputations to finish (not for the fit).
+    pub fn wait(&mut self) {
+        while self.job.is_some() {
+            self.take_job(true);
+        }
+    }
+
+    /// Wait for the fit, then for the recomputation it may start.
+    pub fn wait_fit(&mut self) {
+        while self.fit_job.is_some() {
+            self.take_fit(true);
+        }
+        self.wait();
+    }
+
+    fn take(&mut self, block: bool) -> bool {
+        let a = self.take_fit(block);
+        let b = self.take_job(block);
+        a || b
+    }
+
+    fn take_fit(&mut self, block: bool) -> bool {
+        let Some(rx) = &self.fit_job else {
+            return false;
+        };
+        let got = if block {
+            rx.recv().map_err(|_| TryRecvError::Disconnected)
+        } else {
+            rx.try_recv()
+        };
+        let started = match self.fit {
+            Fit::Running(t) => t,
+            _ => Instant::now(),
+        };
+        match got {
+            Err(TryRecvError::Empty) => false,
+            Err(TryRecvError::Disconnected) => {
+                self.fit_job = None;
+                self.fit = Fit::Failed("the diagnosis thread died".into());
+                true
+            }
+            Ok(Err(e)) => {
+                self.fit_job = None;
+                self.fit = Fit::Failed(e);
+                true
+            }
+            Ok(Ok(d)) => {
+                self.fit_job = None;
+                self.fit = Fit::Done {
+                    verdict: d.verdict.clone(),
+                    noise_floor: d.noise_floor,
+                    seconds: started.elapsed().as_secs_f64(),
+                };
+                let mut refresh = false;
+                for c in d.ranking {
+                    if let Some(r) = self.rows.iter_mut().find(|r| r.name == c.effect) {
+                        refresh |= r.on && !r.in_base && r.waits_for_fit();
+                        if let Correction::Effect(e) = c.correction {
+                            r.fitted = Some(e);
+                        }
+                        r.fitted_error = Some(c.error_after);
+                    }
+                }
+                if refresh {
+                    self.request();
+                }
+                true
+            }
+        }
+    }
+
+    fn take_job(&mut self, block: bool) -> bool {
+        let Some((rx, _)) = &self.job else {
+            return false;
+        };
+        let got = if block {
+            rx.recv().map_err(|_| TryRecvError::Disconnected)
+        } else {
+            rx.try_recv()
+        };
+        let outcome = match got {
+            Err(TryRecvError::Empty) => return false,
+            Err(TryRecvError::Disconnected) => Err(anyhow::anyhow!("the comparison thread died")),
+            Ok(o) => o,
+        };
+        let asked = self.job.take().map(|(_, t)| t);
+        match outcome {
+            Ok(mut o) => {
+                if let Some(t) = asked {
+                    o.latency_s = t.elapsed().as_secs_f64();
+                }
+                self.now = o;
+                self.error = None;
+            }
+            Err(e) => self.error = Some(format!("{e:#}")),
+        }
+        if self.stale {
+            self.request();
+        }
+        true
+    }
+
+    /// The diagnosis's verdict as a line for the panel.
+    pub fn verdict_line(&self) -> String {
+        match &self.fit {
+            Fit::Running(t) => format!("fitting… ({:.1} s)", t.elapsed().as_secs_f64()),
+            Fit::Failed(why) => format!("diagnosis failed ({why}): catalogue defaults"),
+            Fit::Off => "not fitted: catalogue defaults".into(),
+            Fit::Done {
+                verdict: Verdict::Effect(v),
+                ..
+            } if v.starts_with("aircraft:") => format!("diagnosis: `{v}` is wrong in the set"),
+            Fit::Done {
+                verdict: Verdict::Effect(v),
+                ..
+            } => format!("diagnosis: `{v}` is missing"),
+            Fit::Done {
+                verdict: Verdict::None,
+                ..
+            } => "diagnosis: none — the error is at the noise floor".into(),
+            Fit::Done {
+                verdict: Verdict::Unexplained,
+                ..
+            } => "diagnosis: unexplained — no effect brings the error to the noise".into(),
+        }
+    }
+}
+
+/// Compare `model` with `data` and make the track and the error curve.
+fn evaluate(
+    data: &FlightData,
+    model: &Model,
+    effects: &[String],
+    cfg: CompareConfig,
+    asked: Instant,
+) -> anyhow::Result<Outcome> {
+    let start = Instant::now();
+    let prep = Prepared::new(
+        data,
+        CompareConfig {
+            max_windows: 0,
+            ..cfg
+        },
+    );
+    let comparison: Comparison = compare_prepared(model, &prep);
+    let track = ModelTrack::from_comparison(data, &comparison)?;
+    let error_bins = bin_max(&track.time, &track.error_m, ERROR_BINS);
+    let compute_s = start.elapsed().as_secs_f64();
+    Ok(Outcome {
+        effects: effects.to_vec(),
+        total: comparison.total,
+        channels: comparison.channels,
+        track,
+        error_bins,
+        compute_s,
+        latency_s: asked.elapsed().as_secs_f64(),
+    })
+}
+
+/// The largest value in each of `bins` equal time bins (NaN where a bin has no sample).
+pub fn bin_max(time: &[f64], values: &[f64], bins: usize) -> Vec<f32> {
+    let mut out = vec![f32::NAN; bins.max(1)];
+    let (Some(&t0), Some(&t1)) = (time.first(), time.last()) else {
+        return out;
+    };
+    let span = (t1 - t0).max(1e-9);
+    let last = out.len() - 1;
+    for (t, v) in time.iter().zip(values) {
+        let b = (((t - t0) / span) * out.len() as f64) as usize;
+        let slot = &mut out[b.min(last)];
+        let v = *v as f32;
+        if slot.is_nan() || v > *slot {
+            *slot = v;
+        }
+    }
+    out
+}
+
+/// What a worker thread's panic said, as an error for the panel.
+fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    let what = payload
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".to_string());
+    format!("internal error (a bug): {what}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bins_keep_the_peaks() {
+        let time: Vec<f64> = (0..100).map(f64::from).collect();
+        let mut v = vec![1.0; 100];
+        v[37] = 9.0;
+        let b = bin_max(&time, &v, 10);
+        assert_eq!(b.len(), 10);
+        assert_eq!(b[3], 9.0);
+        assert!(b.iter().filter(|&&x| x == 1.0).count() == 9);
+        assert!(bin_max(&[], &[], 4).iter().all(|x| x.is_nan()));
+    }
+}

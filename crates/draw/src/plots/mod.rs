@@ -1,0 +1,301 @@
+//! Plots of a comparison, as PNG files a person reads:
+//!
+//! * `measured_vs_model.png` — per channel (position N/E and altitude, NED velocity, attitude
+//!   in degrees), the measurements and the model's multiple-shooting prediction, one segment
+//!   per window restarting from that window's estimated initial state; the "after" model (with
+//!   the added effects) in a second colour when given.
+//! * `residuals.png` — the window score and the per-sample prediction error of each channel
+//!   against time, before (and after), the worst windows shaded, the noise floor (window score)
+//!   and the measurement noise (channels) as dashed lines; the title gives the total error
+//!   before → after.
+//! * `error_vs_condition.png` — when a [`ConditionSeries`] is given, the window score against
+//!   that condition, with the correlation in the title.
+//!
+//! Drawing is into an in-memory RGB buffer (plotters' bitmap backend with the embedded DejaVu
+//! Sans subset as its only font), encoded with `png` and written atomically
+//! ([`wireflight_fsio::write_atomic`]).
+//!
+//! Layout: this file holds the public API (file names, sizes, [`write_plots`]) and what the
+//! three plots share (the context, the prediction cut into windows); `style.rs` the look
+//! (colours, fonts, header, panels, axes, ticks) and the drawing plumbing; one file per plot
+//! (`measured_vs_model.rs`, `residuals.rs`, `error_vs_condition.rs`).
+
+mod error_vs_condition;
+mod measured_vs_model;
+mod residuals;
+mod style;
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+
+use self::error_vs_condition::draw_error_vs_condition;
+use self::measured_vs_model::draw_measured_vs_model;
+use self::residuals::draw_residuals;
+use self::style::{render_png, Root};
+use wireflight_analysis::compare::{Comparison, Prediction};
+use wireflight_flight::data::FlightData;
+
+/// File name of the measured-vs-model plot.
+pub const MEASURED_VS_MODEL: &str = "measured_vs_model.png";
+/// File name of the residual plot.
+pub const RESIDUALS: &str = "residuals.png";
+/// File name of the error-vs-condition plot.
+pub const ERROR_VS_CONDITION: &str = "error_vs_condition.png";
+
+/// Pixel size of `measured_vs_model.png` (a grid of up to 3×3 panels).
+pub const MEASURED_VS_MODEL_SIZE: (u32, u32) = (1600, 1000);
+/// Pixel size of `residuals.png` (up to four stacked panels).
+pub const RESIDUALS_SIZE: (u32, u32) = (1400, 1000);
+/// Pixel size of `error_vs_condition.png`.
+pub const ERROR_VS_CONDITION_SIZE: (u32, u32) = (1200, 800);
+
+/// A flight condition sampled per window, for "error vs condition" plots.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConditionSeries {
+    /// Name.
+    pub name: String,
+    /// Unit.
+    pub unit: String,
+    /// Value per window.
+    pub per_window: Vec<f64>,
+}
+
+/// What the plots say about where the comparison came from (all optional).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlotInfo {
+    /// The data, e.g. its file name (default: the data's `source` metadata).
+    pub data_name: Option<String>,
+    /// The "before" model, e.g. `fixed-wing aerosonde baseline` (default: "model").
+    pub model_name: Option<String>,
+    /// Noise floor of the total score ([`super::compare::noise_floor`]), drawn on the
+    /// window-score panel.
+    pub noise_floor: Option<f64>,
+}
+
+/// Write the comparison plots into `dir` (created if missing); returns the files written.
+///
+/// Equivalent to [`write_plots_with`] with a default [`PlotInfo`] (no noise floor line, the
+/// data named by its metadata).
+///
+/// # Errors
+/// No windows to plot, a condition series of the wrong length, a directory that cannot be
+/// created, a file that cannot be written (the message names the path).
+pub fn write_plots(
+    dir: &Path,
+    data: &FlightData,
+    before: &Comparison,
+    after: Option<(&Comparison, &str)>,
+    best: Option<&ConditionSeries>,
+) -> anyhow::Result<Vec<PathBuf>> {
+    write_plots_with(dir, data, before, after, best, &PlotInfo::default())
+}
+
+/// [`write_plots`] with names for the titles and the noise floor.
+///
+/// # Errors
+/// As [`write_plots`].
+pub fn write_plots_with(
+    dir: &Path,
+    data: &FlightData,
+    before: &Comparison,
+    after: Option<(&Comparison, &str)>,
+    best: Option<&ConditionSeries>,
+    info: &PlotInfo,
+) -> anyhow::Result<Vec<PathBuf>> {
+    if before.windows.is_empty() || data.is_empty() {
+        anyhow::bail!("{}: no compared windows to plot", dir.display());
+    }
+    if let Some((a, _)) = after {
+        if a.windows.len() != before.windows.len() {
+            anyhow::bail!(
+                "{}: the two comparisons have {} and {} windows",
+                dir.display(),
+                before.windows.len(),
+                a.windows.len()
+            );
+        }
+    }
+    if let Some(c) = best {
+        if c.per_window.len() != before.windows.len() {
+            anyhow::bail!(
+                "{}: condition `{}` has {} values for {} windows",
+                dir.join(ERROR_VS_CONDITION).display(),
+                c.name,
+                c.per_window.len(),
+                before.windows.len()
+            );
+        }
+    }
+    // The set is drawn into a temporary directory and moved in together: a run that is
+    // stopped or fails leaves the directory as it was, never a partial set.
+    let staged = wireflight_fsio::StagedDir::new(dir)
+        .with_context(|| format!("{}: cannot create the plot directory", dir.display()))?;
+    let ctx = PlotContext::new(data, before, after, info);
+
+    let mut written = Vec::new();
+    let mut emit = |name: &str,
+                    size: (u32, u32),
+                    draw: &dyn Fn(&Root) -> anyhow::Result<()>|
+     -> anyhow::Result<()> {
+        let path = dir.join(name);
+        let bytes =
+            render_png(size, draw).with_context(|| format!("{}: cannot draw", path.display()))?;
+        wireflight_fsio::write_atomic(&staged.path().join(name), &bytes)?;
+        written.push(path);
+        Ok(())
+    };
+    emit(MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, &|root| {
+        draw_measured_vs_model(root, &ctx)
+    })?;
+    emit(RESIDUALS, RESIDUALS_SIZE, &|root| {
+        draw_residuals(root, &ctx)
+    })?;
+    if let Some(c) = best {
+        emit(ERROR_VS_CONDITION, ERROR_VS_CONDITION_SIZE, &|root| {
+            draw_error_vs_condition(root, &ctx, c)
+        })?;
+    }
+    staged.commit_merge()?;
+    Ok(written)
+}
+
+// ---------------------------------------------------------------------------------------------
+// What is plotted.
+
+/// Everything the three plots share.
+struct PlotContext<'a> {
+    data: &'a FlightData,
+    before: &'a Comparison,
+    after: Option<(&'a Comparison, &'a str)>,
+    data_name: String,
+    model_name: String,
+    noise_floor: Option<f64>,
+    t_range: Range<f64>,
+    has_vel: bool,
+    has_att: bool,
+}
+
+impl<'a> PlotContext<'a> {
+    fn new(
+        data: &'a FlightData,
+        before: &'a Comparison,
+        after: Option<(&'a Comparison, &'a str)>,
+        info: &PlotInfo,
+    ) -> Self {
+        let data_name = info
+            .data_name
+            .clone()
+            .or_else(|| data.meta.source.clone())
+            .unwrap_or_else(|| "flight data".into());
+        let model_name = info.model_name.clone().unwrap_or_else(|| "model".into());
+        let t0 = data.time[0];
+        let t1 = data.time[data.len() - 1];
+        let t_range = if t1 > t0 {
+            t0..t1
+        } else {
+            (t0 - 0.5)..(t0 + 0.5)
+        };
+        Self {
+            data,
+            before,
+            after,
+            data_name,
+            model_name,
+            noise_floor: info.noise_floor.filter(|f| f.is_finite()),
+            t_range,
+            has_vel: before.channels.velocity_mps.is_some() && data.vel_ned.is_some(),
+            has_att: before.channels.attitude_deg.is_some() && data.attitude.is_some(),
+        }
+    }
+
+    fn after_name(&self) -> Option<String> {
+        self.after.map(|(_, label)| {
+            let label = label.trim();
+            if label.is_empty() {
+                format!("{} (after)", self.model_name)
+            } else {
+                format!("{} {label}", self.model_name)
+            }
+        })
+    }
+
+    fn subtitle(&self, remark: &str) -> String {
+        let n = self.before.windows.len();
+        let mean_len =
+            self.before.windows.iter().map(|w| w.t1 - w.t0).sum::<f64>() / n.max(1) as f64;
+        format!(
+            "{} samples over {:.1} s; {n} window{} of about {:.0} s{remark}",
+            self.data.len(),
+            self.data.duration(),
+            if n == 1 { "" } else { "s" },
+            mean_len
+        )
+    }
+
+    /// Worst windows of the "before" comparison (time spans), at most three and at most a
+    /// quarter of them (at least one).
+    fn worst_spans(&self) -> Vec<(f64, f64)> {
+        let n = (self.before.windows.len() / 4).clamp(1, 3);
+        self.before
+            .worst_windows()
+            .into_iter()
+            .take(n)
+            .map(|w| (w.t0, w.t1))
+            .collect()
+    }
+}
+
+/// The prediction of each compared window: (first sample, first prediction index, length).
+fn prediction_windows(cmp: &Comparison) -> Vec<(usize, usize, usize)> {
+    let p = &cmp.prediction;
+    let mut out = Vec::new();
+    let mut k = 0;
+    let mut consistent = true;
+    for w in &cmp.windows {
+        let (a, b) = w.samples;
+        let len = b.saturating_sub(a);
+        if k + len > p.index.len() || p.index.get(k) != Some(&a) {
+            consistent = false;
+            break;
+        }
+        out.push((a, k, len));
+        k += len;
+    }
+    if consistent && k == p.index.len() {
+        return out;
+    }
+    // Fallback: split wherever the sample index does not advance by one.
+    out.clear();
+    let mut start = 0;
+    for k in 1..=p.index.len() {
+        if k == p.index.len() || p.index[k] != p.index[k - 1] + 1 {
+            out.push((p.index[start], start, k - start));
+            start = k;
+        }
+    }
+    out
+}
+
+/// One line per compared window, each a list of `(t, value)` points.
+type Segments = Vec<Vec<(f64, f64)>>;
+
+/// Per compared window, the points `(t, f(prediction, k, i))` of its prediction, `k` indexing
+/// the prediction and `i` the data sample it predicts.
+fn window_segments(
+    data: &FlightData,
+    cmp: &Comparison,
+    f: &dyn Fn(&Prediction, usize, usize) -> f64,
+) -> Segments {
+    let p = &cmp.prediction;
+    prediction_windows(cmp)
+        .into_iter()
+        .map(|(_, k0, len)| {
+            (k0..k0 + len)
+                .filter(|&k| k < p.index.len() && p.index[k] < data.len())
+                .map(|k| (data.time[p.index[k]], f(p, k, p.index[k])))
+                .collect()
+        })
+        .collect()
+}

@@ -1,0 +1,351 @@
+//! Reading a CSV through a [`ColumnMap`]: the file bounded and checked for UTF-8, then every
+//! mapped column parsed, converted to the program's units and checked, with errors naming the
+//! file, line and column.
+
+use super::*;
+
+/// Reads a CSV file through `map` (derived channels filled in) and says what was found.
+///
+/// # Errors
+/// [`DataError`]s (inside the `anyhow::Error`) naming the file, line and column: unreadable or non-UTF-8 file, no header,
+/// a mapped column missing from the header, non-numeric or non-finite cells, rows of the
+/// wrong length, times that do not increase, latitudes beyond ±90°.
+pub fn read(path: &Path, map: &ColumnMap) -> anyhow::Result<(FlightData, ImportReport)> {
+    let file = path.display().to_string();
+    let whole = |kind| DataError {
+        file: file.clone(),
+        line: None,
+        column: None,
+        kind,
+    };
+    let size = std::fs::metadata(path)
+        .map_err(|e| whole(DataErrorKind::Unreadable(e)))?
+        .len();
+    if size > MAX_MAPPED_BYTES {
+        return Err(
+            whole(DataErrorKind::Unreadable(std::io::Error::other(format!(
+                "{size} bytes is more than the {MAX_MAPPED_BYTES} read here"
+            ))))
+            .into(),
+        );
+    }
+    let bytes =
+        wireflight_fsio::read_bytes(path).map_err(|e| whole(DataErrorKind::Unreadable(e)))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        DataError {
+            line: Some(good.iter().filter(|&&b| b == b'\n').count() + 1),
+            ..whole(DataErrorKind::NotUtf8)
+        }
+    })?;
+    parse(&text, &file, map)
+}
+
+/// [`read`] on text; `file` names it in errors.
+///
+/// # Errors
+/// As [`read`], less the reading.
+pub fn parse(
+    text: &str,
+    file: &str,
+    map: &ColumnMap,
+) -> anyhow::Result<(FlightData, ImportReport)> {
+    let at = |line: usize, column: Option<&str>, kind| {
+        anyhow::Error::new(DataError {
+            file: file.to_string(),
+            line: Some(line),
+            column: column.map(str::to_string),
+            kind,
+        })
+    };
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    // Metadata, then the header.
+    let mut meta = Metadata::default();
+    let mut header = None;
+    let mut last = 1;
+    for (n, l) in lines.by_ref() {
+        last = n;
+        if l.is_empty() {
+            continue;
+        }
+        if let Some(rest) = l.strip_prefix('#') {
+            parse_metadata(rest, &mut meta).map_err(|k| at(n, None, k))?;
+            continue;
+        }
+        header = Some((n, l));
+        break;
+    }
+    let (header_line, header_text) = header.ok_or_else(|| at(last, None, DataErrorKind::Empty))?;
+    let delimiter = map.delimiter.unwrap_or_else(|| {
+        if header_text.contains(',') {
+            ','
+        } else if header_text.contains(';') {
+            ';'
+        } else if header_text.contains('\t') {
+            '\t'
+        } else {
+            ','
+        }
+    });
+    let names: Vec<&str> = header_text.split(delimiter).map(unquote).collect();
+    // Each entry's column index.
+    let mut index = Vec::with_capacity(map.entries.len());
+    for e in &map.entries {
+        match names.iter().position(|n| *n == e.column) {
+            Some(i) => index.push(i),
+            None => {
+                let shown: Vec<&str> = names.iter().take(40).copied().collect();
+                let more = if names.len() > 40 { ", …" } else { "" };
+                return Err(at(
+                    header_line,
+                    Some(&e.column),
+                    DataErrorKind::MissingColumn {
+                        names: vec![format!("`{}` (for {})", e.column, e.quantity)],
+                        why: format!(
+                            "the column map names it but the header has {}{more}",
+                            shown.join(", ")
+                        ),
+                    },
+                ));
+            }
+        }
+    }
+    // Rows.
+    let mut values: Vec<Vec<f64>> = vec![Vec::new(); map.entries.len()];
+    let time_k = map
+        .entries
+        .iter()
+        .position(|e| e.quantity == "time")
+        .unwrap_or(0);
+    let mut prev: Option<(f64, usize)> = None;
+    let mut cells: Vec<&str> = Vec::with_capacity(names.len());
+    for (n, l) in lines {
+        if l.is_empty() || l.starts_with('#') {
+            continue;
+        }
+        cells.clear();
+        cells.extend(l.split(delimiter));
+        if cells.len() != names.len() {
+            return Err(at(
+                n,
+                None,
+                DataErrorKind::RowLength {
+                    expected: names.len(),
+                    found: cells.len(),
+                },
+            ));
+        }
+        for (k, e) in map.entries.iter().enumerate() {
+            let cell = unquote(cells[index[k]]);
+            let v = match cell.parse::<f64>() {
+                Ok(v) if v.is_finite() => v,
+                Ok(_) => {
+                    return Err(at(
+                        n,
+                        Some(&e.column),
+                        DataErrorKind::NonFinite {
+                            value: cell.to_string(),
+                        },
+                    ))
+                }
+                Err(_) => {
+                    return Err(at(
+                        n,
+                        Some(&e.column),
+                        DataErrorKind::NonNumeric {
+                            value: cell.to_string(),
+                        },
+                    ))
+                }
+            };
+            values[k].push(v * e.scale + e.offset);
+        }
+        let t = values[time_k][values[time_k].len() - 1];
+        if let Some((previous, previous_line)) = prev {
+            if t <= previous {
+                return Err(at(
+                    n,
+                    Some(&map.entries[time_k].column),
+                    DataErrorKind::NonIncreasingTime {
+                        previous,
+                        previous_line,
+                        current: t,
+                    },
+                ));
+            }
+        }
+        prev = Some((t, n));
+    }
+    if values[time_k].is_empty() {
+        return Err(at(header_line, None, DataErrorKind::NoRows));
+    }
+    let take = |q: &str| -> Option<Vec<f64>> {
+        map.entries
+            .iter()
+            .position(|e| e.quantity == q)
+            .map(|k| values[k].clone())
+    };
+    let vec3 = |a: &str, b: &str, c: &str| -> Option<Vec<DVec3>> {
+        let (x, y, z) = (take(a)?, take(b)?, take(c)?);
+        Some((0..x.len()).map(|i| DVec3::new(x[i], y[i], z[i])).collect())
+    };
+    let time = take("time").unwrap_or_default();
+    let n = time.len();
+    let down = take("down").or_else(|| take("height").map(|h| h.iter().map(|v| -v).collect()));
+    let mut report = ImportReport::new(file, "CSV with a column map");
+    let pos_ned = match take("lat") {
+        Some(lat) => {
+            let lon = take("lon").unwrap_or_else(|| vec![0.0; n]);
+            if let Some(i) = lat.iter().position(|la| la.abs() > FRAC_PI_2 + 1e-12) {
+                let c = map.get("lat").map_or("lat", |e| e.column.as_str());
+                anyhow::bail!(
+                    "{file}: row {} (after the header), column `{c}`: latitude {} rad is beyond \
+                     ±90° (degrees? map it as lat={c}:deg)",
+                    i + 1,
+                    lat[i]
+                );
+            }
+            // Heights: alt above sea level, or height above the origin.
+            let alt = take("alt").or_else(|| down.as_ref().map(|d| d.iter().map(|v| -v).collect()));
+            let alt = alt.unwrap_or_else(|| vec![0.0; n]);
+            meta.latitude_deg = meta.latitude_deg.or(Some(lat[0].to_degrees()));
+            meta.longitude_deg = meta.longitude_deg.or(Some(lon[0].to_degrees()));
+            if map.has("alt") {
+                meta.altitude_m = meta.altitude_m.or(Some(alt[0]));
+            }
+            flat_earth_ned(&lat, &lon, &alt)
+        }
+        None => {
+            let (north, east) = (
+                take("north").unwrap_or_default(),
+                take("east").unwrap_or_default(),
+            );
+            let down = down.unwrap_or_default();
+            (0..n)
+                .map(|i| DVec3::new(north[i], east[i], down[i]))
+                .collect()
+        }
+    };
+    let mut data = FlightData::new(meta, time, pos_ned);
+    data.attitude = vec3("yaw", "pitch", "roll").map(|v| {
+        v.into_iter()
+            .map(|a| EulerZyx::new(a.x, a.y, a.z))
+            .collect()
+    });
+    data.vel_ned = vec3("vn", "ve", "vd");
+    data.vel_body = vec3("u", "v", "w");
+    data.rates_body = vec3("p", "q", "r");
+    data.airspeed = take("airspeed");
+    data.controls = match (
+        take("throttle"),
+        take("elevator"),
+        take("aileron"),
+        take("rudder"),
+    ) {
+        (Some(t), Some(e), Some(a), Some(r)) => Some(
+            (0..n)
+                .map(|i| Controls {
+                    throttle: t[i],
+                    elevator: e[i],
+                    aileron: a[i],
+                    rudder: r[i],
+                })
+                .collect(),
+        ),
+        _ => None,
+    };
+    if data.meta.source.is_none() {
+        data.meta.source = Some(format!(
+            "{} (column map)",
+            Path::new(file)
+                .file_name()
+                .map_or(file.to_string(), |f| f.to_string_lossy().into_owned())
+        ));
+    }
+    data.derive_missing();
+
+    // The report: one line per channel, with its columns and units.
+    let rate = median_rate(&data.time);
+    let describe = |qs: &[&str]| -> String {
+        qs.iter()
+            .filter_map(|q| map.get(q))
+            .map(|e| {
+                let mut s = e.column.clone();
+                if !e.unit.is_empty() {
+                    s.push_str(&format!(" [{}]", e.unit));
+                }
+                if e.offset != 0.0 {
+                    s.push_str(&format!(" {:+}", e.offset));
+                }
+                s
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let channels: [(&str, &[&str]); 9] = [
+        ("time", &["time"]),
+        (
+            "position",
+            &["north", "east", "down", "height", "lat", "lon", "alt"],
+        ),
+        ("attitude", &["roll", "pitch", "yaw"]),
+        ("NED velocity", &["vn", "ve", "vd"]),
+        ("body velocity", &["u", "v", "w"]),
+        ("body rates", &["p", "q", "r"]),
+        ("airspeed", &["airspeed"]),
+        ("controls", &["throttle", "elevator", "aileron", "rudder"]),
+        ("derived", &[]),
+    ];
+    for (name, qs) in &channels[..8] {
+        if qs.iter().any(|q| map.has(q)) {
+            let note = if *name == "position" && map.has("lat") {
+                "local NED about the first row (flat earth)"
+            } else {
+                ""
+            };
+            report.channel(name, describe(qs), n, rate, true, note);
+        }
+    }
+    if !data.derived.is_empty() {
+        report.note(format!("derived: {}", data.derived.join(", ")));
+    }
+    let unused = names.len() - {
+        let mut used = index.clone();
+        used.sort_unstable();
+        used.dedup();
+        used.len()
+    };
+    if unused > 0 {
+        let s = if unused == 1 { "" } else { "s" };
+        report.note(format!("{unused} column{s} not mapped (ignored)"));
+    }
+    if let Some(c) = &data.controls {
+        if c.iter().any(|c| !(0.0..=1.0).contains(&c.throttle)) {
+            report.note("throttle outside 0..1 (a percentage? map it as throttle=COL:%)");
+        }
+    }
+    report.samples = n;
+    report.duration_s = data.duration();
+    Ok((data, report))
+}
+
+/// A cell or name trimmed, with surrounding double quotes removed.
+fn unquote(c: &str) -> &str {
+    let c = c.trim();
+    c.strip_prefix('"')
+        .and_then(|c| c.strip_suffix('"'))
+        .unwrap_or(c)
+        .trim()
+}
+
+/// Median sample rate of increasing times, Hz.
+fn median_rate(t: &[f64]) -> Option<f64> {
+    let mut dt: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    if dt.is_empty() {
+        return None;
+    }
+    let mid = dt.len() / 2;
+    let (_, m, _) = dt.select_nth_unstable_by(mid, f64::total_cmp);
+    (*m > 0.0).then(|| 1.0 / *m)
+}

@@ -1,0 +1,700 @@
+//! PX4 flight logs as [`FlightData`]: the topics a flight needs, taken out of a ULog file
+//! ([`super::ulog`]), cleaned, and resampled onto one uniform time base.
+//!
+//! | channel | topic and fields | resampling |
+//! |---|---|---|
+//! | position | `vehicle_local_position` `x, y, z` (NED about `ref_lat, ref_lon, ref_alt`); without it `vehicle_global_position` `lat, lon, alt`, then `vehicle_gps_position` (`lat, lon, alt` in 1e-7°, mm, or `latitude_deg, longitude_deg, altitude_msl_m`), made local NED about the first sample on a flat earth | linear |
+//! | NED velocity | `vehicle_local_position` `vx, vy, vz` | linear |
+//! | attitude | `vehicle_attitude` `q[0..4]` (w, x, y, z; FRD body → NED) → z-y-x angles | slerp |
+//! | body rates | `vehicle_angular_velocity` `xyz[0..3]`; older logs `vehicle_attitude` `rollspeed, pitchspeed, yawspeed` | linear |
+//! | airspeed | `airspeed` `true_airspeed_m_s`, else `airspeed_validated` | linear |
+//! | controls | `actuator_controls_0` `control[0..4]` (roll, pitch, yaw, throttle), else `vehicle_torque_setpoint` `xyz` with `vehicle_thrust_setpoint` `xyz[0]` | held (zero-order) |
+//!
+//! PX4's normalised commands (−1..1) become surface deflections of ±[`UlogOptions::surface_max_deg`]
+//! in Beard & McLain's signs: aileron = +roll, elevator = −pitch (PX4's positive pitch is nose
+//! up, a positive elevator pitches nose down), rudder = −yaw. `actuator_outputs` (PWM per
+//! output) are reported but not used: which output drives which surface is in the mixer, not
+//! the log.
+//!
+//! The time base runs over the span where position and attitude both have samples, at
+//! [`UlogOptions::rate_hz`] or a round rate ([`nice_rate`]) not above the faster of the
+//! position's and the attitude's median rates (at most [`DEFAULT_MAX_RATE_HZ`]);
+//! time 0 is its first sample, whose ULog time stamp is kept in the metadata as
+//! `ulog_time_zero_us`. Another channel is used when it covers at least
+//! [`MIN_COVERAGE`] of that span (held at its ends); otherwise it is left out and the report
+//! says so. Samples with a zero time stamp or non-finite values are dropped; samples out of time
+//! order are sorted, repeated time stamps keep the last. The origin (latitude, longitude,
+//! altitude) comes from the local position's reference when it is global, else from the first
+//! global sample. `MAV_TYPE` 1 (fixed wing) with attitude and controls makes the data
+//! `vehicle: fixed-wing`; other vehicle types leave the vehicle to `--vehicle`.
+
+use std::path::Path;
+
+use glam::{DMat3, DQuat, DVec3};
+
+use super::import::{rate_text, ImportReport};
+use super::read::flat_earth_ned;
+use super::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
+use super::{FlightData, Metadata};
+use crate::{Controls, VehicleKind};
+use wireflight_geometry::euler::EulerZyx;
+
+mod series;
+use series::*;
+
+/// Highest default rate of the time base, Hz (a log's 100–250 Hz estimates are resampled to
+/// this unless [`UlogOptions::rate_hz`] says otherwise).
+pub const DEFAULT_MAX_RATE_HZ: f64 = 50.0;
+
+/// Most samples of the time base.
+pub const MAX_SAMPLES: usize = 10_000_000;
+
+/// Least fraction of the time base's span a channel must cover to be used.
+pub const MIN_COVERAGE: f64 = 0.9;
+
+/// A gap in a topic longer than this is reported, s.
+pub const GAP_NOTE_S: f64 = 1.0;
+
+/// The topics read (others are only counted).
+pub const TOPICS: [&str; 11] = [
+    "vehicle_local_position",
+    "vehicle_global_position",
+    "vehicle_gps_position",
+    "vehicle_attitude",
+    "vehicle_angular_velocity",
+    "airspeed",
+    "airspeed_validated",
+    "actuator_controls_0",
+    "vehicle_torque_setpoint",
+    "vehicle_thrust_setpoint",
+    "actuator_outputs",
+];
+
+/// Settings of the ULog reader.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UlogOptions {
+    /// Rate of the time base, Hz (default: [`nice_rate`] of the faster of the position's and
+    /// the attitude's median rates).
+    pub rate_hz: Option<f64>,
+    /// Surface deflection of a full (±1) PX4 command, degrees.
+    pub surface_max_deg: f64,
+}
+
+impl Default for UlogOptions {
+    fn default() -> Self {
+        Self {
+            rate_hz: None,
+            surface_max_deg: 25.0,
+        }
+    }
+}
+
+/// Reads a PX4 ULog file as flight data (derived channels filled in) and says what was found.
+///
+/// # Errors
+/// [`UlogError`] naming the file and the byte, topic or field: an unreadable or malformed
+/// file, no position topic, a topic without the fields it needs, too short a flight.
+pub fn read(path: &Path, options: &UlogOptions) -> Result<(FlightData, ImportReport), UlogError> {
+    let log = UlogFile::read(path, |t| TOPICS.contains(&t))?;
+    from_ulog(&log, &path.display().to_string(), options)
+}
+
+/// [`read`] for a file already parsed; `file` names it in errors and in the report.
+///
+/// # Errors
+/// As [`read`], less the reading.
+pub fn from_ulog(
+    log: &UlogFile,
+    file: &str,
+    options: &UlogOptions,
+) -> Result<(FlightData, ImportReport), UlogError> {
+    let mut report = ImportReport::new(file, "PX4 ULog");
+    about(log, &mut report);
+    let err = |kind| UlogError::file(file, kind);
+    if let Some(r) = options.rate_hz {
+        if !(r.is_finite() && r > 0.0 && r <= 10_000.0) {
+            return Err(err(UlogErrorKind::BadValues(format!(
+                "resampling rate {r} Hz is outside (0, 10000]"
+            ))));
+        }
+    }
+    let t_ref = log.start_us;
+    let get = |topic: &str, fields: &[&str]| Series::of(log, file, topic, fields, t_ref);
+
+    // Position: the estimator's local frame, else global positions made local.
+    let (pos, origin) = position(log, file, &get, &mut report)?;
+    let attitude = get("vehicle_attitude", &["q[0]", "q[1]", "q[2]", "q[3]"])?;
+    // The time base: where position and attitude both are.
+    let (mut t0, mut t1) = pos.span();
+    if let Some(a) = &attitude {
+        let (a0, a1) = a.span();
+        t0 = t0.max(a0);
+        t1 = t1.min(a1);
+    }
+    let rate = options.rate_hz.unwrap_or_else(|| {
+        let own = [pos.rate(), attitude.as_ref().and_then(Series::rate)];
+        nice_rate(own.into_iter().flatten().fold(1.0, f64::max))
+    });
+    let n = if t1 > t0 {
+        ((t1 - t0) * rate + 1e-9).floor() + 1.0
+    } else {
+        0.0
+    };
+    if n < 2.0 {
+        return Err(err(UlogErrorKind::Missing(format!(
+            "too short: position and attitude overlap for {:.3} s ({} position samples): fewer \
+             than two samples at {}",
+            (t1 - t0).max(0.0),
+            pos.len(),
+            rate_text(rate)
+        ))));
+    }
+    if n > MAX_SAMPLES as f64 {
+        return Err(err(UlogErrorKind::BadValues(format!(
+            "{:.0} s at {} would be {n:.0} samples, more than {MAX_SAMPLES}: choose a lower \
+             resampling rate",
+            t1 - t0,
+            rate_text(rate)
+        ))));
+    }
+    let grid: Vec<f64> = (0..n as usize).map(|k| t0 + k as f64 / rate).collect();
+    let span = (t0, grid[grid.len() - 1]);
+
+    let pos_ned: Vec<DVec3> = {
+        let c = pos.linear(&grid);
+        (0..grid.len())
+            .map(|k| DVec3::new(c[0][k], c[1][k], c[2][k]))
+            .collect()
+    };
+    let mut data = FlightData::new(Metadata::default(), Vec::new(), pos_ned);
+    if let Some((lat, lon, alt)) = origin {
+        data.meta.latitude_deg = Some(lat);
+        data.meta.longitude_deg = Some(lon);
+        data.meta.altitude_m = Some(alt);
+    }
+
+    // NED velocity, from the local position when it has it.
+    let vel = get("vehicle_local_position", &["vx", "vy", "vz"])
+        .ok()
+        .flatten();
+    if let (Some(v), true) = (vel, pos.topic == "vehicle_local_position") {
+        if use_channel(&mut report, "NED velocity", &v, "vx, vy, vz", span, "") {
+            let c = v.linear(&grid);
+            data.vel_ned = Some(
+                (0..grid.len())
+                    .map(|k| DVec3::new(c[0][k], c[1][k], c[2][k]))
+                    .collect(),
+            );
+        }
+    }
+
+    // Attitude: quaternions, slerped.
+    match &attitude {
+        Some(a) => {
+            let quats: Vec<Option<DQuat>> = (0..a.len())
+                .map(|i| {
+                    let q =
+                        DQuat::from_xyzw(a.cols[1][i], a.cols[2][i], a.cols[3][i], a.cols[0][i]);
+                    let n = q.length();
+                    (n > 0.5 && n < 1.5).then(|| q / n)
+                })
+                .collect();
+            let bad = quats.iter().filter(|q| q.is_none()).count();
+            let (t, q): (Vec<f64>, Vec<DQuat>) =
+                a.t.iter()
+                    .zip(&quats)
+                    .filter_map(|(t, q)| q.map(|q| (*t, q)))
+                    .collect();
+            let note = if bad > 0 {
+                format!("slerped; {bad} samples with a quaternion far from unit length dropped")
+            } else {
+                "slerped".to_string()
+            };
+            report.channel(
+                "attitude",
+                "vehicle_attitude q[0..4]",
+                t.len(),
+                a.rate(),
+                true,
+                note,
+            );
+            let att = slerp(&t, &q, &grid)
+                .into_iter()
+                .map(|q| EulerZyx::from_matrix(DMat3::from_quat(q)).0)
+                .collect();
+            data.attitude = Some(att);
+        }
+        None => report.channel(
+            "attitude",
+            "vehicle_attitude",
+            0,
+            None,
+            false,
+            "not in the log",
+        ),
+    }
+
+    // Body rates.
+    let rates = match get("vehicle_angular_velocity", &["xyz[0]", "xyz[1]", "xyz[2]"])? {
+        Some(r) => Some((r, "xyz[0..3]")),
+        None => get("vehicle_attitude", &["rollspeed", "pitchspeed", "yawspeed"])
+            .ok()
+            .flatten()
+            .map(|r| (r, "rollspeed, pitchspeed, yawspeed")),
+    };
+    match rates {
+        Some((r, fields)) => {
+            if use_channel(&mut report, "body rates", &r, fields, span, "") {
+                let c = r.linear(&grid);
+                data.rates_body = Some(
+                    (0..grid.len())
+                        .map(|k| DVec3::new(c[0][k], c[1][k], c[2][k]))
+                        .collect(),
+                );
+            }
+        }
+        None => report.channel(
+            "body rates",
+            "vehicle_angular_velocity",
+            0,
+            None,
+            false,
+            "not in the log (derived from attitude)",
+        ),
+    }
+
+    // Airspeed.
+    let airspeed = match get("airspeed", &["true_airspeed_m_s"])? {
+        Some(a) => Some(a),
+        None => get("airspeed_validated", &["true_airspeed_m_s"])?,
+    };
+    match airspeed {
+        Some(a) => {
+            let lowest = a.cols[0].iter().copied().fold(f64::INFINITY, f64::min);
+            let note = if lowest < 0.0 {
+                format!("readings down to {lowest:.1} m/s (a sensor offset at rest?)")
+            } else {
+                String::new()
+            };
+            if use_channel(
+                &mut report,
+                "airspeed",
+                &a,
+                "true_airspeed_m_s",
+                span,
+                &note,
+            ) {
+                data.airspeed = Some(a.linear(&grid).swap_remove(0));
+            }
+        }
+        None => report.channel("airspeed", "airspeed", 0, None, false, "not in the log"),
+    }
+
+    // Controls.
+    controls(&get, options, &grid, span, &mut data, &mut report)?;
+    if let Some(o) = log.topic("actuator_outputs") {
+        report.channel(
+            "outputs",
+            "actuator_outputs output[..]",
+            o.len(),
+            Series::of(log, file, "actuator_outputs", &["timestamp"], t_ref)
+                .ok()
+                .flatten()
+                .and_then(|s| s.rate()),
+            false,
+            "PWM per output; which drives which surface is in the mixer, not the log",
+        );
+    }
+
+    // The vehicle.
+    match log.param("MAV_TYPE").map(|v| v as i64) {
+        Some(1) if data.attitude.is_some() && data.controls.is_some() => {
+            data.meta.vehicle = Some(VehicleKind::FixedWing);
+        }
+        Some(1) => report.note(
+            "a fixed wing, but without attitude and controls the fixed-wing model cannot be run \
+             (--vehicle point-mass compares against a point mass)",
+        ),
+        Some(t) => report.note(format!(
+            "MAV_TYPE {t} ({}): no model family of wireflight is this vehicle; give --vehicle \
+             (point-mass: a ballistic body, fixed-wing: needs controls) to compare",
+            mav_type_name(t)
+        )),
+        None => {}
+    }
+
+    // File-level notes.
+    if let Some(at) = log.truncated_at {
+        report.note(format!(
+            "the file is cut short at byte {at} (the last message is incomplete); what came \
+             before it is used"
+        ));
+    }
+    if let Some(at) = log.unreadable_from {
+        report.note(format!(
+            "unreadable bytes from byte {at} with no sync marker after them; the rest is ignored"
+        ));
+    }
+    if log.corrupt_messages > 0 {
+        report.note(format!("{} corrupt messages skipped", log.corrupt_messages));
+    }
+    if log.dropouts > 0 {
+        report.note(format!(
+            "{} logger dropouts, {} ms in all",
+            log.dropouts, log.dropout_ms
+        ));
+    }
+    if log.appended {
+        report.note("data appended after a crash were read");
+    }
+
+    data.time = grid.iter().map(|t| t - t0).collect();
+    let zero_us = t_ref as f64 + t0 * 1e6;
+    data.meta.source = Some(format!(
+        "PX4 ULog {}",
+        Path::new(file)
+            .file_name()
+            .map_or(file.to_string(), |n| n.to_string_lossy().into_owned())
+    ));
+    data.meta
+        .other
+        .push(("ulog_time_zero_us".into(), format!("{zero_us:.0}")));
+    data.derive_missing();
+    if let Err(why) = data.validate() {
+        return Err(err(UlogErrorKind::BadValues(why)));
+    }
+    report.samples = data.len();
+    report.rate_hz = Some(rate);
+    report.duration_s = data.duration();
+    Ok((data, report))
+}
+
+/// The default rate of the time base for channels sampled at up to `hz`: the largest of
+/// 1, 2, 5, 10, 20, 25, 50 Hz not above it (and not above [`DEFAULT_MAX_RATE_HZ`]).
+pub fn nice_rate(hz: f64) -> f64 {
+    [50.0, 25.0, 20.0, 10.0, 5.0, 2.0, 1.0]
+        .into_iter()
+        .find(|&r| r <= hz.min(DEFAULT_MAX_RATE_HZ) + 1e-9)
+        .unwrap_or(1.0)
+}
+
+/// The system, hardware and vehicle type, for the report.
+fn about(log: &UlogFile, report: &mut ImportReport) {
+    let sys = [log.info("sys_name"), log.info("ver_hw")]
+        .into_iter()
+        .flatten()
+        .collect::<Vec<_>>()
+        .join(" ");
+    if !sys.is_empty() {
+        report.about.push(("system".into(), sys));
+    }
+    if let Some(t) = log.param("MAV_TYPE") {
+        report.about.push((
+            "vehicle type".into(),
+            format!("MAV_TYPE {t} ({})", mav_type_name(t as i64)),
+        ));
+    }
+    let others = log
+        .topics
+        .iter()
+        .filter(|t| !TOPICS.contains(&t.name.as_str()) && t.count > 0)
+        .count();
+    report.about.push((
+        "topics".into(),
+        format!(
+            "{} with data ({} of them not looked at)",
+            log.topics.iter().filter(|t| t.count > 0).count(),
+            others
+        ),
+    ));
+}
+
+/// MAVLink's `MAV_TYPE` names of the common vehicles.
+fn mav_type_name(t: i64) -> &'static str {
+    match t {
+        1 => "fixed wing",
+        2 => "quadrotor",
+        3 => "coaxial",
+        4 => "helicopter",
+        10 => "ground rover",
+        12 => "submarine",
+        13 => "hexarotor",
+        14 => "octorotor",
+        15 => "tricopter",
+        19..=22 => "VTOL",
+        _ => "other",
+    }
+}
+
+/// How a topic's fields are fetched ([`Series::of`] on the log being read).
+type Getter<'a> = &'a dyn Fn(&str, &[&str]) -> Result<Option<Series>, UlogError>;
+
+/// A geodetic origin: latitude °, longitude °, altitude m.
+type LatLonAlt = (f64, f64, f64);
+
+/// The position: local NED from `vehicle_local_position`, else a global position made local.
+/// Returns the series (NED, m) and the origin (latitude °, longitude °, altitude m) if known.
+fn position(
+    log: &UlogFile,
+    file: &str,
+    get: Getter<'_>,
+    report: &mut ImportReport,
+) -> Result<(Series, Option<LatLonAlt>), UlogError> {
+    if let Some(p) = get("vehicle_local_position", &["x", "y", "z"])? {
+        let lp = log.topic("vehicle_local_position");
+        let col = |f: &str| lp.and_then(|t| t.values(f));
+        let mut note = Vec::new();
+        if let Some(v) = col("xy_valid") {
+            let bad = v.iter().filter(|&&x| x == 0.0).count();
+            if bad > 0 {
+                note.push(format!(
+                    "xy_valid false in {:.0} % of samples",
+                    100.0 * bad as f64 / v.len().max(1) as f64
+                ));
+            }
+        }
+        if let Some(r) = col("xy_reset_counter") {
+            let resets = r.windows(2).filter(|w| w[1] != w[0]).count();
+            if resets > 0 {
+                let s = if resets == 1 { "" } else { "s" };
+                note.push(format!("{resets} estimator reset{s} (jumps)"));
+            }
+        }
+        let origin = match (
+            col("ref_lat"),
+            col("ref_lon"),
+            col("ref_alt"),
+            col("xy_global"),
+        ) {
+            (Some(la), Some(lo), alt, global) => (0..la.len())
+                .find(|&i| {
+                    global
+                        .as_ref()
+                        .map_or(la[i] != 0.0 || lo[i] != 0.0, |g| g[i] != 0.0)
+                })
+                .map(|i| (la[i], lo[i], alt.as_ref().map_or(0.0, |a| a[i]))),
+            _ => None,
+        };
+        if origin.is_none() {
+            note.push("no global reference: origin unknown".into());
+        }
+        report.channel(
+            "position",
+            "vehicle_local_position x, y, z",
+            p.len(),
+            p.rate(),
+            true,
+            note.join("; "),
+        );
+        p.gap_note(report);
+        return Ok((p, origin));
+    }
+    // Global positions: degrees and metres, or the GPS driver's integers.
+    let global = match get("vehicle_global_position", &["lat", "lon", "alt"])? {
+        Some(g) => Some((g, "vehicle_global_position lat, lon, alt", 1.0, 1.0)),
+        None => match get("vehicle_gps_position", &["lat", "lon", "alt"])
+            .ok()
+            .flatten()
+        {
+            Some(g) => Some((g, "vehicle_gps_position lat, lon, alt", 1e-7, 1e-3)),
+            None => get(
+                "vehicle_gps_position",
+                &["latitude_deg", "longitude_deg", "altitude_msl_m"],
+            )?
+            .map(|g| {
+                (
+                    g,
+                    "vehicle_gps_position latitude_deg, longitude_deg, altitude_msl_m",
+                    1.0,
+                    1.0,
+                )
+            }),
+        },
+    };
+    let Some((mut g, source, deg, metres)) = global else {
+        return Err(UlogError::file(
+            file,
+            UlogErrorKind::Missing(
+                "no position: the log has none of vehicle_local_position, \
+                 vehicle_global_position, vehicle_gps_position with samples"
+                    .into(),
+            ),
+        ));
+    };
+    for v in &mut g.cols[0] {
+        *v = (*v * deg).to_radians();
+    }
+    for v in &mut g.cols[1] {
+        *v = (*v * deg).to_radians();
+    }
+    for v in &mut g.cols[2] {
+        *v *= metres;
+    }
+    if let Some(i) = g.cols[0]
+        .iter()
+        .position(|la| la.abs() > std::f64::consts::FRAC_PI_2)
+    {
+        return Err(UlogError::file(
+            file,
+            UlogErrorKind::BadValues(format!(
+                "latitude {:.3}° at {:.3} s is not a latitude",
+                g.cols[0][i].to_degrees(),
+                g.t[i]
+            )),
+        )
+        .in_topic(&g.topic)
+        .in_field("lat"));
+    }
+    let origin = (
+        g.cols[0][0].to_degrees(),
+        g.cols[1][0].to_degrees(),
+        g.cols[2][0],
+    );
+    let ned = flat_earth_ned(&g.cols[0], &g.cols[1], &g.cols[2]);
+    report.channel(
+        "position",
+        source,
+        g.len(),
+        g.rate(),
+        true,
+        "local NED about the first sample (flat earth)",
+    );
+    g.gap_note(report);
+    g.cols = vec![
+        ned.iter().map(|p| p.x).collect(),
+        ned.iter().map(|p| p.y).collect(),
+        ned.iter().map(|p| p.z).collect(),
+    ];
+    Ok((g, Some(origin)))
+}
+
+/// The controls: `actuator_controls_0`, else the torque and thrust setpoints; held.
+fn controls(
+    get: Getter<'_>,
+    options: &UlogOptions,
+    grid: &[f64],
+    span: (f64, f64),
+    data: &mut FlightData,
+    report: &mut ImportReport,
+) -> Result<(), UlogError> {
+    let found = match get(
+        "actuator_controls_0",
+        &["control[0]", "control[1]", "control[2]", "control[3]"],
+    )? {
+        Some(c) => Some((c, "control[0..4]")),
+        None => {
+            let torque = get("vehicle_torque_setpoint", &["xyz[0]", "xyz[1]", "xyz[2]"])?;
+            let thrust = get("vehicle_thrust_setpoint", &["xyz[0]"])?;
+            match (torque, thrust) {
+                (Some(mut tq), Some(th)) => {
+                    // Thrust onto the torque's times, held.
+                    let t = th.hold(&tq.t).swap_remove(0);
+                    tq.cols.push(t);
+                    tq.topic = "vehicle_torque_setpoint".into();
+                    Some((tq, "xyz + vehicle_thrust_setpoint xyz[0]"))
+                }
+                _ => None,
+            }
+        }
+    };
+    let Some((c, fields)) = found else {
+        report.channel(
+            "controls",
+            "actuator_controls_0",
+            0,
+            None,
+            false,
+            "not in the log",
+        );
+        return Ok(());
+    };
+    let note = format!(
+        "held; ±1 → ±{}° (aileron +roll, elevator −pitch, rudder −yaw)",
+        options.surface_max_deg
+    );
+    if use_channel(report, "controls", &c, fields, span, &note) {
+        let k = options.surface_max_deg.to_radians();
+        let h = c.hold(grid);
+        let over = h[3].iter().filter(|t| !(0.0..=1.0).contains(*t)).count();
+        if over > 0 {
+            report.note(format!("throttle outside 0..1 in {over} samples (clamped)"));
+        }
+        data.controls = Some(
+            (0..grid.len())
+                .map(|i| Controls {
+                    throttle: h[3][i].clamp(0.0, 1.0),
+                    elevator: -k * h[1][i],
+                    aileron: k * h[0][i],
+                    rudder: -k * h[2][i],
+                })
+                .collect(),
+        );
+    }
+    Ok(())
+}
+
+/// Reports channel `name` from `series`; true when it covers enough of the span to be used.
+fn use_channel(
+    report: &mut ImportReport,
+    name: &str,
+    series: &Series,
+    fields: &str,
+    (t0, t1): (f64, f64),
+    note: &str,
+) -> bool {
+    let (a, b) = series.span();
+    let covered = (b.min(t1) - a.max(t0)).max(0.0) / (t1 - t0).max(f64::MIN_POSITIVE);
+    let source = format!("{} {fields}", series.topic);
+    let used = covered >= MIN_COVERAGE;
+    let note = if used {
+        note.to_string()
+    } else {
+        format!(
+            "covers {:.0} % of the flight ({a:.1}–{b:.1} s of {t0:.1}–{t1:.1} s)",
+            100.0 * covered
+        )
+    };
+    report.channel(name, source, series.len(), series.rate(), used, note);
+    if used {
+        series.gap_note(report);
+    }
+    used
+}
+
+/// The field names of a topic, for errors (at most 12).
+fn field_list(t: &Topic) -> String {
+    let names: Vec<&str> = t.fields.iter().map(|f| f.name.as_str()).collect();
+    if names.len() > 12 {
+        format!("{}, … ({} fields)", names[..12].join(", "), names.len())
+    } else {
+        names.join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn linear_hold_and_slerp_on_a_grid() {
+        let s = Series {
+            topic: "x".into(),
+            t: vec![0.0, 1.0, 3.0],
+            cols: vec![vec![0.0, 10.0, 30.0]],
+        };
+        let grid = [-1.0, 0.0, 0.5, 1.0, 2.0, 3.0, 4.0];
+        assert_eq!(s.linear(&grid)[0], [0.0, 0.0, 5.0, 10.0, 20.0, 30.0, 30.0]);
+        assert_eq!(s.hold(&grid)[0], [0.0, 0.0, 0.0, 10.0, 10.0, 30.0, 30.0]);
+        assert_eq!(s.rate(), Some(0.5)); // median of 1 s and 2 s steps: the upper
+                                         // Slerp goes the short way even when the signs of the samples differ.
+        let a = DQuat::from_rotation_z(0.0);
+        let b = -DQuat::from_rotation_z(1.0);
+        let q = slerp(&[0.0, 1.0], &[a, b], &[0.5]);
+        let (e, _) = EulerZyx::from_matrix(DMat3::from_quat(q[0]));
+        assert!((e.yaw - 0.5).abs() < 1e-12, "{e:?}");
+        assert_eq!(nice_rate(404.0), 50.0);
+        assert_eq!(nice_rate(20.8), 20.0);
+        assert_eq!(nice_rate(10.4), 10.0);
+        assert_eq!(nice_rate(0.3), 1.0);
+    }
+}

@@ -1,0 +1,160 @@
+//! Writing flight-data CSV: [`write()`] a file, or [`to_csv_string`], always in the
+//! wireflight dialect (see [`super`] for the format).
+//!
+//! Kept apart from reading: the writer has one fixed column layout and no error paths beyond
+//! invalid data and I/O, so it reads best on its own.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::{FlightData, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED};
+use crate::Controls;
+use wireflight_geometry::euler::EulerZyx;
+
+/// Writes `data` as wireflight CSV ([`to_csv_string`]) atomically.
+///
+/// # Errors
+/// Data that fails [`FlightData::validate`] or has no samples (the file could not be read
+/// back), and I/O errors.
+pub fn write(path: &Path, data: &FlightData) -> anyhow::Result<()> {
+    if let Err(e) = data.validate() {
+        anyhow::bail!("{}: cannot write flight data: {e}", path.display());
+    }
+    if data.is_empty() {
+        anyhow::bail!("{}: cannot write flight data: no samples", path.display());
+    }
+    // Never write a file that the reader rejects (`inf` from huge noise, positions beyond the
+    // reader's ranges): say so now rather than when the file is read.
+    let text = to_csv_string(data);
+    if let Err(e) = super::read::parse(&text, &path.display().to_string()) {
+        anyhow::bail!("cannot write flight data that would not read back: {e}");
+    }
+    Ok(wireflight_fsio::write_atomic(path, text.as_bytes())?)
+}
+
+/// The wireflight CSV text of `data`: metadata lines, the header, one row per sample. Writes
+/// the channels that are present and not [derived](FlightData::derived), angles in degrees,
+/// rates in deg/s, numbers in shortest round-trip form. Expects valid data
+/// ([`FlightData::validate`]); missing entries of a short channel are written as `NaN`.
+pub fn to_csv_string(data: &FlightData) -> String {
+    let mut s = String::new();
+    let clean = |v: &str| v.replace(['\n', '\r'], " ");
+    let m = &data.meta;
+    let mut meta_line = |k: &str, v: String| {
+        let _ = writeln!(s, "# {k}: {}", clean(&v));
+    };
+    if let Some(v) = m.vehicle {
+        meta_line("vehicle", v.to_string());
+    }
+    if let Some(v) = &m.aircraft {
+        meta_line("aircraft", v.clone());
+    }
+    for (k, v) in [
+        ("latitude_deg", m.latitude_deg),
+        ("longitude_deg", m.longitude_deg),
+        ("altitude_m", m.altitude_m),
+        ("mass_kg", m.mass_kg),
+        ("reference_area_m2", m.reference_area_m2),
+    ] {
+        if let Some(v) = v {
+            meta_line(k, v.to_string());
+        }
+    }
+    if let Some(v) = &m.source {
+        meta_line("source", v.clone());
+    }
+    for (k, v) in &m.other {
+        let k = clean(k).replace(':', "_");
+        if !k.trim().is_empty() {
+            meta_line(k.trim(), v.clone());
+        }
+    }
+
+    // Only channels read from data are written (derived ones are derived again on reading);
+    // the channel names match `derived`, so a caller may mark any channel as derived.
+    let keep = |name: &str| !data.is_derived(name);
+    let att = data.attitude.as_deref().filter(|_| keep("attitude"));
+    let vn = data.vel_ned.as_deref().filter(|_| keep(DERIVED_VEL_NED));
+    let vb = data.vel_body.as_deref().filter(|_| keep(DERIVED_VEL_BODY));
+    let rates = data
+        .rates_body
+        .as_deref()
+        .filter(|_| keep(DERIVED_RATES_BODY));
+    let air = data.airspeed.as_deref().filter(|_| keep("airspeed"));
+    let ctl = data.controls.as_deref().filter(|_| keep("controls"));
+
+    let mut header = vec!["time_s", "north_m", "east_m", "down_m"];
+    if att.is_some() {
+        header.extend(["roll_deg", "pitch_deg", "yaw_deg"]);
+    }
+    if vn.is_some() {
+        header.extend(["vn_mps", "ve_mps", "vd_mps"]);
+    }
+    if vb.is_some() {
+        header.extend(["u_mps", "v_mps", "w_mps"]);
+    }
+    if rates.is_some() {
+        header.extend(["p_dps", "q_dps", "r_dps"]);
+    }
+    if air.is_some() {
+        header.push("airspeed_mps");
+    }
+    if ctl.is_some() {
+        header.extend(["throttle", "elevator_deg", "aileron_deg", "rudder_deg"]);
+    }
+    s.push_str(&header.join(","));
+    s.push('\n');
+
+    let nan3 = DVec3::splat(f64::NAN);
+    for (i, t) in data.time.iter().enumerate() {
+        let mut row: Vec<f64> = Vec::with_capacity(header.len());
+        let p = data.pos_ned.get(i).copied().unwrap_or(nan3);
+        row.extend([*t, p.x, p.y, p.z]);
+        if let Some(a) = att {
+            let e = a
+                .get(i)
+                .copied()
+                .unwrap_or(EulerZyx::new(f64::NAN, f64::NAN, f64::NAN));
+            row.extend([
+                e.roll.to_degrees(),
+                e.pitch.to_degrees(),
+                e.yaw.to_degrees(),
+            ]);
+        }
+        for v in [vn, vb].into_iter().flatten() {
+            let v = v.get(i).copied().unwrap_or(nan3);
+            row.extend([v.x, v.y, v.z]);
+        }
+        if let Some(r) = rates {
+            let r = r.get(i).copied().unwrap_or(nan3);
+            row.extend([r.x.to_degrees(), r.y.to_degrees(), r.z.to_degrees()]);
+        }
+        if let Some(a) = air {
+            row.push(a.get(i).copied().unwrap_or(f64::NAN));
+        }
+        if let Some(c) = ctl {
+            let c = c.get(i).copied().unwrap_or(Controls {
+                throttle: f64::NAN,
+                elevator: f64::NAN,
+                aileron: f64::NAN,
+                rudder: f64::NAN,
+            });
+            row.extend([
+                c.throttle,
+                c.elevator.to_degrees(),
+                c.aileron.to_degrees(),
+                c.rudder.to_degrees(),
+            ]);
+        }
+        for (j, v) in row.iter().enumerate() {
+            if j > 0 {
+                s.push(',');
+            }
+            let _ = write!(s, "{v}");
+        }
+        s.push('\n');
+    }
+    s
+}

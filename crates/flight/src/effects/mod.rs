@@ -1,0 +1,695 @@
+//! Named physical effects added to a baseline model (the catalogue of
+//! `shared/specs/flight-model.md`), and the trait users implement for their own.
+//!
+//! Each effect is one file: its physics (hooks of [`Effect`]) and its [`EffectInfo`] — name,
+//! the vehicles it applies to, and each parameter's [`ParamSpec`] (unit, valid range, typical
+//! size for fitting, starting value). Everything else (model files, `--add`, the diagnosis,
+//! the window's checkboxes) works from that metadata, so adding an effect is one new file and
+//! one line in [`CATALOGUE`].
+//!
+//! An effect acts through hooks, each with a do-nothing default, evaluated in two stages:
+//!
+//! 1. **environment** at a position and time: [`Effect::wind_at`] (summed),
+//!    [`Effect::density`] and [`Effect::gravity`] (applied in model order),
+//!    [`Effect::actuator_tau`];
+//! 2. **forces**, given the resulting [`Sample`]: [`Effect::accel_ned`] (world-frame
+//!    acceleration, summed), [`Effect::force_moment_body`] (body-frame force and moment,
+//!    summed), [`Effect::induced_drag_factor`] (multiplied).
+
+mod actuator_lag;
+mod density_altitude;
+mod drag;
+mod earth_curvature;
+mod earth_rotation;
+mod gravity_model;
+mod ground_effect;
+mod gyroscopic;
+mod prop_torque;
+mod wind;
+
+pub use actuator_lag::{ActuatorLag, MIN_ACTUATOR_TAU};
+pub use density_altitude::{isa_density, DensityAltitude, RHO_SEA_LEVEL};
+pub use drag::Drag;
+pub use earth_curvature::{EarthCurvature, EARTH_RADIUS};
+pub use earth_rotation::{earth_rotation_ned, EarthRotation, EARTH_RATE};
+pub use gravity_model::{wgs84_gravity, GravityModel};
+pub use ground_effect::GroundEffect;
+pub use gyroscopic::Gyroscopic;
+pub use prop_torque::PropTorque;
+pub use wind::Wind;
+
+use glam::{DMat3, DVec3};
+
+use super::{Controls, VehicleKind};
+
+/// The catalogue: every built-in effect, in the spec's order. One line per effect.
+pub static CATALOGUE: &[&EffectInfo] = &[
+    &wind::INFO,
+    &drag::INFO,
+    &density_altitude::INFO,
+    &gravity_model::INFO,
+    &earth_rotation::INFO,
+    &earth_curvature::INFO,
+    &prop_torque::INFO,
+    &ground_effect::INFO,
+    &actuator_lag::INFO,
+    &gyroscopic::INFO,
+];
+
+/// The catalogue entry of that name.
+pub fn find(name: &str) -> Option<&'static EffectInfo> {
+    CATALOGUE.iter().copied().find(|i| i.name == name)
+}
+
+/// Names of the catalogue, in order (for messages and help).
+pub fn catalogue_names() -> Vec<&'static str> {
+    CATALOGUE.iter().map(|i| i.name).collect()
+}
+
+/// A catalogue effect with its default parameters in a context, or `None` for an unknown
+/// name.
+pub fn catalogue_effect(name: &str, ctx: &EffectContext) -> Option<Box<dyn Effect>> {
+    find(name).map(|info| info.build(ctx))
+}
+
+/// Where the model is: the geodetic origin of the NED frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Origin {
+    /// Latitude, degrees.
+    pub latitude_deg: f64,
+    /// Longitude, degrees.
+    pub longitude_deg: f64,
+    /// Altitude of the origin above sea level, m.
+    pub altitude_m: f64,
+}
+
+impl Origin {
+    /// The range of each field, by its name in files and options: latitude within ±90°,
+    /// longitude −180°..360°, altitude −1e4..1e8 m.
+    pub const RANGES: [(&'static str, f64, f64); 3] = [
+        ("latitude_deg", -90.0, 90.0),
+        ("longitude_deg", -180.0, 360.0),
+        ("altitude_m", -1e4, 1e8),
+    ];
+
+    /// Check one field's value (`key` as in [`Origin::RANGES`]; other keys pass).
+    ///
+    /// # Errors
+    /// The value is outside the field's range (the message names both).
+    pub fn check_field(key: &str, value: f64) -> Result<(), String> {
+        match Self::RANGES.iter().find(|(k, _, _)| *k == key) {
+            Some(&(_, lo, hi)) if !(lo..=hi).contains(&value) => {
+                Err(format!("{key} = {value} is outside {lo}..={hi}"))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Check every field ([`Origin::check_field`]).
+    ///
+    /// # Errors
+    /// The first field out of its range.
+    pub fn check(&self) -> Result<(), String> {
+        Self::check_field("latitude_deg", self.latitude_deg)?;
+        Self::check_field("longitude_deg", self.longitude_deg)?;
+        Self::check_field("altitude_m", self.altitude_m)
+    }
+}
+
+impl Default for Origin {
+    fn default() -> Self {
+        Self {
+            latitude_deg: 45.0,
+            longitude_deg: 0.0,
+            altitude_m: 0.0,
+        }
+    }
+}
+
+/// What an effect's defaults may depend on: where the model is and the aircraft's size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EffectContext {
+    /// The geodetic origin (latitude defaults of the Earth effects).
+    pub origin: Origin,
+    /// Wing span, m (0 for a point mass).
+    pub span_m: f64,
+}
+
+/// Which vehicle families an effect means something for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Applies {
+    /// Point mass and fixed wing.
+    Both,
+    /// Only the point mass.
+    PointMass,
+    /// Only the fixed wing.
+    FixedWing,
+}
+
+impl Applies {
+    /// Whether a vehicle of that family can have the effect.
+    pub fn to(self, vehicle: VehicleKind) -> bool {
+        match self {
+            Applies::Both => true,
+            Applies::PointMass => vehicle == VehicleKind::PointMass,
+            Applies::FixedWing => vehicle == VehicleKind::FixedWing,
+        }
+    }
+}
+
+/// What is known about one parameter: enough for a model file, the command line, fitting and
+/// display, so that nothing outside the effect's file keys on its name.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ParamSpec {
+    /// Name, as on the command line and in model files.
+    pub name: &'static str,
+    /// Unit, for display.
+    pub unit: &'static str,
+    /// Valid values, inclusive: a value outside is an error where it is given, and the fitter
+    /// stays inside.
+    pub range: (f64, f64),
+    /// Typical size: the fitter's scaling and finite-difference step (1% of it).
+    pub scale: f64,
+    /// The scale grows with the value (`max(scale, |value|)`), for parameters whose size is
+    /// not known in advance (a drag coefficient may be 1e-5 or 1e-2).
+    pub scale_relative: bool,
+    /// Where fitting starts; `None`: from the default value.
+    pub start: Option<f64>,
+    /// A property of the place (a latitude), known from the data's metadata when it has one:
+    /// then held, not fitted.
+    pub from_origin: bool,
+    /// The value at which the parameter's term vanishes, if it has one: with every parameter
+    /// at it the effect changes nothing, and the model is the model without it (a wind of
+    /// 0, a gyroscopic k of 0; a lag's τ has none). The diagnosis then predicts where the
+    /// model without the effect starts a window from the fit with it.
+    pub absent: Option<f64>,
+}
+
+impl ParamSpec {
+    /// A parameter with the given name, unit, range and scale; fitted from its default.
+    pub const fn new(
+        name: &'static str,
+        unit: &'static str,
+        range: (f64, f64),
+        scale: f64,
+    ) -> Self {
+        Self {
+            name,
+            unit,
+            range,
+            scale,
+            scale_relative: false,
+            start: None,
+            from_origin: false,
+            absent: None,
+        }
+    }
+
+    /// The typical size at `value` (see [`scale_relative`](Self::scale_relative)).
+    pub fn scale_at(&self, value: f64) -> f64 {
+        if self.scale_relative {
+            self.scale.max(value.abs())
+        } else {
+            self.scale
+        }
+    }
+
+    /// `value` if it is finite and in range.
+    ///
+    /// # Errors
+    /// A message naming the parameter, the value and the range.
+    pub fn check(&self, value: f64) -> Result<f64, String> {
+        let (lo, hi) = self.range;
+        if value.is_finite() && value >= lo && value <= hi {
+            Ok(value)
+        } else {
+            Err(format!(
+                "parameter `{}` = {value} is outside its range [{lo}, {hi}] {}",
+                self.name, self.unit
+            ))
+        }
+    }
+}
+
+/// An effect's static description (one per effect type).
+#[derive(Debug)]
+pub struct EffectInfo {
+    /// Fixed name (catalogue names are fixed by the spec).
+    pub name: &'static str,
+    /// What it adds, in one line (help texts, README).
+    pub summary: &'static str,
+    /// The vehicles it applies to.
+    pub applies: Applies,
+    /// Its parameters, in the order of [`Effect::values`].
+    pub params: &'static [ParamSpec],
+    /// A new effect with default parameters for a context.
+    pub make: fn(&EffectContext) -> Box<dyn Effect>,
+}
+
+impl EffectInfo {
+    /// A new effect with default parameters.
+    pub fn build(&self, ctx: &EffectContext) -> Box<dyn Effect> {
+        (self.make)(ctx)
+    }
+
+    /// The spec of a parameter by name.
+    pub fn param(&self, name: &str) -> Option<&'static ParamSpec> {
+        self.params.iter().find(|p| p.name == name)
+    }
+}
+
+/// What an effect sees at one instant.
+#[derive(Clone, Copy, Debug)]
+pub struct Sample {
+    /// Time, s.
+    pub t: f64,
+    /// Position, NED, m.
+    pub pos_ned: DVec3,
+    /// Inertial velocity, NED, m/s.
+    pub vel_ned: DVec3,
+    /// Body → NED rotation (identity for a point mass).
+    pub rot: DMat3,
+    /// Body rates p, q, r, rad/s (zero for a point mass).
+    pub omega: DVec3,
+    /// Altitude above sea level, m (origin altitude − down).
+    pub altitude_m: f64,
+    /// Air density, kg/m³.
+    pub rho: f64,
+    /// Gravity magnitude, m/s².
+    pub g: f64,
+    /// Velocity relative to the air, NED, m/s.
+    pub air_vel_ned: DVec3,
+    /// Controls in effect (surfaces after any actuator dynamics), rad.
+    pub controls: Controls,
+    /// Mass, kg (1 for a point mass whose mass is unknown: its effects are accelerations).
+    pub mass: f64,
+}
+
+/// A named parameter of an effect and its current value, for display.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Param {
+    /// Name, as on the command line and in model files.
+    pub name: &'static str,
+    /// Current value.
+    pub value: f64,
+    /// Unit, for display.
+    pub unit: &'static str,
+}
+
+/// A physical effect: named, with named parameters, acting through hooks (see module docs).
+/// All hooks default to "no effect"; an implementation gives [`info`](Self::info), its
+/// parameter values (if any) and the hooks it needs.
+pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
+    /// The static description: name, vehicles, parameters.
+    fn info(&self) -> &'static EffectInfo;
+    /// Current parameter values, in the order of `info().params`.
+    fn values(&self) -> &[f64] {
+        &[]
+    }
+    /// Mutable parameter values (set through [`set_param`](Self::set_param), which checks
+    /// them).
+    fn values_mut(&mut self) -> &mut [f64] {
+        &mut []
+    }
+
+    /// Whether any hook depends on time itself, not only on the state (a gust, a schedule).
+    /// None of the catalogue's does. `true`, the default, is the safe answer for an effect
+    /// that does not say: the comparison's tangent then takes the model's Jacobian afresh
+    /// at every pair of steps instead of holding it while the state barely moves.
+    fn varies_in_time(&self) -> bool {
+        true
+    }
+
+    /// Whether any hook depends on the position itself (a density or gravity that changes
+    /// with height, the ground's nearness, a wind that changes from place to place). `true`,
+    /// the default, is the safe answer for an effect that does not say: the model's
+    /// Jacobian then differences the position as well, where it would skip three columns
+    /// that are zero.
+    fn varies_in_space(&self) -> bool {
+        true
+    }
+
+    /// Whether the effect is a steady wind, the same everywhere, whose parameters are its
+    /// north, east and down components in m/s, in that order, and which does nothing but
+    /// blow ([`wind_at`](Self::wind_at) alone). An airframe with such a wind alone is a
+    /// frame moving with the air, and the comparison takes the wind's parameter columns from
+    /// the start's instead of flying them. `false`, the default, is the safe answer.
+    fn is_uniform_wind(&self) -> bool {
+        false
+    }
+
+    /// Wind, NED, m/s, at a position (NED, m) and time (s); summed over effects.
+    fn wind_at(&self, _pos_ned: DVec3, _t: f64) -> DVec3 {
+        DVec3::ZERO
+    }
+    /// Air density at altitude `altitude_m` given the density so far.
+    fn density(&self, _altitude_m: f64, rho: f64) -> f64 {
+        rho
+    }
+    /// Gravity magnitude at altitude `altitude_m` given the value so far.
+    fn gravity(&self, _altitude_m: f64, g: f64) -> f64 {
+        g
+    }
+    /// Time constant of first-order control-surface lag, s, if this effect adds one.
+    fn actuator_tau(&self) -> Option<f64> {
+        None
+    }
+    /// Extra acceleration in NED, m/s² (summed).
+    fn accel_ned(&self, _s: &Sample) -> DVec3 {
+        DVec3::ZERO
+    }
+    /// Extra force (N) and moment (N·m) in body axes (summed).
+    fn force_moment_body(&self, _s: &Sample) -> (DVec3, DVec3) {
+        (DVec3::ZERO, DVec3::ZERO)
+    }
+    /// Factor on the induced-drag term of the fixed-wing drag polar (multiplied).
+    fn induced_drag_factor(&self, _s: &Sample) -> f64 {
+        1.0
+    }
+
+    /// The effect's name.
+    fn name(&self) -> &'static str {
+        self.info().name
+    }
+    /// Whether the effect means anything for this vehicle family.
+    fn applies_to(&self, vehicle: VehicleKind) -> bool {
+        self.info().applies.to(vehicle)
+    }
+    /// Parameters and their current values.
+    fn params(&self) -> Vec<Param> {
+        self.info()
+            .params
+            .iter()
+            .zip(self.values())
+            .map(|(p, &value)| Param {
+                name: p.name,
+                value,
+                unit: p.unit,
+            })
+            .collect()
+    }
+    /// The current value of a parameter.
+    fn param(&self, name: &str) -> Option<f64> {
+        let i = self.info().params.iter().position(|p| p.name == name)?;
+        self.values().get(i).copied()
+    }
+    /// Set a parameter by name, checked against its range.
+    ///
+    /// # Errors
+    /// Unknown name, or a value outside the parameter's range.
+    fn set_param(&mut self, name: &str, value: f64) -> Result<(), String> {
+        let info = self.info();
+        let Some(i) = info.params.iter().position(|p| p.name == name) else {
+            let known: Vec<&str> = info.params.iter().map(|p| p.name).collect();
+            return Err(if known.is_empty() {
+                format!("effect `{}` has no parameters (given `{name}`)", info.name)
+            } else {
+                format!(
+                    "effect `{}` has no parameter `{name}` (it has {})",
+                    info.name,
+                    known.join(", ")
+                )
+            });
+        };
+        let value = info.params[i].check(value)?;
+        match self.values_mut().get_mut(i) {
+            Some(slot) => {
+                *slot = value;
+                Ok(())
+            }
+            None => Err(format!("effect `{}` does not store `{name}`", info.name)),
+        }
+    }
+}
+
+/// Cloning boxed effects (models are cloned for fitting); implemented for every `Clone`
+/// effect, so no effect writes it.
+pub trait EffectClone {
+    /// A boxed copy.
+    fn clone_box(&self) -> Box<dyn Effect>;
+}
+
+impl<T: Effect + Clone + 'static> EffectClone for T {
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+}
+
+impl Clone for Box<dyn Effect> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ctx() -> EffectContext {
+        EffectContext {
+            origin: Origin::default(),
+            span_m: 3.0,
+        }
+    }
+
+    #[test]
+    fn catalogue_names_are_the_effects_names_and_unique() {
+        for info in CATALOGUE {
+            let e = info.build(&ctx());
+            assert_eq!(e.name(), info.name);
+            assert_eq!(e.values().len(), info.params.len(), "{}", info.name);
+            assert_eq!(
+                CATALOGUE.iter().filter(|i| i.name == info.name).count(),
+                1,
+                "{} twice",
+                info.name
+            );
+        }
+        assert!(catalogue_effect("magic", &ctx()).is_none());
+    }
+
+    #[test]
+    fn defaults_are_in_range_and_fit_starts_too() {
+        for info in CATALOGUE {
+            let e = info.build(&ctx());
+            for (p, v) in info.params.iter().zip(e.values()) {
+                assert!(p.check(*v).is_ok(), "{}.{} = {v}", info.name, p.name);
+                if let Some(s) = p.start {
+                    assert!(p.check(s).is_ok(), "{}.{} starts at {s}", info.name, p.name);
+                }
+                assert!(p.scale > 0.0, "{}.{}", info.name, p.name);
+            }
+        }
+    }
+
+    /// A fixed wing in flight (turning, climbing, rolling) and commands for it: where the
+    /// effects' derivatives are compared.
+    fn flying() -> (crate::model::State, crate::Controls) {
+        let mut x = crate::model::State::default();
+        x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
+        x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
+        x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
+        x.set_attitude(wireflight_geometry::euler::EulerZyx::new(0.5, 0.1, -0.3));
+        let cmd = crate::Controls {
+            throttle: 0.7,
+            elevator: -0.05,
+            aileron: 0.02,
+            rudder: 0.01,
+        };
+        (x, cmd)
+    }
+
+    /// An effect whose parameters all have an absent value changes nothing there: the model
+    /// with it flies exactly as the model without it (what the diagnosis's prediction of the
+    /// base model's starts takes for granted). At least wind, drag, the gyroscopic term and
+    /// the propeller torque have one.
+    #[test]
+    fn an_effect_at_its_absent_values_changes_nothing() {
+        use crate::spec::ModelSpec;
+        use crate::VehicleKind;
+        let mut tried = Vec::new();
+        for info in CATALOGUE {
+            let Some(absent) = info
+                .params
+                .iter()
+                .map(|p| p.absent)
+                .collect::<Option<Vec<_>>>()
+            else {
+                continue;
+            };
+            if info.params.is_empty() {
+                continue;
+            }
+            for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
+                let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
+                let mut e = info.build(&base.effect_context());
+                if !e.applies_to(kind) {
+                    continue;
+                }
+                for (p, v) in info.params.iter().zip(&absent) {
+                    e.set_param(p.name, *v).unwrap();
+                }
+                let mut with = base.clone();
+                with.add_effect(e).unwrap();
+                let (x, cmd) = flying();
+                assert_eq!(
+                    with.derivative(1.0, &x, &cmd).0,
+                    base.derivative(1.0, &x, &cmd).0,
+                    "{} at its absent values",
+                    info.name
+                );
+                tried.push(info.name);
+            }
+        }
+        for name in ["wind", "drag", "gyroscopic", "prop_torque"] {
+            assert!(tried.contains(&name), "{name} has no absent values");
+        }
+    }
+
+    /// An effect that says it does not depend on the position does not: the derivative at
+    /// positions kilometres apart (and at another height) is the same to the bit, with the
+    /// effect's parameters at their defaults and moved across their ranges. The position-
+    /// dependent ones say so.
+    #[test]
+    fn an_effect_that_does_not_vary_in_space_does_not() {
+        use crate::spec::ModelSpec;
+        use crate::VehicleKind;
+        let mut still = Vec::new();
+        for info in CATALOGUE {
+            for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
+                let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
+                let e = info.build(&base.effect_context());
+                if !e.applies_to(kind) || e.varies_in_space() {
+                    continue;
+                }
+                still.push(info.name);
+                for at in [0.2, 0.5, 0.8] {
+                    let mut e = e.clone();
+                    for p in info.params {
+                        let (lo, hi) = p.range;
+                        let v = lo.max(-1e3) + at * (hi.min(1e3) - lo.max(-1e3));
+                        e.set_param(p.name, v).unwrap();
+                    }
+                    let mut with = base.clone();
+                    with.add_effect(e).unwrap();
+                    let (mut x, cmd) = flying();
+                    x.set_surfaces(glam::DVec3::new(-0.02, 0.01, 0.0));
+                    let mut there = x;
+                    there.set_pos_ned(glam::DVec3::new(-3000.0, 2500.0, -900.0));
+                    let (here, there) = (
+                        with.derivative(1.0, &x, &cmd),
+                        with.derivative(1.0, &there, &cmd),
+                    );
+                    assert_eq!(here.0, there.0, "{} at {at}", info.name);
+                }
+            }
+        }
+        for name in ["wind", "drag", "gyroscopic", "prop_torque", "actuator_lag"] {
+            assert!(still.contains(&name), "{name} says it varies in space");
+        }
+        for name in ["density_altitude", "gravity_model", "ground_effect"] {
+            assert!(
+                !still.contains(&name),
+                "{name} says it does not vary in space"
+            );
+        }
+    }
+
+    /// An effect that says it is a uniform wind is one: its parameters are the north, east
+    /// and down components, and the airframe with it moves as the airframe without it
+    /// would at the air-relative velocity (rates, attitude and moments alike; the body
+    /// acceleration differs by ω × Rᵀw, the ground velocity by w), to rounding.
+    #[test]
+    fn an_effect_that_says_it_is_a_uniform_wind_is_one() {
+        use crate::spec::ModelSpec;
+        use crate::VehicleKind;
+        let base = ModelSpec::baseline(VehicleKind::FixedWing)
+            .build(Origin::default())
+            .unwrap();
+        let mut winds = Vec::new();
+        for info in CATALOGUE {
+            let mut e = info.build(&base.effect_context());
+            if !e.is_uniform_wind() {
+                continue;
+            }
+            winds.push(info.name);
+            let w = glam::DVec3::new(4.0, -3.0, 0.5);
+            for (p, v) in info.params.iter().zip(w.to_array()) {
+                e.set_param(p.name, v).unwrap();
+            }
+            let mut with = base.clone();
+            with.add_effect(e).unwrap();
+            let (x, cmd) = flying();
+            let w_body = x.rot().transpose() * w;
+            let mut air = x;
+            air.set_vel(x.vel() - w_body);
+            let (a, b) = (
+                with.derivative(1.0, &x, &cmd),
+                base.derivative(1.0, &air, &cmd),
+            );
+            let shift = x.omega().cross(w_body);
+            let mut want = b.0;
+            for k in 0..3 {
+                want[k] += w[k];
+                want[3 + k] -= shift[k];
+            }
+            for (k, (g, e)) in a.0.iter().zip(want).enumerate() {
+                assert!(
+                    (g - e).abs() < 1e-12 * (1.0 + e.abs()),
+                    "{}[{k}]: {g} vs {e}",
+                    info.name
+                );
+            }
+        }
+        assert_eq!(winds, ["wind"]);
+    }
+
+    #[test]
+    fn set_param_checks_names_and_ranges() {
+        let mut lag = find("actuator_lag").unwrap().build(&ctx());
+        assert!(lag.set_param("tau_s", 0.2).is_ok());
+        assert_eq!(lag.param("tau_s"), Some(0.2));
+        for bad in [-1.0, 0.0, f64::NAN, f64::INFINITY] {
+            let e = lag.set_param("tau_s", bad).unwrap_err();
+            assert!(e.contains("tau_s") && e.contains("range"), "{e}");
+        }
+        assert_eq!(
+            lag.param("tau_s"),
+            Some(0.2),
+            "a refused value changes nothing"
+        );
+        let e = lag.set_param("speed", 1.0).unwrap_err();
+        assert!(
+            e.contains("no parameter `speed`") && e.contains("tau_s"),
+            "{e}"
+        );
+        let mut density = find("density_altitude").unwrap().build(&ctx());
+        assert!(density
+            .set_param("k", 1.0)
+            .unwrap_err()
+            .contains("no parameters"));
+    }
+}
+
+/// A quiet [`Sample`] for the effects' unit tests.
+#[cfg(test)]
+pub(crate) mod tests_support {
+    use super::*;
+
+    /// At rest at the origin, sea-level density, standard gravity, no controls.
+    pub fn sample() -> Sample {
+        Sample {
+            t: 0.0,
+            pos_ned: DVec3::ZERO,
+            vel_ned: DVec3::ZERO,
+            rot: DMat3::IDENTITY,
+            omega: DVec3::ZERO,
+            altitude_m: 0.0,
+            rho: RHO_SEA_LEVEL,
+            g: super::super::G0,
+            air_vel_ned: DVec3::ZERO,
+            controls: Controls::default(),
+            mass: 1.0,
+        }
+    }
+}

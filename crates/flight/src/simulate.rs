@@ -1,0 +1,329 @@
+//! Generating flights: fly a manoeuvre with a model (which may hold effects the output does not
+//! mention), sample it at the output rate, add measurement noise.
+//!
+//! Determinism: the same model, spec and seed give the same file, bit for bit (ChaCha8 noise,
+//! fixed-step RK4, no wall-clock input).
+
+use glam::DVec3;
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+
+use super::autopilot::{Autopilot, Manoeuvre};
+use super::data::{FlightData, Metadata};
+use super::model::{Model, State, Vehicle};
+use super::trim::trim_level;
+use super::{Controls, VehicleKind};
+use wireflight_geometry::euler::EulerZyx;
+
+/// Standard deviations of the Gaussian measurement noise per channel.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Noise {
+    /// Position, m (each axis).
+    pub pos_m: f64,
+    /// Attitude angles, degrees.
+    pub att_deg: f64,
+    /// Velocities (NED and airspeed), m/s.
+    pub vel_mps: f64,
+    /// Body rates, degrees/s.
+    pub rate_dps: f64,
+}
+
+/// What to fly and how to record it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SimSpec {
+    /// The manoeuvre.
+    pub manoeuvre: Manoeuvre,
+    /// Length of the flight, s.
+    pub duration_s: f64,
+    /// Output (and autopilot) rate, Hz.
+    pub rate_hz: f64,
+    /// Trim airspeed, m/s (fixed-wing).
+    pub airspeed_mps: f64,
+    /// Starting height above the origin, m.
+    pub height_m: f64,
+    /// Launch speed of the point-mass `ballistic` manoeuvre (60° elevation, due north), m/s.
+    pub launch_speed_mps: f64,
+    /// Measurement noise.
+    pub noise: Noise,
+    /// Noise seed.
+    pub seed: u64,
+    /// Free text for the `source` metadata.
+    pub source: String,
+    /// Aircraft name for the metadata.
+    pub aircraft: Option<String>,
+    /// Visible effects, listed in the metadata (`effects`); hidden ones are not.
+    pub listed_effects: Vec<String>,
+}
+
+impl SimSpec {
+    /// A spec for `manoeuvre` over `duration_s` with the defaults of `wireflight simulate`:
+    /// 50 Hz, 25 m/s trim airspeed, 200 m above the origin, a 150 m/s launch for a point mass,
+    /// no noise, seed 1.
+    pub fn new(manoeuvre: Manoeuvre, duration_s: f64) -> Self {
+        Self {
+            manoeuvre,
+            duration_s,
+            rate_hz: 50.0,
+            airspeed_mps: 25.0,
+            height_m: 200.0,
+            launch_speed_mps: 150.0,
+            noise: Noise::default(),
+            seed: 1,
+            source: format!("wireflight simulate --manoeuvre {manoeuvre}"),
+            aircraft: None,
+            listed_effects: Vec::new(),
+        }
+    }
+}
+
+/// Longest integration step inside one output interval, s.
+pub const MAX_STEP: f64 = 0.01;
+
+/// Default most samples of one simulated flight (`--max-samples`): 11 hours at 50 Hz.
+pub const DEFAULT_MAX_SAMPLES: u64 = 2_000_000;
+/// Integration steps allowed per sample of the limit: a low output rate integrates several
+/// steps of at most [`MAX_STEP`] per sample.
+const STEPS_PER_SAMPLE_LIMIT: u64 = 10;
+
+/// Fly `spec` with `model` and return the (noisy) recorded flight; at most
+/// [`DEFAULT_MAX_SAMPLES`] samples (see [`simulate_limited`]).
+///
+/// # Errors
+/// As [`simulate_limited`].
+pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, String> {
+    simulate_limited(model, spec, DEFAULT_MAX_SAMPLES)
+}
+
+/// Fly `spec` with `model` and return the (noisy) recorded flight, refusing flights of more
+/// than `max_samples` samples (or `10 × max_samples` integration steps) before any work: the
+/// memory and time of a run are bounded by the limit, whatever the duration and rate.
+///
+/// # Errors
+/// Invalid spec (non-positive duration/rate, fewer than two samples, more than the limit,
+/// negative or non-finite noise), a manoeuvre for the other vehicle family, no trim at the
+/// requested airspeed, or a flight that diverged (non-finite state).
+pub fn simulate_limited(
+    model: &Model,
+    spec: &SimSpec,
+    max_samples: u64,
+) -> Result<FlightData, String> {
+    if !(spec.duration_s > 0.0 && spec.duration_s.is_finite()) {
+        return Err(format!("duration {} s must be positive", spec.duration_s));
+    }
+    if !(spec.rate_hz > 0.0 && spec.rate_hz <= 10_000.0) {
+        return Err(format!("rate {} Hz must be in (0, 10000]", spec.rate_hz));
+    }
+    let n = (spec.duration_s * spec.rate_hz).round() + 1.0;
+    if n < 2.0 {
+        return Err(format!(
+            "{} s at {} Hz is a single sample: the rate must be at least 1/duration",
+            spec.duration_s, spec.rate_hz
+        ));
+    }
+    if n > max_samples as f64 {
+        return Err(format!(
+            "{} s at {} Hz is {n:.0} samples, more than --max-samples {max_samples} (raise \
+             it, or shorten --duration or lower --rate)",
+            spec.duration_s, spec.rate_hz
+        ));
+    }
+    let steps = spec.duration_s / (1.0 / spec.rate_hz).min(MAX_STEP);
+    let max_steps = max_samples.saturating_mul(STEPS_PER_SAMPLE_LIMIT);
+    if steps > max_steps as f64 {
+        return Err(format!(
+            "{} s takes {steps:.0} integration steps of at most {MAX_STEP} s, more than \
+             {STEPS_PER_SAMPLE_LIMIT} × --max-samples {max_samples} (raise it, or shorten \
+             --duration)",
+            spec.duration_s
+        ));
+    }
+    let nz = &spec.noise;
+    for (name, sigma) in [
+        ("position", nz.pos_m),
+        ("attitude", nz.att_deg),
+        ("velocity", nz.vel_mps),
+        ("rate", nz.rate_dps),
+    ] {
+        if !(sigma.is_finite() && sigma >= 0.0) {
+            return Err(format!("{name} noise {sigma} must be a finite number ≥ 0"));
+        }
+    }
+    let kind = model.vehicle.kind();
+    if spec.manoeuvre.is_point_mass() != (kind == VehicleKind::PointMass) {
+        return Err(format!(
+            "manoeuvre `{}` is not for a {kind} vehicle",
+            spec.manoeuvre
+        ));
+    }
+    let dt_out = 1.0 / spec.rate_hz;
+    // At most `max_samples` (checked above).
+    let samples = n as usize;
+    let max_dt = dt_out.min(MAX_STEP);
+
+    let mut truth = Recorder::with_capacity(samples, kind);
+    match &model.vehicle {
+        Vehicle::PointMass => {
+            let mut x = State::default();
+            x.set_pos_ned(DVec3::new(0.0, 0.0, -spec.height_m));
+            let (speed, elevation) = (spec.launch_speed_mps, 60f64.to_radians());
+            x.set_vel(DVec3::new(
+                speed * elevation.cos(),
+                0.0,
+                -speed * elevation.sin(),
+            ));
+            for k in 0..samples {
+                let t = k as f64 * dt_out;
+                truth.push_point_mass(t, &x);
+                if x.pos_ned().z > 0.0 && k > 0 {
+                    break; // back on the ground
+                }
+                x = model.advance(t, &x, &Controls::default(), t + dt_out, max_dt);
+                check_finite(&x, t)?;
+            }
+        }
+        Vehicle::FixedWing(_) => {
+            let trim = trim_level(
+                model,
+                spec.airspeed_mps,
+                0.0,
+                DVec3::new(0.0, 0.0, -spec.height_m),
+            )?;
+            let mut x = trim.state;
+            let mut pilot = Autopilot::new(
+                spec.manoeuvre,
+                trim.controls,
+                trim.state.attitude().pitch,
+                spec.airspeed_mps,
+            );
+            for k in 0..samples {
+                let t = k as f64 * dt_out;
+                let air = model.air_data(t, &x);
+                let cmd = pilot.commands(t, dt_out, x.attitude(), x.omega().to_array(), &air);
+                truth.push_fixed_wing(t, &x, air.airspeed, cmd);
+                x = model.advance(t, &x, &cmd, t + dt_out, max_dt);
+                check_finite(&x, t)?;
+            }
+        }
+    }
+
+    let meta = Metadata {
+        vehicle: Some(kind),
+        aircraft: spec.aircraft.clone(),
+        latitude_deg: Some(model.origin.latitude_deg),
+        longitude_deg: Some(model.origin.longitude_deg),
+        altitude_m: Some(model.origin.altitude_m),
+        mass_kg: None,
+        reference_area_m2: None,
+        source: Some(spec.source.clone()),
+        other: if spec.listed_effects.is_empty() {
+            Vec::new()
+        } else {
+            vec![("effects".to_string(), spec.listed_effects.join(","))]
+        },
+    };
+    Ok(truth.finish(meta, &spec.noise, spec.seed))
+}
+
+fn check_finite(x: &State, t: f64) -> Result<(), String> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(format!("the simulated flight diverged at t = {t:.2} s"))
+    }
+}
+
+/// Collects the true channels sample by sample.
+struct Recorder {
+    kind: VehicleKind,
+    time: Vec<f64>,
+    pos: Vec<DVec3>,
+    vel_ned: Vec<DVec3>,
+    attitude: Vec<EulerZyx>,
+    rates: Vec<DVec3>,
+    airspeed: Vec<f64>,
+    controls: Vec<Controls>,
+}
+
+impl Recorder {
+    fn with_capacity(n: usize, kind: VehicleKind) -> Self {
+        Self {
+            kind,
+            time: Vec::with_capacity(n),
+            pos: Vec::with_capacity(n),
+            vel_ned: Vec::with_capacity(n),
+            attitude: Vec::with_capacity(n),
+            rates: Vec::with_capacity(n),
+            airspeed: Vec::with_capacity(n),
+            controls: Vec::with_capacity(n),
+        }
+    }
+
+    fn push_point_mass(&mut self, t: f64, x: &State) {
+        self.time.push(t);
+        self.pos.push(x.pos_ned());
+        self.vel_ned.push(x.vel());
+    }
+
+    fn push_fixed_wing(&mut self, t: f64, x: &State, airspeed: f64, cmd: Controls) {
+        self.time.push(t);
+        self.pos.push(x.pos_ned());
+        self.vel_ned.push(x.rot() * x.vel());
+        self.attitude.push(x.attitude());
+        self.rates.push(x.omega());
+        self.airspeed.push(airspeed);
+        self.controls.push(cmd);
+    }
+
+    /// Add noise (controls are exact: they are what the aircraft was given) and package.
+    fn finish(mut self, meta: Metadata, noise: &Noise, seed: u64) -> FlightData {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut gauss = |sigma: f64| -> f64 {
+            // `simulate_limited` checked every σ finite and ≥ 0, and `Normal::new` fails for
+            // nothing else; 0 stands in all the same.
+            if sigma > 0.0 {
+                Normal::new(0.0, sigma).map_or(0.0, |d| d.sample(&mut rng))
+            } else {
+                0.0
+            }
+        };
+        let att = noise.att_deg.to_radians();
+        let rate = noise.rate_dps.to_radians();
+        for p in &mut self.pos {
+            *p += DVec3::new(gauss(noise.pos_m), gauss(noise.pos_m), gauss(noise.pos_m));
+        }
+        for v in &mut self.vel_ned {
+            *v += DVec3::new(
+                gauss(noise.vel_mps),
+                gauss(noise.vel_mps),
+                gauss(noise.vel_mps),
+            );
+        }
+        for e in &mut self.attitude {
+            *e = EulerZyx::new(
+                e.yaw + gauss(att),
+                e.pitch + gauss(att),
+                e.roll + gauss(att),
+            );
+        }
+        for w in &mut self.rates {
+            *w += DVec3::new(gauss(rate), gauss(rate), gauss(rate));
+        }
+        for a in &mut self.airspeed {
+            *a += gauss(noise.vel_mps);
+        }
+        let fixed_wing = self.kind == VehicleKind::FixedWing;
+        FlightData {
+            meta,
+            time: self.time,
+            pos_ned: self.pos,
+            attitude: fixed_wing.then_some(self.attitude),
+            vel_ned: Some(self.vel_ned),
+            vel_body: None,
+            rates_body: fixed_wing.then_some(self.rates),
+            airspeed: fixed_wing.then_some(self.airspeed),
+            controls: fixed_wing.then_some(self.controls),
+            derived: Vec::new(),
+        }
+    }
+}

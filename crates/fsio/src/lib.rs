@@ -1,0 +1,656 @@
+//! Files in and out.
+//!
+//! **Out.** Every output is written to a temporary file beside its destination and renamed, so
+//! a reader (or a crash) never sees a partial file ([`write_atomic`]). Replacing a file keeps
+//! its permissions, and a symbolic link is written through (its target is replaced, the link
+//! stays). Outputs of several files (plots, frames) are written into a temporary directory and
+//! moved into place as a whole ([`StagedDir`]). Temporaries are registered while they exist:
+//! SIGINT, SIGTERM and SIGHUP remove them before the process exits ([`install_signal_cleanup`]),
+//! and the temporaries of a process that died without cleaning up (SIGKILL, power loss) are
+//! removed by the next run that writes into the same directory.
+//!
+//! **In.** Every input file is read through [`read_bytes`] / [`read_text`]: regular files only
+//! (not `/dev/zero`, a FIFO or a directory) and at most [`InputLimits::max_file_bytes`], so no
+//! input makes the program read without end. The limits are set once from the command line
+//! ([`set_input_limits`]; `--max-input-mb`, `--allow-external-uris`).
+
+use std::collections::HashSet;
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::{Mutex, PoisonError};
+
+/// A file could not be read or written, or an output was refused before anything was written.
+/// Every message names the path.
+#[derive(Debug, thiserror::Error)]
+pub enum FsError {
+    /// An operating-system call failed on `path`.
+    #[error("{}: cannot {action}", path.display())]
+    Io {
+        /// The file or directory.
+        path: PathBuf,
+        /// What was being done ("write", "create", "list", …).
+        action: &'static str,
+        /// The operating system's error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The output was refused (what and why, with the path, in the message).
+    #[error("{0}")]
+    Refused(String),
+}
+
+impl FsError {
+    fn io(path: &Path, action: &'static str, source: std::io::Error) -> Self {
+        Self::Io {
+            path: path.to_path_buf(),
+            action,
+            source,
+        }
+    }
+}
+
+/// `Err(FsError::Refused(message))` unless `condition` holds.
+macro_rules! refuse_unless {
+    ($condition:expr, $($message:tt)+) => {
+        if !$condition {
+            return Err(FsError::Refused(format!($($message)+)));
+        }
+    };
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input
+
+/// Default largest input file, MiB (`--max-input-mb`).
+pub const DEFAULT_MAX_INPUT_MB: u64 = 1024;
+
+/// What input files may be: set once at start-up from the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct InputLimits {
+    /// Largest file read, bytes.
+    pub max_file_bytes: u64,
+    /// Whether a glTF file may name buffers outside its own directory (absolute paths,
+    /// `file://` URIs, `..`).
+    pub allow_external_uris: bool,
+}
+
+impl Default for InputLimits {
+    fn default() -> Self {
+        Self {
+            max_file_bytes: DEFAULT_MAX_INPUT_MB << 20,
+            allow_external_uris: false,
+        }
+    }
+}
+
+static MAX_FILE_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_INPUT_MB << 20);
+static ALLOW_EXTERNAL_URIS: AtomicBool = AtomicBool::new(false);
+
+/// Set the input limits of this process (the command line does, once).
+pub fn set_input_limits(limits: InputLimits) {
+    MAX_FILE_BYTES.store(limits.max_file_bytes, Ordering::Relaxed);
+    ALLOW_EXTERNAL_URIS.store(limits.allow_external_uris, Ordering::Relaxed);
+}
+
+/// The input limits in force.
+pub fn input_limits() -> InputLimits {
+    InputLimits {
+        max_file_bytes: MAX_FILE_BYTES.load(Ordering::Relaxed),
+        allow_external_uris: ALLOW_EXTERNAL_URIS.load(Ordering::Relaxed),
+    }
+}
+
+/// Open an input file for reading, refusing anything but a regular file (following symbolic
+/// links) without waiting on it: a FIFO would block a plain open until a writer comes.
+///
+/// # Errors
+/// The OS error, or `InvalidInput` saying what the path is instead.
+pub fn open_regular(path: &Path) -> std::io::Result<std::fs::File> {
+    use std::io::{Error, ErrorKind};
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::custom_flags(&mut options, libc::O_NONBLOCK);
+    let file = options.open(path)?;
+    let meta = file.metadata()?;
+    if meta.is_dir() {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "is a directory, not a file",
+        ));
+    }
+    if !meta.is_file() {
+        return Err(Error::new(
+            ErrorKind::InvalidInput,
+            "not a regular file (a device, FIFO or socket is not read)",
+        ));
+    }
+    Ok(file)
+}
+
+/// Read a whole input file: a regular file (following symbolic links) of at most
+/// [`InputLimits::max_file_bytes`].
+///
+/// # Errors
+/// The OS error, or `InvalidInput` saying that the path is not a regular file or is larger than
+/// the limit (and how to raise it). The message does not repeat the path.
+pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::{Error, ErrorKind};
+    let file = open_regular(path)?;
+    let meta = file.metadata()?;
+    let limit = MAX_FILE_BYTES.load(Ordering::Relaxed);
+    let too_big = |size: u64| {
+        Error::new(
+            ErrorKind::InvalidInput,
+            format!(
+                "the file is {size} bytes, more than the limit of {limit} bytes (raise it with \
+                 --max-input-mb)"
+            ),
+        )
+    };
+    if meta.len() > limit {
+        return Err(too_big(meta.len()));
+    }
+    // The file may grow while it is read: read one byte more than the limit to tell.
+    let mut bytes = Vec::with_capacity(usize::try_from(meta.len()).unwrap_or(0));
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_big(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// [`read_bytes`] as UTF-8 text.
+///
+/// # Errors
+/// As [`read_bytes`], and `InvalidData` naming the line of the first byte that is not UTF-8.
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    String::from_utf8(read_bytes(path)?).map_err(|e| {
+        let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
+        let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("not UTF-8 text (line {line})"),
+        )
+    })
+}
+
+// ---------------------------------------------------------------------------------------------
+// Temporaries
+
+/// Temporaries (files and directories) that exist now; removed by the signal handler.
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Directories already swept of dead processes' temporaries by this process.
+static SWEPT: Mutex<Option<HashSet<PathBuf>>> = Mutex::new(None);
+
+fn register(path: &Path) {
+    TEMPORARIES
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .push(path.to_path_buf());
+}
+
+fn unregister(path: &Path) {
+    TEMPORARIES
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .retain(|p| p != path);
+}
+
+static SIGNALLED: AtomicBool = AtomicBool::new(false);
+
+/// Whether a signal is ending the process: the signal thread is removing the temporaries and
+/// will exit with the signal's status (a failure the removal caused on another thread is not
+/// to be reported, nor another exit status given).
+pub fn signalled() -> bool {
+    SIGNALLED.load(Ordering::SeqCst)
+}
+
+/// Remove every registered temporary (files and directories); used on signals.
+pub fn remove_temporaries() {
+    let list = std::mem::take(&mut *TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner));
+    for p in list {
+        // Another thread may still be writing into a temporary directory: try again while
+        // files appear in it.
+        for _ in 0..50 {
+            if std::fs::remove_dir_all(&p)
+                .or_else(|_| std::fs::remove_file(&p))
+                .is_ok()
+                || std::fs::symlink_metadata(&p).is_err()
+            {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(2));
+        }
+    }
+}
+
+/// Install the handler that removes the temporaries on SIGINT, SIGTERM and SIGHUP and exits
+/// with 128 + the signal's number (the shell's status for it). Call once, from `main`.
+///
+/// # Errors
+/// The OS refused the handler.
+pub fn install_signal_cleanup() -> Result<(), FsError> {
+    #[cfg(unix)]
+    use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
+    #[cfg(unix)]
+    let wanted = [SIGINT, SIGTERM, SIGHUP];
+    #[cfg(not(unix))]
+    let wanted = [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM];
+    let mut signals = signal_hook::iterator::Signals::new(wanted)
+        .map_err(|e| FsError::io(Path::new("signal handler"), "install", e))?;
+    std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            if let Some(signal) = signals.forever().next() {
+                SIGNALLED.store(true, Ordering::SeqCst);
+                remove_temporaries();
+                std::process::exit(128 + signal);
+            }
+        })
+        .map_err(|e| FsError::io(Path::new("signal thread"), "start", e))?;
+    Ok(())
+}
+
+/// The name of this process's temporary for `name`: `.NAME.tmp-PID`.
+fn temp_name(name: &str) -> String {
+    format!(".{name}.tmp-{}", std::process::id())
+}
+
+/// Whether the process `pid` is alive (Linux: `/proc/PID`; elsewhere assumed alive unless the
+/// temporary is a day old).
+fn alive(pid: u32, modified: Option<std::time::SystemTime>) -> bool {
+    if Path::new("/proc/self").exists() {
+        return Path::new("/proc").join(pid.to_string()).exists();
+    }
+    modified
+        .and_then(|m| m.elapsed().ok())
+        .is_none_or(|age| age.as_secs() < 86_400)
+}
+
+/// Remove the temporaries (`.NAME.tmp-PID`) that dead processes left in `dir`, once per
+/// directory and process.
+fn sweep(dir: &Path) {
+    {
+        let mut swept = SWEPT.lock().unwrap_or_else(PoisonError::into_inner);
+        if !swept
+            .get_or_insert_with(HashSet::new)
+            .insert(dir.to_path_buf())
+        {
+            return;
+        }
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let Some(pid) = name
+            .strip_prefix('.')
+            .and_then(|n| n.rsplit_once(".tmp-"))
+            .and_then(|(_, pid)| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid == std::process::id() {
+            continue;
+        }
+        let modified = entry.metadata().ok().and_then(|m| m.modified().ok());
+        if !alive(pid, modified) {
+            let p = entry.path();
+            let _ = std::fs::remove_dir_all(&p).or_else(|_| std::fs::remove_file(&p));
+        }
+    }
+}
+
+fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Output
+
+/// Write `bytes` to `path` atomically: into a temporary file beside it, then rename. An
+/// existing file keeps its permissions; a symbolic link is written through.
+///
+/// # Errors
+/// I/O errors, with the path in the message.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
+    // Through a symbolic link: replace what it points to.
+    let target = match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path)
+            .map_err(|e| FsError::io(&path, "follow the symbolic link", e))?,
+        _ => path.to_path_buf(),
+    };
+    let dir = parent_dir(&target);
+    let name = target
+        .file_name()
+        .ok_or_else(|| FsError::Refused(format!("{}: not a file path", path.display())))?;
+    sweep(dir);
+    let tmp = dir.join(temp_name(&name.to_string_lossy()));
+    let old_mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
+    register(&tmp);
+    let result = (|| -> std::io::Result<()> {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        if let Some(mode) = old_mode {
+            f.set_permissions(mode)?;
+        }
+        f.sync_all()?;
+        std::fs::rename(&tmp, &target)
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    unregister(&tmp);
+    result.map_err(|e| FsError::io(&path, "write", e))
+}
+
+/// Write a directory of files as a whole through a [`StagedDir`]: a reader (or a crash) sees
+/// either all of them or none.
+///
+/// `marker` names one of `files` that says who wrote the directory (e.g. a manifest). An
+/// existing `dir` is replaced only when it is empty or holds a file of that name, i.e. was
+/// written by an earlier run of the same command; anything else is refused, so that a mistyped
+/// output path never deletes someone's directory.
+///
+/// # Errors
+/// A file name that is not a plain name, `marker` not among `files`, `dir` existing as a file
+/// or as a directory of something else, I/O errors; each with the path in the message. The
+/// temporary directory is removed on failure.
+pub fn write_dir_atomic(
+    dir: &Path,
+    files: &[(String, Vec<u8>)],
+    marker: &str,
+) -> Result<(), FsError> {
+    for (name, _) in files {
+        let plain = Path::new(name)
+            .file_name()
+            .is_some_and(|f| f == std::ffi::OsStr::new(name));
+        refuse_unless!(
+            plain && !name.starts_with('.'),
+            "`{name}` is not a plain file name"
+        );
+    }
+    refuse_unless!(
+        files.iter().any(|(n, _)| n == marker),
+        "the marker file `{marker}` is not among the files to write"
+    );
+    if dir.is_dir() {
+        let mut entries = std::fs::read_dir(dir).map_err(|e| FsError::io(&dir, "read", e))?;
+        let empty = entries.next().is_none();
+        refuse_unless!(
+            empty || dir.join(marker).is_file(),
+            "{}: exists and was not written by this command (no `{marker}` in it); choose a \
+             new or empty directory",
+            dir.display()
+        );
+    }
+    let staged = StagedDir::new(dir)?;
+    for (file, bytes) in files {
+        let path = staged.path().join(file);
+        let written = std::fs::File::create(&path).and_then(|mut f| {
+            f.write_all(bytes)?;
+            f.sync_all()
+        });
+        written.map_err(|e| FsError::io(&path, "write", e))?;
+    }
+    // The marker vouches for the directory as a whole (its files are this command's).
+    staged.commit_replace(|_| true)
+}
+
+/// An output directory written as a whole: files go into a temporary directory beside it
+/// (`.NAME.tmp-PID`), and [`commit`](Self::commit) moves them into place. Dropped without a
+/// commit (an error on the way), the temporary directory is removed and the destination is
+/// untouched.
+#[derive(Debug)]
+pub struct StagedDir {
+    dest: PathBuf,
+    tmp: PathBuf,
+    committed: bool,
+}
+
+impl StagedDir {
+    /// Stage the output directory `dest`.
+    ///
+    /// # Errors
+    /// `dest` exists and is not a directory, or the temporary directory cannot be made.
+    pub fn new(dest: &Path) -> Result<Self, FsError> {
+        if dest.exists() && !dest.is_dir() {
+            return Err(FsError::Refused(format!(
+                "{}: exists and is not a directory",
+                dest.display()
+            )));
+        }
+        let abs = if dest.is_absolute() {
+            dest.to_path_buf()
+        } else {
+            std::env::current_dir()
+                .map_err(|e| FsError::io(Path::new("."), "find the working directory", e))?
+                .join(dest)
+        };
+        let name = abs
+            .components()
+            .next_back()
+            .and_then(|c| match c {
+                std::path::Component::Normal(n) => Some(n.to_string_lossy().into_owned()),
+                _ => None,
+            })
+            .ok_or_else(|| {
+                FsError::Refused(format!(
+                    "{}: name a directory (not `.`, `..` or `/`) for the output",
+                    dest.display()
+                ))
+            })?;
+        let parent = parent_dir(&abs).to_path_buf();
+        std::fs::create_dir_all(&parent).map_err(|e| FsError::io(&parent, "create", e))?;
+        sweep(&parent);
+        let tmp = parent.join(temp_name(&name));
+        let _ = std::fs::remove_dir_all(&tmp);
+        register(&tmp);
+        std::fs::create_dir(&tmp).map_err(|e| FsError::io(&tmp, "create", e))?;
+        Ok(Self {
+            dest: dest.to_path_buf(),
+            tmp,
+            committed: false,
+        })
+    }
+
+    /// Where to write the files now.
+    pub fn path(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// The destination.
+    pub fn dest(&self) -> &Path {
+        &self.dest
+    }
+
+    /// Move every staged file into the destination (created if needed), replacing files of the
+    /// same name and keeping the others.
+    ///
+    /// # Errors
+    /// I/O errors, naming the file.
+    pub fn commit_merge(mut self) -> Result<(), FsError> {
+        std::fs::create_dir_all(&self.dest).map_err(|e| FsError::io(&self.dest, "create", e))?;
+        for entry in std::fs::read_dir(&self.tmp).map_err(|e| FsError::io(&self.tmp, "list", e))? {
+            let entry = entry.map_err(|e| FsError::io(&self.tmp, "list", e))?;
+            let to = self.dest.join(entry.file_name());
+            std::fs::rename(entry.path(), &to).map_err(|e| FsError::io(&to, "write", e))?;
+        }
+        self.finish();
+        Ok(())
+    }
+
+    /// Replace the destination by the staged directory as a whole. The destination, if it
+    /// exists, may hold only files that `ours` recognises (earlier outputs of the same kind);
+    /// anything else is refused rather than deleted.
+    ///
+    /// # Errors
+    /// The destination holds other files, or I/O errors.
+    pub fn commit_replace(mut self, ours: impl Fn(&str) -> bool) -> Result<(), FsError> {
+        if self.dest.is_dir() {
+            let listing =
+                std::fs::read_dir(&self.dest).map_err(|e| FsError::io(&self.dest, "list", e))?;
+            for entry in listing {
+                let entry = entry.map_err(|e| FsError::io(&self.dest, "list", e))?;
+                let name = entry.file_name();
+                let name = name.to_string_lossy();
+                if !ours(&name) || !entry.file_type().is_ok_and(|t| t.is_file()) {
+                    return Err(FsError::Refused(format!(
+                        "{}: holds `{name}`, which is not an output of this kind; the \
+                         directory is replaced as a whole, so name a new or empty one",
+                        self.dest.display()
+                    )));
+                }
+            }
+            let old = parent_dir(&self.tmp).join(format!(
+                ".{}.old-{}",
+                self.tmp
+                    .file_name()
+                    .map(|n| n.to_string_lossy().into_owned())
+                    .unwrap_or_default(),
+                std::process::id()
+            ));
+            std::fs::rename(&self.dest, &old).map_err(|e| FsError::io(&self.dest, "replace", e))?;
+            register(&old);
+            let moved = std::fs::rename(&self.tmp, &self.dest);
+            if moved.is_err() {
+                let _ = std::fs::rename(&old, &self.dest);
+            }
+            let _ = std::fs::remove_dir_all(&old);
+            unregister(&old);
+            moved.map_err(|e| FsError::io(&self.dest, "write", e))?;
+        } else {
+            std::fs::rename(&self.tmp, &self.dest)
+                .map_err(|e| FsError::io(&self.dest, "write", e))?;
+        }
+        self.finish();
+        Ok(())
+    }
+
+    fn finish(&mut self) {
+        self.committed = true;
+        let _ = std::fs::remove_dir_all(&self.tmp);
+        unregister(&self.tmp);
+    }
+}
+
+impl Drop for StagedDir {
+    fn drop(&mut self) {
+        if !self.committed {
+            let _ = std::fs::remove_dir_all(&self.tmp);
+            unregister(&self.tmp);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn files(names: &[&str]) -> Vec<(String, Vec<u8>)> {
+        names
+            .iter()
+            .map(|n| (n.to_string(), n.as_bytes().to_vec()))
+            .collect()
+    }
+
+    fn listing(dir: &Path) -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    }
+
+    #[test]
+    fn a_directory_is_written_whole_and_replaced_whole() {
+        let root = tempfile::tempdir().unwrap();
+        let out = root.path().join("a/b/out");
+        write_dir_atomic(&out, &files(&["m.txt", "1.png", "2.png"]), "m.txt").unwrap();
+        assert_eq!(listing(&out), ["1.png", "2.png", "m.txt"]);
+        // A second run replaces all of it: no file of the first run is left.
+        write_dir_atomic(&out, &files(&["m.txt", "3.png"]), "m.txt").unwrap();
+        assert_eq!(listing(&out), ["3.png", "m.txt"]);
+        assert_eq!(std::fs::read(out.join("3.png")).unwrap(), b"3.png");
+        // No temporaries beside it.
+        assert_eq!(listing(&root.path().join("a/b")), ["out"]);
+        // An empty directory is fine too.
+        let empty = root.path().join("empty");
+        std::fs::create_dir(&empty).unwrap();
+        write_dir_atomic(&empty, &files(&["m.txt"]), "m.txt").unwrap();
+        assert_eq!(listing(&empty), ["m.txt"]);
+    }
+
+    #[test]
+    fn someone_elses_directory_is_left_alone() {
+        let root = tempfile::tempdir().unwrap();
+        let theirs = root.path().join("theirs");
+        std::fs::create_dir(&theirs).unwrap();
+        std::fs::write(theirs.join("thesis.tex"), b"x").unwrap();
+        let err = write_dir_atomic(&theirs, &files(&["m.txt"]), "m.txt").unwrap_err();
+        assert!(
+            format!("{err:#}").contains("not written by this command"),
+            "{err:#}"
+        );
+        assert_eq!(listing(&theirs), ["thesis.tex"]);
+        let file = root.path().join("file");
+        std::fs::write(&file, b"x").unwrap();
+        assert!(write_dir_atomic(&file, &files(&["m.txt"]), "m.txt").is_err());
+        for bad in ["../x", "a/b", ".hidden", ""] {
+            assert!(
+                write_dir_atomic(&root.path().join("o"), &files(&["m.txt", bad]), "m.txt").is_err()
+            );
+        }
+        assert!(write_dir_atomic(&root.path().join("o"), &files(&["a.png"]), "m.txt").is_err());
+        assert_eq!(listing(root.path()), ["file", "theirs"]);
+    }
+
+    #[test]
+    fn atomic_write_keeps_the_mode_and_writes_through_links() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("t.txt");
+        std::fs::write(&target, "old").unwrap();
+        std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let link = dir.path().join("link.txt");
+        std::os::unix::fs::symlink(&target, &link).unwrap();
+        write_atomic(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read_to_string(&target).unwrap(), "new");
+        let mode = std::fs::metadata(&target).unwrap().permissions().mode();
+        assert_eq!(mode & 0o777, 0o640);
+    }
+
+    #[test]
+    fn dead_processes_temporaries_are_swept() {
+        let dir = tempfile::tempdir().unwrap();
+        // PID beyond pid_max: never alive.
+        let stale = dir.path().join(".out.csv.tmp-4294967295");
+        std::fs::write(&stale, "partial").unwrap();
+        let stale_dir = dir.path().join(".plots.tmp-4294967294");
+        std::fs::create_dir(&stale_dir).unwrap();
+        write_atomic(&dir.path().join("other.csv"), b"x").unwrap();
+        assert!(!stale.exists() && !stale_dir.exists());
+    }
+
+    #[test]
+    fn reads_refuse_devices_directories_and_big_files() {
+        let dir = tempfile::tempdir().unwrap();
+        assert!(read_bytes(Path::new("/dev/zero")).is_err());
+        assert!(read_bytes(dir.path()).is_err());
+        let f = dir.path().join("big");
+        std::fs::write(&f, vec![b'x'; 100]).unwrap();
+        assert_eq!(read_bytes(&f).unwrap().len(), 100);
+    }
+}
