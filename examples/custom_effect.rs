@@ -2,9 +2,11 @@
 //!
 //! An effect is a type implementing `wireflight::flight::effects::Effect` plus a static
 //! `EffectInfo`: its name, the vehicles it applies to, and each parameter's metadata (unit,
-//! valid range, typical size for fitting). The hooks it needs do the physics; everything else
-//! (checking `set_param`, fitting, display) works from the metadata. A catalogue effect is
-//! exactly this, as one file in `src/flight/effects/` plus one line in `CATALOGUE`.
+//! valid range, typical size for fitting). `effect_basics!` writes the parts every effect
+//! writes the same way (the info, where the parameter values are stored, what they do not vary
+//! with); the hooks it needs do the physics; everything else (checking `set_param`, fitting,
+//! display) works from the metadata. A catalogue effect is exactly this, as one file in
+//! `crates/flight/src/effects/` plus one line in `CATALOGUE`.
 //!
 //! Here: a **thermal**, a column of rising air of radius `radius_m` around a point, with a
 //! Gaussian profile of updraft speed — wind that depends on position, which the catalogue's
@@ -17,7 +19,9 @@
 use glam::DVec3;
 use wireflight::analysis::diagnose::{diagnose, DiagnoseConfig};
 use wireflight::flight::autopilot::Manoeuvre;
-use wireflight::flight::effects::{Applies, Effect, EffectContext, EffectInfo, Origin, ParamSpec};
+use wireflight::flight::effects::{
+    effect_basics, Applies, Effect, EffectContext, EffectInfo, Origin, ParamSpec,
+};
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
 use wireflight::flight::simulate::{simulate, SimSpec};
@@ -47,18 +51,11 @@ struct Thermal {
 }
 
 impl Effect for Thermal {
-    fn info(&self) -> &'static EffectInfo {
-        &THERMAL
-    }
     // The column stands still: the wind depends on where, not when.
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        &self.values
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        &mut self.values
+    effect_basics! {
+        info: THERMAL,
+        values: values,
+        varies_in_time: false,
     }
     fn wind_at(&self, pos_ned: DVec3, _t: f64) -> DVec3 {
         let [updraft, radius] = self.values;
@@ -71,17 +68,13 @@ fn main() -> anyhow::Result<()> {
     let params = FixedWingParams::aerosonde();
     let base = Model::new(Vehicle::FixedWing(Box::new(params)), Origin::default());
     let mut thermal = THERMAL.build(&base.effect_context());
-    thermal
-        .set_param("updraft_mps", 3.0)
-        .map_err(anyhow::Error::msg)?;
+    thermal.set_param("updraft_mps", 3.0)?;
     let mut with_thermal = base.clone();
-    with_thermal
-        .add_effect(thermal)
-        .map_err(anyhow::Error::msg)?;
+    with_thermal.add_effect(thermal)?;
 
     let start = DVec3::new(0.0, 0.0, -200.0);
     for (label, model) in [("baseline", &base), ("with thermal", &with_thermal)] {
-        let trim = trim_level(model, 25.0, 0.0, start).map_err(anyhow::Error::msg)?;
+        let trim = trim_level(model, 25.0, 0.0, start)?;
         let end = model.advance(0.0, &trim.state, &trim.controls, 24.0, 0.01);
         println!(
             "{label:>13}: effects {:?}, height after 24 s: {:.1} m",
@@ -92,8 +85,7 @@ fn main() -> anyhow::Result<()> {
 
     // A level flight through the hidden thermal, diagnosed with the thermal as a candidate
     // beside the catalogue.
-    let flight = simulate(&with_thermal, &SimSpec::new(Manoeuvre::Level, 30.0))
-        .map_err(anyhow::Error::msg)?;
+    let flight = simulate(&with_thermal, &SimSpec::new(Manoeuvre::Level, 30.0))?;
     let candidate = THERMAL.build(&base.effect_context());
     let d = diagnose(&base, &flight, &[candidate], &DiagnoseConfig::default())
         .map_err(anyhow::Error::msg)?;

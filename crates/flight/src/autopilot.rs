@@ -58,17 +58,25 @@ pub const MANOEUVRES: [(&str, Manoeuvre); 9] = [
     ("ballistic", Manoeuvre::Ballistic),
 ];
 
+/// A manoeuvre name not in [`MANOEUVRES`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown manoeuvre `{0}` (known: {known})", known = manoeuvre_names())]
+pub struct UnknownManoeuvre(pub String);
+
+/// The names of [`MANOEUVRES`], comma-separated.
+fn manoeuvre_names() -> String {
+    let names: Vec<&str> = MANOEUVRES.iter().map(|(n, _)| *n).collect();
+    names.join(", ")
+}
+
 impl FromStr for Manoeuvre {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownManoeuvre;
+    fn from_str(s: &str) -> Result<Self, UnknownManoeuvre> {
         MANOEUVRES
             .iter()
             .find(|(n, _)| *n == s)
             .map(|(_, m)| *m)
-            .ok_or_else(|| {
-                let names: Vec<&str> = MANOEUVRES.iter().map(|(n, _)| *n).collect();
-                format!("unknown manoeuvre `{s}` (known: {})", names.join(", "))
-            })
+            .ok_or_else(|| UnknownManoeuvre(s.to_string()))
     }
 }
 

@@ -1,9 +1,10 @@
 //! Derivatives and continuity of sampled flight data: the smoothing [`Differentiator`], angle
-//! unwrapping ([`unwrap_angles`], [`unwrap_attitude`]), body rates from attitude, and the
-//! filling-in of channels a flight lacks ([`FlightData::derive_missing`]).
+//! unwrapping ([`unwrap_angles`], [`unwrap_attitude`]) and body rates from attitude.
 //!
-//! This is numerical work on [`FlightData`], not the file format, so it lives apart from
-//! [`super::data`] (which re-exports these names for its callers). It does no I/O.
+//! This is numerical work on plain slices of times, values and angles, not on the file format
+//! or [`FlightData`](crate::data::FlightData), so it lives apart from [`crate::data`] (which
+//! uses it to fill in the channels a flight lacks, and re-exports these names for its callers).
+//! It does no I/O.
 //!
 //! # Differentiating noisy, unevenly sampled data
 //! [`Differentiator`] fits a quadratic by least squares to the 2k + 1 samples around each
@@ -19,12 +20,13 @@
 //! attenuated by about (ωh)²/10 for half-width h seconds (h = 0.2 s: 0.6 % at 0.2 Hz, 4 % at
 //! 0.5 Hz, 16 % at 1 Hz) — body motion of aircraft and falling bodies is mostly below 1 Hz,
 //! measurement noise is white. [`FlightData::derive_missing_with`] takes another [`Window`].
+//!
+//! [`FlightData::derive_missing_with`]: crate::data::FlightData::derive_missing_with
 
 use std::f64::consts::{PI, TAU};
 
 use glam::DVec3;
 
-use super::data::{FlightData, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED};
 use wireflight_geometry::euler::EulerZyx;
 
 /// Default half-width of the differentiator's window, seconds (see the module docs).
@@ -288,59 +290,9 @@ pub fn body_rates_from_attitude(diff: &Differentiator, attitude: &[EulerZyx]) ->
         .collect()
 }
 
-// ---------------------------------------------------------------------------------------------
-// Filling in missing channels
-
-/// The work of [`FlightData::derive_missing_with`] (see there for what is derived and when).
-pub(crate) fn derive_missing(data: &mut FlightData, window: Window) {
-    if data.len() < 2 || data.validate().is_err() {
-        return;
-    }
-    let needs_diff = data.vel_ned.is_none() || data.rates_body.is_none();
-    let diff = needs_diff.then(|| Differentiator::new(&data.time, window.half_samples(&data.time)));
-    let mark = |derived: &mut Vec<&'static str>, name: &'static str| {
-        if !derived.contains(&name) {
-            derived.push(name);
-        }
-    };
-    if data.vel_ned.is_none() {
-        let v = match (&data.attitude, &data.vel_body) {
-            (Some(att), Some(vb)) => att
-                .iter()
-                .zip(vb)
-                .map(|(e, v)| e.to_matrix() * *v)
-                .collect(),
-            _ => match &diff {
-                Some(d) => d.apply_vec3(&data.pos_ned),
-                None => return,
-            },
-        };
-        data.vel_ned = Some(v);
-        mark(&mut data.derived, DERIVED_VEL_NED);
-    }
-    if data.rates_body.is_none() {
-        if let (Some(att), Some(d)) = (&data.attitude, &diff) {
-            data.rates_body = Some(body_rates_from_attitude(d, att));
-            mark(&mut data.derived, DERIVED_RATES_BODY);
-        }
-    }
-    if data.vel_body.is_none() {
-        if let (Some(att), Some(vn)) = (&data.attitude, &data.vel_ned) {
-            data.vel_body = Some(
-                att.iter()
-                    .zip(vn)
-                    .map(|(e, v)| e.to_matrix().transpose() * *v)
-                    .collect(),
-            );
-            mark(&mut data.derived, DERIVED_VEL_BODY);
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::Metadata;
 
     /// Seeded LCG + Box–Muller: deterministic Gaussian noise without extra dependencies.
     struct Noise(u64);
@@ -535,56 +487,5 @@ mod tests {
             let tol = if (5..395).contains(&i) { 1e-4 } else { 1e-3 };
             assert!((rates[i] - want).length() < tol, "{i}: {:?}", rates[i]);
         }
-    }
-
-    #[test]
-    fn derive_missing_fills_velocities_and_rates() {
-        let t: Vec<f64> = (0..50).map(|i| i as f64 * 0.1).collect();
-        let pos: Vec<DVec3> = t.iter().map(|&t| DVec3::new(30.0 * t, 0.0, -t)).collect();
-        let mut d = FlightData::new(Metadata::default(), t.clone(), pos);
-        d.attitude = Some(vec![EulerZyx::from_degrees(90.0, 0.0, 0.0); t.len()]);
-        d.derive_missing();
-        assert_eq!(
-            d.derived,
-            vec![DERIVED_VEL_NED, DERIVED_RATES_BODY, DERIVED_VEL_BODY]
-        );
-        for v in d.vel_ned.as_ref().unwrap() {
-            assert!(v.abs_diff_eq(DVec3::new(30.0, 0.0, -1.0), 1e-9), "{v}");
-        }
-        // Heading east while moving north: the motion is to the left (−v) in the body.
-        for v in d.vel_body.as_ref().unwrap() {
-            assert!(v.abs_diff_eq(DVec3::new(0.0, -30.0, -1.0), 1e-9), "{v}");
-        }
-        for r in d.rates_body.as_ref().unwrap() {
-            assert!(r.abs_diff_eq(DVec3::ZERO, 1e-12));
-        }
-        // Idempotent, and present channels are kept.
-        let before = d.clone();
-        d.derive_missing();
-        assert_eq!(d, before);
-    }
-
-    #[test]
-    fn vel_ned_comes_from_body_velocity_when_it_can() {
-        let t = vec![0.0, 1.0, 2.0];
-        let mut d = FlightData::new(Metadata::default(), t, vec![DVec3::ZERO; 3]);
-        d.attitude = Some(vec![EulerZyx::from_degrees(90.0, 0.0, 0.0); 3]);
-        d.vel_body = Some(vec![DVec3::new(10.0, 0.0, 0.0); 3]);
-        d.derive_missing();
-        assert_eq!(d.derived, vec![DERIVED_VEL_NED, DERIVED_RATES_BODY]);
-        for v in d.vel_ned.unwrap() {
-            assert!(v.abs_diff_eq(DVec3::new(0.0, 10.0, 0.0), 1e-12));
-        }
-    }
-
-    #[test]
-    fn invalid_data_is_left_alone() {
-        let mut d = FlightData::new(Metadata::default(), vec![0.0, 0.0], vec![DVec3::ZERO; 2]);
-        d.derive_missing();
-        assert!(d.vel_ned.is_none() && d.derived.is_empty());
-        let mut d = FlightData::new(Metadata::default(), vec![0.0, 1.0], vec![DVec3::ZERO]);
-        assert!(d.validate().is_err());
-        d.derive_missing();
-        assert!(d.vel_ned.is_none());
     }
 }

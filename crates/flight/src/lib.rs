@@ -58,15 +58,18 @@ impl fmt::Display for VehicleKind {
     }
 }
 
+/// A vehicle name that is neither `point-mass` nor `fixed-wing`.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown vehicle `{0}` (expected point-mass or fixed-wing)")]
+pub struct UnknownVehicle(pub String);
+
 impl FromStr for VehicleKind {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = UnknownVehicle;
+    fn from_str(s: &str) -> Result<Self, UnknownVehicle> {
         match s.trim() {
             "point-mass" => Ok(VehicleKind::PointMass),
             "fixed-wing" => Ok(VehicleKind::FixedWing),
-            other => Err(format!(
-                "unknown vehicle `{other}` (expected point-mass or fixed-wing)"
-            )),
+            other => Err(UnknownVehicle(other.to_string())),
         }
     }
 }

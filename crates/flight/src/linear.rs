@@ -9,7 +9,7 @@
 //! |---|---|---|
 //! | 0..3 | δp, NED, m | δp, NED, m |
 //! | 3..6 | δv, NED, m/s | δv, body u, v, w, m/s |
-//! | 6..9 | — | δθ, a small rotation in body axes: R' = R·(I + [δθ]×), rad |
+//! | 6..9 | — | δθ, a small rotation in body axes: R' = R·(I + \[δθ\]×), rad |
 //! | 9..12 | — | δω, body rates, rad/s |
 //!
 //! (the quaternion's four numbers have three degrees of freedom; surface positions are not
@@ -41,7 +41,7 @@ pub type ErrorMatrix = Mat12;
 /// environment changes over tens of metres), velocity m/s, rotation rad, rates rad/s.
 const STEPS: [f64; 4] = [1e-2, 1e-5, 1e-7, 1e-7];
 
-/// The skew matrix [a]×, with [a]×·b = a × b.
+/// The skew matrix \[a\]×, with \[a\]×·b = a × b.
 pub fn skew(a: DVec3) -> DMat3 {
     DMat3::from_cols(
         DVec3::new(0.0, a.z, -a.y),

@@ -18,6 +18,7 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::effects::{Effect, EffectContext, Origin, Sample, RHO_SEA_LEVEL};
+use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
 use wireflight_geometry::euler::EulerZyx;
@@ -27,6 +28,29 @@ pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
 
 /// Number of state variables.
 pub const STATE_LEN: usize = 16;
+
+/// An effect or an aircraft number the model cannot take.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ModelError {
+    /// An effect for the other vehicle family.
+    #[error("effect `{effect}` does not apply to a {vehicle} model")]
+    NotApplicable {
+        /// The effect.
+        effect: &'static str,
+        /// The model's vehicle family.
+        vehicle: VehicleKind,
+    },
+    /// An effect of that name is already in the model.
+    #[error("effect `{0}` is already in the model")]
+    Duplicate(&'static str),
+    /// A point mass has no parameter set.
+    #[error("a point mass has no aircraft parameter `{0}`")]
+    PointMass(String),
+    /// The parameter set refuses the value.
+    #[error(transparent)]
+    Aircraft(#[from] AircraftKeyError),
+}
 
 /// The integrated state (layout in the module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -199,19 +223,15 @@ impl Model {
     ///
     /// # Errors
     /// The effect does not apply to this vehicle, or one of that name is already present.
-    pub fn add_effect(&mut self, effect: Box<dyn Effect>) -> Result<(), String> {
+    pub fn add_effect(&mut self, effect: Box<dyn Effect>) -> Result<(), ModelError> {
         if !effect.applies_to(self.vehicle.kind()) {
-            return Err(format!(
-                "effect `{}` does not apply to a {} model",
-                effect.name(),
-                self.vehicle.kind()
-            ));
+            return Err(ModelError::NotApplicable {
+                effect: effect.name(),
+                vehicle: self.vehicle.kind(),
+            });
         }
         if self.has_effect(effect.name()) {
-            return Err(format!(
-                "effect `{}` is already in the model",
-                effect.name()
-            ));
+            return Err(ModelError::Duplicate(effect.name()));
         }
         self.effects.push(effect);
         Ok(())
@@ -230,7 +250,7 @@ impl Model {
     ///
     /// # Errors
     /// A point mass, an unknown key, a value out of range or a non-physical set.
-    pub fn set_aircraft(&mut self, key: &str, value: f64) -> Result<(), String> {
+    pub fn set_aircraft(&mut self, key: &str, value: f64) -> Result<(), ModelError> {
         match &mut self.vehicle {
             Vehicle::FixedWing(p) => {
                 super::params::keys::set(p, key, value)?;
@@ -238,7 +258,7 @@ impl Model {
                 self.stall_c = stall_c(&self.vehicle);
                 Ok(())
             }
-            Vehicle::PointMass => Err(format!("a point mass has no aircraft parameter `{key}`")),
+            Vehicle::PointMass => Err(ModelError::PointMass(key.to_string())),
         }
     }
 

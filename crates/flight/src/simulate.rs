@@ -12,7 +12,7 @@ use rand_distr::{Distribution, Normal};
 use super::autopilot::{Autopilot, Manoeuvre};
 use super::data::{FlightData, Metadata};
 use super::model::{Model, State, Vehicle};
-use super::trim::trim_level;
+use super::trim::{trim_level, TrimError};
 use super::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
@@ -77,6 +77,80 @@ impl SimSpec {
     }
 }
 
+/// A flight that cannot be simulated: an invalid spec, a manoeuvre for the other vehicle
+/// family, no trim, or a flight that diverged.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum SimulateError {
+    /// The duration is zero, negative or not finite.
+    #[error("duration {0} s must be positive")]
+    Duration(f64),
+    /// The rate is outside (0, 10000] Hz.
+    #[error("rate {0} Hz must be in (0, 10000]")]
+    Rate(f64),
+    /// The duration at the rate gives a single sample.
+    #[error(
+        "{duration_s} s at {rate_hz} Hz is a single sample: the rate must be at least 1/duration"
+    )]
+    SingleSample {
+        /// The duration, s.
+        duration_s: f64,
+        /// The rate, Hz.
+        rate_hz: f64,
+    },
+    /// More samples than the limit.
+    #[error(
+        "{duration_s} s at {rate_hz} Hz is {samples:.0} samples, more than --max-samples \
+         {max_samples} (raise it, or shorten --duration or lower --rate)"
+    )]
+    TooManySamples {
+        /// The duration, s.
+        duration_s: f64,
+        /// The rate, Hz.
+        rate_hz: f64,
+        /// The samples it would take.
+        samples: f64,
+        /// The limit.
+        max_samples: u64,
+    },
+    /// More integration steps than the limit allows.
+    #[error(
+        "{duration_s} s takes {steps:.0} integration steps of at most {MAX_STEP} s, more than \
+         {STEPS_PER_SAMPLE_LIMIT} × --max-samples {max_samples} (raise it, or shorten \
+         --duration)"
+    )]
+    TooManySteps {
+        /// The duration, s.
+        duration_s: f64,
+        /// The steps it would take.
+        steps: f64,
+        /// The limit of samples.
+        max_samples: u64,
+    },
+    /// A noise level that is negative or not finite.
+    #[error("{channel} noise {sigma} must be a finite number ≥ 0")]
+    Noise {
+        /// `position`, `attitude`, `velocity` or `rate`.
+        channel: &'static str,
+        /// The standard deviation given.
+        sigma: f64,
+    },
+    /// A manoeuvre for the other vehicle family.
+    #[error("manoeuvre `{manoeuvre}` is not for a {vehicle} vehicle")]
+    Manoeuvre {
+        /// The manoeuvre.
+        manoeuvre: Manoeuvre,
+        /// The model's vehicle family.
+        vehicle: VehicleKind,
+    },
+    /// No trim to start the fixed wing from.
+    #[error(transparent)]
+    Trim(#[from] TrimError),
+    /// The state became non-finite.
+    #[error("the simulated flight diverged at t = {0:.2} s")]
+    Diverged(f64),
+}
+
 /// Longest integration step inside one output interval, s.
 pub const MAX_STEP: f64 = 0.01;
 
@@ -91,7 +165,7 @@ const STEPS_PER_SAMPLE_LIMIT: u64 = 10;
 ///
 /// # Errors
 /// As [`simulate_limited`].
-pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, String> {
+pub fn simulate(model: &Model, spec: &SimSpec) -> Result<FlightData, SimulateError> {
     simulate_limited(model, spec, DEFAULT_MAX_SAMPLES)
 }
 
@@ -107,36 +181,36 @@ pub fn simulate_limited(
     model: &Model,
     spec: &SimSpec,
     max_samples: u64,
-) -> Result<FlightData, String> {
+) -> Result<FlightData, SimulateError> {
     if !(spec.duration_s > 0.0 && spec.duration_s.is_finite()) {
-        return Err(format!("duration {} s must be positive", spec.duration_s));
+        return Err(SimulateError::Duration(spec.duration_s));
     }
     if !(spec.rate_hz > 0.0 && spec.rate_hz <= 10_000.0) {
-        return Err(format!("rate {} Hz must be in (0, 10000]", spec.rate_hz));
+        return Err(SimulateError::Rate(spec.rate_hz));
     }
     let n = (spec.duration_s * spec.rate_hz).round() + 1.0;
     if n < 2.0 {
-        return Err(format!(
-            "{} s at {} Hz is a single sample: the rate must be at least 1/duration",
-            spec.duration_s, spec.rate_hz
-        ));
+        return Err(SimulateError::SingleSample {
+            duration_s: spec.duration_s,
+            rate_hz: spec.rate_hz,
+        });
     }
     if n > max_samples as f64 {
-        return Err(format!(
-            "{} s at {} Hz is {n:.0} samples, more than --max-samples {max_samples} (raise \
-             it, or shorten --duration or lower --rate)",
-            spec.duration_s, spec.rate_hz
-        ));
+        return Err(SimulateError::TooManySamples {
+            duration_s: spec.duration_s,
+            rate_hz: spec.rate_hz,
+            samples: n,
+            max_samples,
+        });
     }
     let steps = spec.duration_s / (1.0 / spec.rate_hz).min(MAX_STEP);
     let max_steps = max_samples.saturating_mul(STEPS_PER_SAMPLE_LIMIT);
     if steps > max_steps as f64 {
-        return Err(format!(
-            "{} s takes {steps:.0} integration steps of at most {MAX_STEP} s, more than \
-             {STEPS_PER_SAMPLE_LIMIT} × --max-samples {max_samples} (raise it, or shorten \
-             --duration)",
-            spec.duration_s
-        ));
+        return Err(SimulateError::TooManySteps {
+            duration_s: spec.duration_s,
+            steps,
+            max_samples,
+        });
     }
     let nz = &spec.noise;
     for (name, sigma) in [
@@ -146,15 +220,18 @@ pub fn simulate_limited(
         ("rate", nz.rate_dps),
     ] {
         if !(sigma.is_finite() && sigma >= 0.0) {
-            return Err(format!("{name} noise {sigma} must be a finite number ≥ 0"));
+            return Err(SimulateError::Noise {
+                channel: name,
+                sigma,
+            });
         }
     }
     let kind = model.vehicle.kind();
     if spec.manoeuvre.is_point_mass() != (kind == VehicleKind::PointMass) {
-        return Err(format!(
-            "manoeuvre `{}` is not for a {kind} vehicle",
-            spec.manoeuvre
-        ));
+        return Err(SimulateError::Manoeuvre {
+            manoeuvre: spec.manoeuvre,
+            vehicle: kind,
+        });
     }
     let dt_out = 1.0 / spec.rate_hz;
     // At most `max_samples` (checked above).
@@ -225,11 +302,11 @@ pub fn simulate_limited(
     Ok(truth.finish(meta, &spec.noise, spec.seed))
 }
 
-fn check_finite(x: &State, t: f64) -> Result<(), String> {
+fn check_finite(x: &State, t: f64) -> Result<(), SimulateError> {
     if x.is_finite() {
         Ok(())
     } else {
-        Err(format!("the simulated flight diverged at t = {t:.2} s"))
+        Err(SimulateError::Diverged(t))
     }
 }
 

@@ -18,13 +18,154 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
-
 use super::data::FlightData;
-use super::effects::{catalogue_names, find, Effect, EffectContext, Origin};
-use super::model::{Model, Vehicle};
-use super::params::FixedWingParams;
-use super::VehicleKind;
+use super::effects::{
+    catalogue_names, find, Effect, EffectContext, Origin, OriginError, ParamError,
+};
+use super::model::{Model, ModelError, Vehicle};
+use super::params::{FixedWingParams, ParamSetError};
+use super::{UnknownVehicle, VehicleKind};
+
+/// An effect spec, model file or model choice that cannot be used, naming the file, the field
+/// or the spec, and the problem.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum SpecError {
+    /// `--add`/`--effects` or a model file names an effect not in the catalogue.
+    #[error(
+        "unknown effect `{0}` (known: {known}, or aircraft:KEY for the aircraft's own numbers)",
+        known = catalogue_names().join(", ")
+    )]
+    UnknownEffect(String),
+    /// An [`EffectSpec`] built whose name is not in the catalogue.
+    #[error("unknown effect `{0}` (known: {known})", known = catalogue_names().join(", "))]
+    NotInCatalogue(String),
+    /// A key of `aircraft:KEY…` that is not a key of a parameter set.
+    #[error("`{key}` in `{spec}` is not an aircraft parameter")]
+    NotAircraftParameter {
+        /// The key.
+        key: String,
+        /// The spec it is in.
+        spec: String,
+    },
+    /// A `k=v` that is not one.
+    #[error("`{item}` in `{spec}` is not name=value")]
+    NotNameValue {
+        /// The item.
+        item: String,
+        /// The spec it is in.
+        spec: String,
+    },
+    /// A value that is not a finite number.
+    #[error("`{value}` for `{key}` in `{spec}` is not a finite number")]
+    NotFinite {
+        /// The value as written.
+        value: String,
+        /// Its parameter.
+        key: String,
+        /// The spec it is in.
+        spec: String,
+    },
+    /// `aircraft` alone.
+    #[error("`{0}` names no aircraft parameter (aircraft:KEY or aircraft:KEY=VALUE)")]
+    NoAircraftParameter(String),
+    /// A parameter the effect refuses (unknown, or out of its range).
+    #[error("`{spec}`: {error}")]
+    Param {
+        /// The spec, as on a command line.
+        spec: String,
+        /// What the effect says.
+        error: ParamError,
+    },
+    /// `aircraft:KEY` without a value where a model is built.
+    #[error("`{spec}`: a model needs a value for aircraft parameter `{key}`")]
+    AircraftNeedsValue {
+        /// The spec, as on a command line.
+        spec: String,
+        /// The key without a value.
+        key: String,
+    },
+    /// A model file that could not be read.
+    #[error("{}: cannot read", path.display())]
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A model file whose contents are refused.
+    #[error("{}: bad model file", path.display())]
+    BadFile {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong in it.
+        #[source]
+        source: Box<SpecError>,
+    },
+    /// Model-file text that is not TOML.
+    #[error(transparent)]
+    Toml(#[from] toml::de::Error),
+    /// No `vehicle` field.
+    #[error("missing field `vehicle` (point-mass or fixed-wing)")]
+    MissingVehicle,
+    /// An unknown vehicle family.
+    #[error(transparent)]
+    Vehicle(#[from] UnknownVehicle),
+    /// A top-level field of the wrong type.
+    #[error("field `{field}` must {expected}")]
+    FieldType {
+        /// The field.
+        field: &'static str,
+        /// What it must be or hold.
+        expected: &'static str,
+    },
+    /// An effect's parameter table that is not a table.
+    #[error("`[{0}]` must be a table of parameters")]
+    EffectTable(String),
+    /// `[origin]` that is not a table.
+    #[error("`[origin]` must be a table")]
+    OriginTable,
+    /// A parameter or origin value that is not a number.
+    #[error("`{0}` must be a number")]
+    NotANumber(String),
+    /// A top-level field that is neither a known one nor an effect in `effects`.
+    #[error("unknown field `{0}` (a parameter table for an effect not in `effects`?)")]
+    UnknownField(String),
+    /// A field of `[origin]` that is not one.
+    #[error("unknown field `origin.{0}`")]
+    UnknownOriginField(String),
+    /// A field of `[origin]` out of its range.
+    #[error("`origin.{key}`: {0}", key = .0.key)]
+    OriginField(OriginError),
+    /// The origin the model is built at is out of range.
+    #[error("origin: {0}")]
+    Origin(OriginError),
+    /// The parameter set cannot be had.
+    #[error(transparent)]
+    ParamSet(#[from] ParamSetError),
+    /// The model refuses an effect or an aircraft number.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// Neither the choice nor the data's metadata say which vehicle.
+    #[error(
+        "{}: no `# vehicle:` metadata; say which model with --vehicle or --model FILE",
+        data.display()
+    )]
+    NoVehicle {
+        /// The flight-data file.
+        data: PathBuf,
+    },
+    /// A fixed-wing model for data without controls.
+    #[error("{}: a fixed-wing model needs the control columns", data.display())]
+    NoControls {
+        /// The flight-data file.
+        data: PathBuf,
+    },
+    /// Building the model of a [`ModelChoice`] failed.
+    #[error("building the model")]
+    Building(#[source] Box<SpecError>),
+}
 
 /// One effect with the parameters given explicitly (the rest keep their defaults) — or, under
 /// the name `aircraft`, numbers of the aircraft's parameter set: `aircraft:c_m_alpha=-3.3`
@@ -47,50 +188,50 @@ impl EffectSpec {
     ///
     /// # Errors
     /// Unknown effect name, malformed `k=v`, non-numeric or non-finite value.
-    pub fn parse(text: &str) -> Result<Self, String> {
+    pub fn parse(text: &str) -> Result<Self, SpecError> {
         let (name, rest) = match text.split_once(':') {
             Some((n, r)) => (n.trim(), r),
             None => (text.trim(), ""),
         };
         let aircraft = name == AIRCRAFT;
         if !aircraft && find(name).is_none() {
-            return Err(format!(
-                "unknown effect `{name}` (known: {}, or aircraft:KEY for the aircraft's own \
-                 numbers)",
-                catalogue_names().join(", ")
-            ));
+            return Err(SpecError::UnknownEffect(name.to_string()));
         }
+        let not_aircraft = |key: &str| SpecError::NotAircraftParameter {
+            key: key.to_string(),
+            spec: text.to_string(),
+        };
         let mut params = Vec::new();
         let mut fit = Vec::new();
         for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             let Some((k, v)) = kv.split_once('=') else {
                 if aircraft {
-                    let key = crate::params::keys::find(kv).ok_or_else(|| {
-                        format!("`{kv}` in `{text}` is not an aircraft parameter")
-                    })?;
+                    let key = crate::params::keys::find(kv).ok_or_else(|| not_aircraft(kv))?;
                     fit.push(key.name.to_string());
                     continue;
                 }
-                return Err(format!("`{kv}` in `{text}` is not name=value"));
+                return Err(SpecError::NotNameValue {
+                    item: kv.to_string(),
+                    spec: text.to_string(),
+                });
             };
             if aircraft && crate::params::keys::find(k.trim()).is_none() {
-                return Err(format!(
-                    "`{}` in `{text}` is not an aircraft parameter",
-                    k.trim()
-                ));
+                return Err(not_aircraft(k.trim()));
             }
             let value: f64 = v
                 .trim()
                 .parse()
                 .ok()
                 .filter(|x: &f64| x.is_finite())
-                .ok_or_else(|| format!("`{v}` for `{k}` in `{text}` is not a finite number"))?;
+                .ok_or_else(|| SpecError::NotFinite {
+                    value: v.to_string(),
+                    key: k.to_string(),
+                    spec: text.to_string(),
+                })?;
             params.push((k.trim().to_string(), value));
         }
         if aircraft && params.is_empty() && fit.is_empty() {
-            return Err(format!(
-                "`{text}` names no aircraft parameter (aircraft:KEY or aircraft:KEY=VALUE)"
-            ));
+            return Err(SpecError::NoAircraftParameter(text.to_string()));
         }
         Ok(Self {
             name: name.to_string(),
@@ -109,19 +250,14 @@ impl EffectSpec {
     ///
     /// # Errors
     /// Unknown effect, unknown parameter, a value outside the parameter's range.
-    pub fn build(&self, ctx: &EffectContext) -> Result<Box<dyn Effect>, String> {
-        let info = find(&self.name).ok_or_else(|| {
-            format!(
-                "unknown effect `{}` (known: {})",
-                self.name,
-                catalogue_names().join(", ")
-            )
-        })?;
+    pub fn build(&self, ctx: &EffectContext) -> Result<Box<dyn Effect>, SpecError> {
+        let info = find(&self.name).ok_or_else(|| SpecError::NotInCatalogue(self.name.clone()))?;
         let mut effect = info.build(ctx);
         for (k, v) in &self.params {
-            effect
-                .set_param(k, *v)
-                .map_err(|e| format!("`{}`: {e}", self.to_arg()))?;
+            effect.set_param(k, *v).map_err(|error| SpecError::Param {
+                spec: self.to_arg(),
+                error,
+            })?;
         }
         Ok(effect)
     }
@@ -179,11 +315,15 @@ impl ModelSpec {
     /// # Errors
     /// Unreadable file, bad TOML, unknown keys, effects or parameters — naming the file and
     /// the field.
-    pub fn load(path: &Path) -> anyhow::Result<Self> {
-        let text = wireflight_fsio::read_text(path)
-            .with_context(|| format!("{}: cannot read", path.display()))?;
-        let mut spec = Self::from_toml(&text)
-            .with_context(|| format!("{}: bad model file", path.display()))?;
+    pub fn load(path: &Path) -> Result<Self, SpecError> {
+        let text = wireflight_fsio::read_text(path).map_err(|source| SpecError::Unreadable {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let mut spec = Self::from_toml(&text).map_err(|e| SpecError::BadFile {
+            path: path.to_path_buf(),
+            source: Box::new(e),
+        })?;
         spec.base_dir = path.parent().map(Path::to_path_buf);
         Ok(spec)
     }
@@ -192,18 +332,18 @@ impl ModelSpec {
     ///
     /// # Errors
     /// As [`load`](Self::load), without the file name.
-    pub fn from_toml(text: &str) -> anyhow::Result<Self> {
+    pub fn from_toml(text: &str) -> Result<Self, SpecError> {
         let table: toml::Table = text.parse()?;
         let vehicle: VehicleKind = match table.get("vehicle") {
-            Some(toml::Value::String(s)) => s.parse().map_err(anyhow::Error::msg)?,
-            Some(_) => bail!("field `vehicle` must be a string"),
-            None => bail!("missing field `vehicle` (point-mass or fixed-wing)"),
+            Some(toml::Value::String(s)) => s.parse()?,
+            Some(_) => return Err(field_type("vehicle", "be a string")),
+            None => return Err(SpecError::MissingVehicle),
         };
         let mut spec = Self::baseline(vehicle);
         if let Some(v) = table.get("aircraft") {
             spec.aircraft = v
                 .as_str()
-                .context("field `aircraft` must be a string")?
+                .ok_or_else(|| field_type("aircraft", "be a string"))?
                 .to_string();
         }
         let names: Vec<String> = match table.get("effects") {
@@ -213,22 +353,24 @@ impl ModelSpec {
                 .map(|v| {
                     v.as_str()
                         .map(str::to_string)
-                        .context("field `effects` must list effect names as strings")
+                        .ok_or_else(|| field_type("effects", "list effect names as strings"))
                 })
-                .collect::<anyhow::Result<_>>()?,
-            Some(_) => bail!("field `effects` must be an array of names"),
+                .collect::<Result<_, _>>()?,
+            Some(_) => return Err(field_type("effects", "be an array of names")),
+        };
+        let number = |v: &toml::Value, key: String| {
+            v.as_float()
+                .or_else(|| v.as_integer().map(|i| i as f64))
+                .ok_or(SpecError::NotANumber(key))
         };
         for name in &names {
-            let mut effect = EffectSpec::parse(name).map_err(anyhow::Error::msg)?;
+            let mut effect = EffectSpec::parse(name)?;
             if let Some(params) = table.get(name.as_str()) {
                 let params = params
                     .as_table()
-                    .with_context(|| format!("`[{name}]` must be a table of parameters"))?;
+                    .ok_or_else(|| SpecError::EffectTable(name.clone()))?;
                 for (k, v) in params {
-                    let value = v
-                        .as_float()
-                        .or_else(|| v.as_integer().map(|i| i as f64))
-                        .with_context(|| format!("`{name}.{k}` must be a number"))?;
+                    let value = number(v, format!("{name}.{k}"))?;
                     effect.params.push((k.clone(), value));
                 }
             }
@@ -238,22 +380,19 @@ impl ModelSpec {
             let known = ["vehicle", "aircraft", "effects", "origin"].contains(&key.as_str())
                 || names.contains(key);
             if !known {
-                bail!("unknown field `{key}` (a parameter table for an effect not in `effects`?)");
+                return Err(SpecError::UnknownField(key.clone()));
             }
             if key == "origin" {
-                let t = value.as_table().context("`[origin]` must be a table")?;
+                let t = value.as_table().ok_or(SpecError::OriginTable)?;
                 for (k, v) in t {
                     let slot = match k.as_str() {
                         "latitude_deg" => 0,
                         "longitude_deg" => 1,
                         "altitude_m" => 2,
-                        _ => bail!("unknown field `origin.{k}`"),
+                        _ => return Err(SpecError::UnknownOriginField(k.clone())),
                     };
-                    let v = v
-                        .as_float()
-                        .or_else(|| v.as_integer().map(|i| i as f64))
-                        .with_context(|| format!("`origin.{k}` must be a number"))?;
-                    Origin::check_field(k, v).map_err(|e| anyhow::anyhow!("`origin.{k}`: {e}"))?;
+                    let v = number(v, format!("origin.{k}"))?;
+                    Origin::check_field(k, v).map_err(SpecError::OriginField)?;
                     spec.origin[slot] = Some(v);
                 }
             }
@@ -265,7 +404,7 @@ impl ModelSpec {
     ///
     /// # Errors
     /// Unknown names.
-    pub fn add_effect_list(&mut self, list: &str) -> Result<(), String> {
+    pub fn add_effect_list(&mut self, list: &str) -> Result<(), SpecError> {
         for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
             self.effects.push(EffectSpec::parse(name)?);
         }
@@ -286,9 +425,9 @@ impl ModelSpec {
     /// # Errors
     /// Unknown aircraft, bad parameter names/values, effects for the other vehicle family,
     /// duplicates.
-    pub fn build(&self, default_origin: Origin) -> anyhow::Result<Model> {
+    pub fn build(&self, default_origin: Origin) -> Result<Model, SpecError> {
         let origin = self.origin(default_origin);
-        origin.check().map_err(|e| anyhow::anyhow!("origin: {e}"))?;
+        origin.check().map_err(SpecError::Origin)?;
         let vehicle = match self.vehicle {
             VehicleKind::PointMass => Vehicle::PointMass,
             VehicleKind::FixedWing => {
@@ -300,18 +439,18 @@ impl ModelSpec {
         for e in &self.effects {
             if e.is_aircraft() {
                 if let Some(k) = e.fit.first() {
-                    bail!(
-                        "`{}`: a model needs a value for aircraft parameter `{k}`",
-                        e.to_arg()
-                    );
+                    return Err(SpecError::AircraftNeedsValue {
+                        spec: e.to_arg(),
+                        key: k.clone(),
+                    });
                 }
                 for (k, v) in &e.params {
-                    model.set_aircraft(k, *v).map_err(anyhow::Error::msg)?;
+                    model.set_aircraft(k, *v)?;
                 }
                 continue;
             }
-            let effect = e.build(&ctx).map_err(anyhow::Error::msg)?;
-            model.add_effect(effect).map_err(anyhow::Error::msg)?;
+            let effect = e.build(&ctx)?;
+            model.add_effect(effect)?;
         }
         Ok(model)
     }
@@ -356,17 +495,16 @@ impl ModelChoice {
     /// # Errors
     /// No vehicle known, bad model file or parameter set, unknown effects, a fixed-wing
     /// model for data without controls.
-    pub fn build(&self, data_path: &Path, data: &FlightData) -> anyhow::Result<Model> {
+    pub fn build(&self, data_path: &Path, data: &FlightData) -> Result<Model, SpecError> {
         let mut spec = match &self.model_file {
             Some(path) => ModelSpec::load(path)?,
             None => {
-                let vehicle = self.vehicle.or(data.meta.vehicle).with_context(|| {
-                    format!(
-                        "{}: no `# vehicle:` metadata; say which model with --vehicle or \
-                         --model FILE",
-                        data_path.display()
-                    )
-                })?;
+                let vehicle =
+                    self.vehicle
+                        .or(data.meta.vehicle)
+                        .ok_or_else(|| SpecError::NoVehicle {
+                            data: data_path.to_path_buf(),
+                        })?;
                 let mut s = ModelSpec::baseline(vehicle);
                 if let Some(a) = &data.meta.aircraft {
                     s.aircraft = a.clone();
@@ -380,7 +518,7 @@ impl ModelChoice {
             spec.base_dir = None;
         }
         if let Some(list) = &self.effects {
-            spec.add_effect_list(list).map_err(anyhow::Error::msg)?;
+            spec.add_effect_list(list)?;
         }
         let origin = Origin {
             latitude_deg: data
@@ -391,13 +529,18 @@ impl ModelChoice {
             altitude_m: data.meta.altitude_m.unwrap_or(0.0),
         };
         if spec.vehicle == VehicleKind::FixedWing && data.controls.is_none() {
-            bail!(
-                "{}: a fixed-wing model needs the control columns",
-                data_path.display()
-            );
+            return Err(SpecError::NoControls {
+                data: data_path.to_path_buf(),
+            });
         }
-        spec.build(origin).context("building the model")
+        spec.build(origin)
+            .map_err(|e| SpecError::Building(Box::new(e)))
     }
+}
+
+/// [`SpecError::FieldType`].
+fn field_type(field: &'static str, expected: &'static str) -> SpecError {
+    SpecError::FieldType { field, expected }
 }
 
 #[cfg(test)]

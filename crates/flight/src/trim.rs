@@ -27,6 +27,72 @@ pub struct Trim {
 
 const N: usize = 8;
 
+/// Why a model cannot be trimmed at an airspeed: the aircraft cannot fly that condition.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum TrimError {
+    /// The model is a point mass.
+    #[error("trim needs a fixed-wing model")]
+    NotFixedWing,
+    /// The airspeed is zero, negative or not finite.
+    #[error("no trim at airspeed {0} m/s: level flight needs a positive airspeed")]
+    Airspeed(f64),
+    /// The model's accelerations are not finite at the starting guess.
+    #[error(
+        "no trim at {0} m/s: the model's accelerations are not finite there (an effect \
+         parameter such as the wind, or the parameter set, is beyond what can fly)"
+    )]
+    NotFinite(f64),
+    /// No unknown (or every one) changes the accelerations: Newton's step cannot be taken.
+    #[error(
+        "no trim at {0} m/s: the controls and attitude hardly change the accelerations \
+         (is the mass or an inertia far too large, or the air density or wing area far too \
+         small, for this airspeed?)"
+    )]
+    Unresponsive(f64),
+    /// Some unknowns change nothing in the equations of motion (in words that point at the
+    /// input responsible).
+    #[error("no trim at {va} m/s: {} changes nothing in the equations of motion", .dead.join(", "))]
+    DeadUnknowns {
+        /// The airspeed, m/s.
+        va: f64,
+        /// The unknowns that change nothing.
+        dead: Vec<&'static str>,
+    },
+    /// Newton's method left a residual above 1e-6.
+    #[error(
+        "no trim at {va} m/s (residual {residual:.2e}): the aircraft cannot hold that speed level"
+    )]
+    NoConvergence {
+        /// The airspeed, m/s.
+        va: f64,
+        /// The largest residual left.
+        residual: f64,
+    },
+    /// The trim found is beyond the stall angle α0.
+    #[error(
+        "no trim at {va} m/s below the stall: it would need α = {:.0}° (stall at {:.0}°)",
+        .alpha.to_degrees(),
+        .alpha0.to_degrees()
+    )]
+    Stalled {
+        /// The airspeed, m/s.
+        va: f64,
+        /// The angle of attack of the trim, rad.
+        alpha: f64,
+        /// The stall angle, rad.
+        alpha0: f64,
+    },
+    /// The trim needs a throttle outside 0..1.
+    #[error("trim at {va} m/s needs throttle {throttle:.2}, outside 0..1")]
+    Throttle {
+        /// The airspeed, m/s.
+        va: f64,
+        /// The throttle it would need.
+        throttle: f64,
+    },
+}
+
 fn build(model: &Model, z: &[f64; N], va: f64, yaw: f64, pos: DVec3) -> (State, Controls) {
     let [alpha, beta, theta, phi, de, da, dr, dt] = *z;
     let attitude = EulerZyx::new(yaw, theta, phi);
@@ -65,23 +131,18 @@ fn residuals(model: &Model, z: &[f64; N], va: f64, yaw: f64, pos: DVec3) -> [f64
 /// # Errors
 /// A point-mass model, no trim found, a trim beyond the stall angle α0 (residual above 1e-6 after 50 iterations, or a
 /// throttle outside 0..1): the aircraft cannot fly that condition.
-pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Trim, String> {
+pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Trim, TrimError> {
     if !matches!(model.vehicle, Vehicle::FixedWing(_)) {
-        return Err("trim needs a fixed-wing model".into());
+        return Err(TrimError::NotFixedWing);
     }
     if !(va.is_finite() && va > 0.0) {
-        return Err(format!(
-            "no trim at airspeed {va} m/s: level flight needs a positive airspeed"
-        ));
+        return Err(TrimError::Airspeed(va));
     }
     let norm = |r: &[f64; N]| r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let mut z = [0.05, 0.0, 0.05, 0.0, -0.1, 0.0, 0.0, 0.5];
     let mut r = residuals(model, &z, va, yaw, pos_ned);
     if !r.iter().all(|v| v.is_finite()) {
-        return Err(format!(
-            "no trim at {va} m/s: the model's accelerations are not finite there (an effect \
-             parameter such as the wind, or the parameter set, is beyond what can fly)"
-        ));
+        return Err(TrimError::NotFinite(va));
     }
     for _ in 0..50 {
         if norm(&r) < 1e-10 {
@@ -121,26 +182,24 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
     }
     let residual = norm(&r);
     if residual.is_nan() || residual >= 1e-6 {
-        return Err(format!(
-            "no trim at {va} m/s (residual {residual:.2e}): the aircraft cannot hold that speed level"
-        ));
+        return Err(TrimError::NoConvergence { va, residual });
     }
     let (state, controls) = build(model, &z, va, yaw, pos_ned);
     if let Vehicle::FixedWing(p) = &model.vehicle {
         // Newton also finds "trims" hanging on the propeller beyond the stall; reject them.
         if z[0].abs() >= p.longitudinal.alpha0 {
-            return Err(format!(
-                "no trim at {va} m/s below the stall: it would need α = {:.0}° (stall at {:.0}°)",
-                z[0].to_degrees(),
-                p.longitudinal.alpha0.to_degrees()
-            ));
+            return Err(TrimError::Stalled {
+                va,
+                alpha: z[0],
+                alpha0: p.longitudinal.alpha0,
+            });
         }
     }
     if !(0.0..=1.0).contains(&controls.throttle) {
-        return Err(format!(
-            "trim at {va} m/s needs throttle {:.2}, outside 0..1",
-            controls.throttle
-        ));
+        return Err(TrimError::Throttle {
+            va,
+            throttle: controls.throttle,
+        });
     }
     Ok(Trim {
         state,
@@ -152,7 +211,7 @@ pub fn trim_level(model: &Model, va: f64, yaw: f64, pos_ned: DVec3) -> Result<Tr
 
 /// Why the trim's Newton step cannot be taken: which unknowns change nothing (a zero column
 /// of the Jacobian), in words that point at the input responsible.
-fn singular_trim(jac: &[[f64; N]; N], va: f64) -> String {
+fn singular_trim(jac: &[[f64; N]; N], va: f64) -> TrimError {
     const UNKNOWNS: [&str; N] = [
         "the angle of attack",
         "the sideslip",
@@ -170,16 +229,9 @@ fn singular_trim(jac: &[[f64; N]; N], va: f64) -> String {
         .map(|j| UNKNOWNS[j])
         .collect();
     if dead.is_empty() || dead.len() == N {
-        format!(
-            "no trim at {va} m/s: the controls and attitude hardly change the accelerations \
-             (is the mass or an inertia far too large, or the air density or wing area far too \
-             small, for this airspeed?)"
-        )
+        TrimError::Unresponsive(va)
     } else {
-        format!(
-            "no trim at {va} m/s: {} changes nothing in the equations of motion",
-            dead.join(", ")
-        )
+        TrimError::DeadUnknowns { va, dead }
     }
 }
 

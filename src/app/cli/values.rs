@@ -14,6 +14,7 @@ pub(super) fn time_step(s: &str) -> Result<f64, String> {
 
 pub(super) fn parse_vehicle(s: &str) -> Result<VehicleKind, String> {
     s.parse()
+        .map_err(|e: crate::flight::UnknownVehicle| e.to_string())
 }
 
 pub(super) fn non_negative(s: &str) -> Result<f64, String> {

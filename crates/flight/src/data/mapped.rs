@@ -37,20 +37,12 @@
 //! parsed). Errors name the file, the line and the column, as the CSV reader's do.
 
 use std::collections::BTreeMap;
-use std::f64::consts::{FRAC_PI_2, PI};
-use std::fmt;
-use std::path::Path;
+use std::f64::consts::PI;
 
-use glam::DVec3;
-
-use super::import::ImportReport;
-use super::read::{flat_earth_ned, parse_metadata};
-use super::{DataError, DataErrorKind, FlightData, Metadata, METRES_PER_FOOT, MPS_PER_KNOT};
-use crate::Controls;
-use wireflight_geometry::euler::EulerZyx;
+use super::{METRES_PER_FOOT, MPS_PER_KNOT};
 
 mod reader;
-pub use reader::*;
+pub use reader::{parse, read, MappedError};
 
 /// Largest file read, bytes.
 pub const MAX_MAPPED_BYTES: u64 = 1 << 30;
@@ -73,7 +65,8 @@ pub enum Dimension {
 }
 
 impl Dimension {
-    fn name(self) -> &'static str {
+    /// The kind in words, with its article: `a time`, `an angle`.
+    pub fn name(self) -> &'static str {
         match self {
             Self::Time => "a time",
             Self::Length => "a length",
@@ -82,6 +75,11 @@ impl Dimension {
             Self::AngularRate => "an angular rate",
             Self::Fraction => "a fraction",
         }
+    }
+
+    /// The names of its [`UNITS`], comma-separated.
+    fn units(self) -> String {
+        names(UNITS.iter().filter(|u| u.2 == self).map(|u| u.0))
     }
 }
 
@@ -155,17 +153,150 @@ const SETS: &[(&str, &[&str])] = &[
     ("controls", &["throttle", "elevator", "aileron", "rudder"]),
 ];
 
-/// A column map that cannot be used.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ColumnMapError(pub String);
+/// A column map that cannot be used: the map's file, when it came from one, and what is wrong.
+///
+/// Displays as `column map: FILE: PROBLEM` (the file part where there is one).
+#[derive(Debug, thiserror::Error)]
+#[error("column map: {}{problem}", .file.as_deref().map_or(String::new(), |f| format!("{f}: ")))]
+pub struct ColumnMapError {
+    /// The map's file (`--columns FILE.toml`), if it came from one.
+    pub file: Option<String>,
+    /// What is wrong.
+    pub problem: MapProblem,
+}
 
-impl fmt::Display for ColumnMapError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "column map: {}", self.0)
+impl From<MapProblem> for ColumnMapError {
+    fn from(problem: MapProblem) -> Self {
+        Self {
+            file: None,
+            problem,
+        }
     }
 }
 
-impl std::error::Error for ColumnMapError {}
+/// What is wrong, in a [`ColumnMapError`].
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MapProblem {
+    /// The map's file could not be read.
+    #[error("cannot read: {0}")]
+    Unreadable(std::io::Error),
+    /// The TOML form is not TOML, or has unknown keys.
+    #[error("{0}")]
+    Toml(toml::de::Error),
+    /// A delimiter that is not one character.
+    #[error("delimiter `{0}` must be one character")]
+    Delimiter(String),
+    /// An entry of the inline form that cannot be used.
+    #[error("entry `{entry}`: {error}")]
+    Entry {
+        /// The entry as written.
+        entry: String,
+        /// What is wrong with it.
+        error: EntryError,
+    },
+    /// An entry of the TOML form's `[columns]` that cannot be used.
+    #[error("columns.{quantity}: {error}")]
+    Column {
+        /// The quantity, as written.
+        quantity: String,
+        /// What is wrong with it.
+        error: EntryError,
+    },
+    /// No time.
+    #[error("no `time` (e.g. time=t_s, or time=t_us:us)")]
+    NoTime,
+    /// Both `down` and `height`.
+    #[error("`down` and `height` both given: give one")]
+    DownAndHeight,
+    /// A local and a geodetic position.
+    #[error("both a local position (north, east) and a geodetic one (lat, lon): give one")]
+    LocalAndGeodetic,
+    /// No position.
+    #[error("no position: map north, east and down (or height), or lat, lon and alt")]
+    NoPosition,
+    /// Part of a local position.
+    #[error("the position needs {} too", .0.join(", "))]
+    PartialPosition(Vec<&'static str>),
+    /// Part of a geodetic position.
+    #[error("the geodetic position needs {} too", .0.join(", "))]
+    PartialGeodetic(Vec<&'static str>),
+    /// Both `alt` and `down` or `height`.
+    #[error("`alt` and `down`/`height` both given: give one")]
+    AltAndDown,
+    /// Part of a set that comes whole.
+    #[error(
+        "{set} comes as a set: `{mapped}` is mapped, so map {} too",
+        .missing.join(", ")
+    )]
+    PartialSet {
+        /// The set (`attitude`, …).
+        set: &'static str,
+        /// A quantity of it that is mapped.
+        mapped: &'static str,
+        /// Those that are not.
+        missing: Vec<&'static str>,
+    },
+}
+
+/// What is wrong with one entry of a column map.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum EntryError {
+    /// Not `QUANTITY=COLUMN…`.
+    #[error("not QUANTITY=COLUMN[:SCALE[:OFFSET]]")]
+    NotAnEntry,
+    /// A quantity not in [`QUANTITIES`].
+    #[error(
+        "unknown quantity `{0}` (quantities: {known})",
+        known = names(QUANTITIES.iter().map(|q| q.0))
+    )]
+    UnknownQuantity(String),
+    /// A quantity given twice.
+    #[error("{0} is mapped twice")]
+    Twice(&'static str),
+    /// An empty column name.
+    #[error("no column name")]
+    NoColumn,
+    /// A unit not in [`UNITS`].
+    #[error(
+        "unknown unit `{unit}` (units of {}: {})",
+        .dimension.name(),
+        .dimension.units()
+    )]
+    UnknownUnit {
+        /// The unit as written.
+        unit: String,
+        /// The quantity's kind.
+        dimension: Dimension,
+    },
+    /// A unit of another kind than the quantity.
+    #[error("`{unit}` is {} but {quantity} is {}", .unit_dimension.name(), .dimension.name())]
+    WrongUnit {
+        /// The unit as written.
+        unit: String,
+        /// Its kind.
+        unit_dimension: Dimension,
+        /// The quantity.
+        quantity: &'static str,
+        /// The quantity's kind.
+        dimension: Dimension,
+    },
+    /// A scale of 0 or not finite.
+    #[error("scale `{0}` must be a finite number other than 0")]
+    ZeroScale(String),
+    /// A scale that is neither a unit nor a number.
+    #[error("`{0}` is neither a unit nor a number")]
+    NotUnitOrNumber(String),
+    /// An offset that is not a finite number.
+    #[error("offset `{0}` is not a finite number")]
+    BadOffset(String),
+}
+
+/// Names, comma-separated.
+fn names<'a>(names: impl Iterator<Item = &'a str>) -> String {
+    names.collect::<Vec<_>>().join(", ")
+}
 
 /// One quantity's source.
 #[derive(Clone, Debug, PartialEq)]
@@ -192,35 +323,36 @@ pub struct ColumnMap {
 }
 
 /// The scale of `text`: a unit, a number, or `NUMBER*UNIT`; checked against the dimension.
-fn parse_scale(text: &str, quantity: &str, dim: Dimension) -> Result<(f64, String), String> {
+fn parse_scale(
+    text: &str,
+    quantity: &'static str,
+    dim: Dimension,
+) -> Result<(f64, String), EntryError> {
     let text = text.trim();
-    let unit = |u: &str| -> Result<f64, String> {
-        let (_, f, d) = UNITS.iter().find(|(n, _, _)| *n == u).ok_or_else(|| {
-            let known: Vec<&str> = UNITS
+    let unit = |u: &str| -> Result<f64, EntryError> {
+        let (_, f, d) =
+            UNITS
                 .iter()
-                .filter(|(_, _, d)| *d == dim)
-                .map(|(n, _, _)| *n)
-                .collect();
-            format!(
-                "unknown unit `{u}` (units of {}: {})",
-                dim.name(),
-                known.join(", ")
-            )
-        })?;
+                .find(|(n, _, _)| *n == u)
+                .ok_or_else(|| EntryError::UnknownUnit {
+                    unit: u.to_string(),
+                    dimension: dim,
+                })?;
         if *d != dim {
-            return Err(format!(
-                "`{u}` is {} but {quantity} is {}",
-                d.name(),
-                dim.name()
-            ));
+            return Err(EntryError::WrongUnit {
+                unit: u.to_string(),
+                unit_dimension: *d,
+                quantity,
+                dimension: dim,
+            });
         }
         Ok(*f)
     };
-    let number = |n: &str| -> Result<f64, String> {
+    let number = |n: &str| -> Result<f64, EntryError> {
         match n.trim().parse::<f64>() {
             Ok(v) if v.is_finite() && v != 0.0 => Ok(v),
-            Ok(_) => Err(format!("scale `{n}` must be a finite number other than 0")),
-            Err(_) => Err(format!("`{n}` is neither a unit nor a number")),
+            Ok(_) => Err(EntryError::ZeroScale(n.to_string())),
+            Err(_) => Err(EntryError::NotUnitOrNumber(n.to_string())),
         }
     };
     if let Some((n, u)) = text.split_once('*') {
@@ -244,9 +376,13 @@ impl ColumnMap {
     /// [`from_toml`](Self::from_toml) reject.
     pub fn from_arg(value: &str) -> Result<Self, ColumnMapError> {
         if value.trim_end().to_ascii_lowercase().ends_with(".toml") {
+            let in_file = |problem| ColumnMapError {
+                file: Some(value.to_string()),
+                problem,
+            };
             let text = wireflight_fsio::read_text(std::path::Path::new(value))
-                .map_err(|e| ColumnMapError(format!("{value}: cannot read: {e}")))?;
-            return Self::from_toml(&text).map_err(|e| ColumnMapError(format!("{value}: {}", e.0)));
+                .map_err(|e| in_file(MapProblem::Unreadable(e)))?;
+            return Self::from_toml(&text).map_err(|e| in_file(e.problem));
         }
         Self::parse(value)
     }
@@ -259,10 +395,13 @@ impl ColumnMap {
     pub fn parse(spec: &str) -> Result<Self, ColumnMapError> {
         let mut map = ColumnMap::default();
         for entry in spec.split(',').map(str::trim).filter(|e| !e.is_empty()) {
-            let bad = |why: String| ColumnMapError(format!("entry `{entry}`: {why}"));
+            let bad = |error| MapProblem::Entry {
+                entry: entry.to_string(),
+                error,
+            };
             let (q, rest) = entry
                 .split_once('=')
-                .ok_or_else(|| bad("not QUANTITY=COLUMN[:SCALE[:OFFSET]]".into()))?;
+                .ok_or_else(|| bad(EntryError::NotAnEntry))?;
             let mut parts = rest.splitn(3, ':');
             let column = parts.next().unwrap_or("").trim();
             let scale = parts.next();
@@ -298,21 +437,20 @@ impl ColumnMap {
             scale: Option<f64>,
             offset: Option<f64>,
         }
-        let file: File = toml::from_str(text).map_err(|e| ColumnMapError(e.to_string()))?;
+        let file: File = toml::from_str(text).map_err(MapProblem::Toml)?;
         let mut map = ColumnMap::default();
         if let Some(d) = file.delimiter {
             let mut chars = d.chars();
             match (chars.next(), chars.next()) {
                 (Some(c), None) if c != '"' && c != '\n' => map.delimiter = Some(c),
-                _ => {
-                    return Err(ColumnMapError(format!(
-                        "delimiter `{d}` must be one character"
-                    )))
-                }
+                _ => return Err(MapProblem::Delimiter(d).into()),
             }
         }
         for (q, source) in &file.columns {
-            let bad = |why: String| ColumnMapError(format!("columns.{q}: {why}"));
+            let bad = |error| MapProblem::Column {
+                quantity: q.clone(),
+                error,
+            };
             match source {
                 Source::Column(c) => map.add(q, c, None, None).map_err(bad)?,
                 Source::Full(f) => {
@@ -338,22 +476,16 @@ impl ColumnMap {
         column: &str,
         scale: Option<&str>,
         offset: Option<&str>,
-    ) -> Result<(), String> {
+    ) -> Result<(), EntryError> {
         let (name, dim, _) = QUANTITIES
             .iter()
             .find(|(n, _, _)| *n == quantity)
-            .ok_or_else(|| {
-                let names: Vec<&str> = QUANTITIES.iter().map(|(n, _, _)| *n).collect();
-                format!(
-                    "unknown quantity `{quantity}` (quantities: {})",
-                    names.join(", ")
-                )
-            })?;
+            .ok_or_else(|| EntryError::UnknownQuantity(quantity.to_string()))?;
         if self.entries.iter().any(|e| e.quantity == *name) {
-            return Err(format!("{name} is mapped twice"));
+            return Err(EntryError::Twice(name));
         }
         if column.is_empty() {
-            return Err("no column name".into());
+            return Err(EntryError::NoColumn);
         }
         let (scale, unit) = match scale.map(str::trim).filter(|s| !s.is_empty()) {
             Some(s) => parse_scale(s, name, *dim)?,
@@ -362,7 +494,7 @@ impl ColumnMap {
         let offset = match offset.map(str::trim).filter(|s| !s.is_empty()) {
             Some(o) => match o.parse::<f64>() {
                 Ok(v) if v.is_finite() => v,
-                _ => return Err(format!("offset `{o}` is not a finite number")),
+                _ => return Err(EntryError::BadOffset(o.to_string())),
             },
             None => 0.0,
         };
@@ -390,28 +522,19 @@ impl ColumnMap {
     /// # Errors
     /// Which quantities are missing or clash.
     pub fn check(&self) -> Result<(), ColumnMapError> {
-        let bad = |s: String| Err(ColumnMapError(s));
+        let bad = |problem: MapProblem| Err(problem.into());
         if !self.has("time") {
-            return bad("no `time` (e.g. time=t_s, or time=t_us:us)".into());
+            return bad(MapProblem::NoTime);
         }
         if self.has("down") && self.has("height") {
-            return bad("`down` and `height` both given: give one".into());
+            return bad(MapProblem::DownAndHeight);
         }
         let local = ["north", "east"].iter().any(|q| self.has(q));
         let geo = ["lat", "lon", "alt"].iter().any(|q| self.has(q));
         let vertical = self.has("down") || self.has("height");
         match (local, geo) {
-            (true, true) => {
-                return bad(
-                    "both a local position (north, east) and a geodetic one (lat, lon): give one"
-                        .into(),
-                )
-            }
-            (false, false) => {
-                return bad(
-                    "no position: map north, east and down (or height), or lat, lon and alt".into(),
-                )
-            }
+            (true, true) => return bad(MapProblem::LocalAndGeodetic),
+            (false, false) => return bad(MapProblem::NoPosition),
             (true, false) => {
                 let miss: Vec<&str> = ["north", "east"]
                     .into_iter()
@@ -419,7 +542,7 @@ impl ColumnMap {
                     .chain((!vertical).then_some("down (or height)"))
                     .collect();
                 if !miss.is_empty() {
-                    return bad(format!("the position needs {} too", miss.join(", ")));
+                    return bad(MapProblem::PartialPosition(miss));
                 }
             }
             (false, true) => {
@@ -429,25 +552,22 @@ impl ColumnMap {
                     .chain((!self.has("alt") && !vertical).then_some("alt (or height)"))
                     .collect();
                 if !miss.is_empty() {
-                    return bad(format!(
-                        "the geodetic position needs {} too",
-                        miss.join(", ")
-                    ));
+                    return bad(MapProblem::PartialGeodetic(miss));
                 }
                 if self.has("alt") && vertical {
-                    return bad("`alt` and `down`/`height` both given: give one".into());
+                    return bad(MapProblem::AltAndDown);
                 }
             }
         }
         for (set, names) in SETS {
             let have: Vec<&str> = names.iter().copied().filter(|q| self.has(q)).collect();
             if !have.is_empty() && have.len() < names.len() {
-                let miss: Vec<&str> = names.iter().copied().filter(|q| !self.has(q)).collect();
-                return bad(format!(
-                    "{set} comes as a set: `{}` is mapped, so map {} too",
-                    have[0],
-                    miss.join(", ")
-                ));
+                let missing: Vec<&str> = names.iter().copied().filter(|q| !self.has(q)).collect();
+                return bad(MapProblem::PartialSet {
+                    set,
+                    mapped: have[0],
+                    missing,
+                });
             }
         }
         Ok(())

@@ -22,7 +22,7 @@
 //! velocity from NED velocity and attitude. [`FlightData::derived`] lists what was derived.
 //!
 //! The smoothing differentiator that does this, and how its window is chosen, are described
-//! in [`crate::derive`].
+//! in [`crate::derive`], which works on plain slices and knows nothing of this module.
 //!
 //! # Writing
 //! [`write()`] / [`to_csv_string`] write the wireflight dialect: metadata, then the channels
@@ -31,16 +31,20 @@
 //! rounding of the degree↔radian conversion).
 //!
 //! # Layout
-//! This file holds the data types ([`FlightData`], [`Metadata`]), the errors ([`DataError`])
-//! and the unit constants; `columns.rs` the column tables and dialect detection, `read.rs` the
-//! reader, `write.rs` the writer. The differentiator and angle unwrapping live in
-//! [`crate::derive`] and are re-exported here.
+//! This file holds the data types ([`FlightData`], [`Metadata`]), the errors ([`DataError`],
+//! [`ValidationError`]) and the unit constants; `columns.rs` the column tables and dialect
+//! detection, `read.rs` the reader, `write.rs` the writer, `fill.rs` the filling-in of missing
+//! channels. [`import`] chooses among the readers (this CSV's, [`mapped`], [`px4`] on
+//! [`ulog`]), which say what they found in a [`report::ImportReport`]. The differentiator and
+//! angle unwrapping live in [`crate::derive`] and are re-exported here.
 
 mod columns;
+mod fill;
 pub mod import;
 pub mod mapped;
 pub mod px4;
 mod read;
+pub mod report;
 pub mod ulog;
 mod write;
 
@@ -48,14 +52,14 @@ use std::fmt;
 
 use glam::DVec3;
 
-use super::derive;
 use super::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
 pub use self::columns::JSBSIM_COLUMNS;
-pub use self::import::{load, ImportReport, LoadOptions, Loaded};
+pub use self::import::{load, ImportError, LoadOptions, Loaded};
 pub use self::read::{parse, read};
-pub use self::write::{to_csv_string, write};
+pub use self::report::ImportReport;
+pub use self::write::{to_csv_string, write, WriteError};
 pub use super::derive::{
     body_rates_from_attitude, unwrap_angles, unwrap_attitude, Differentiator, Window,
     DEFAULT_HALF_WIDTH_S, MAX_HALF_SAMPLES, MIN_HALF_SAMPLES,
@@ -252,6 +256,40 @@ impl std::error::Error for DataError {
     }
 }
 
+/// Flight data that breaks an invariant of [`FlightData`] ([`FlightData::validate`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ValidationError {
+    /// A channel with another number of samples than the times.
+    #[error("{channel} has {len} samples but time has {expected}")]
+    Length {
+        /// The channel (`pos_ned`, `attitude`, …).
+        channel: &'static str,
+        /// Its samples.
+        len: usize,
+        /// Samples of the time.
+        expected: usize,
+    },
+    /// A time not after the one before it.
+    #[error("time[{index}] = {time} is not after time[{}] = {previous}", .index - 1)]
+    TimeNotIncreasing {
+        /// The sample.
+        index: usize,
+        /// Its time, s.
+        time: f64,
+        /// The time of the sample before, s.
+        previous: f64,
+    },
+    /// A value that is NaN or infinite.
+    #[error("{channel}[{index}] is not finite")]
+    NotFinite {
+        /// The channel (`time`, `pos_ned`, …).
+        channel: &'static str,
+        /// The sample.
+        index: usize,
+    },
+}
+
 // ---------------------------------------------------------------------------------------------
 // FlightData methods
 
@@ -293,13 +331,19 @@ impl FlightData {
     /// increase strictly, and all values are finite.
     ///
     /// # Errors
-    /// A sentence saying what is wrong.
-    pub fn validate(&self) -> Result<(), String> {
+    /// The first invariant broken.
+    pub fn validate(&self) -> Result<(), ValidationError> {
         let n = self.len();
-        let check_len = |name: &str, m: Option<usize>| match m {
-            Some(m) if m != n => Err(format!("{name} has {m} samples but time has {n}")),
+        let check_len = |channel: &'static str, m: Option<usize>| match m {
+            Some(len) if len != n => Err(ValidationError::Length {
+                channel,
+                len,
+                expected: n,
+            }),
             _ => Ok(()),
         };
+        let not_finite =
+            |channel: &'static str, index: usize| ValidationError::NotFinite { channel, index };
         check_len("pos_ned", Some(self.pos_ned.len()))?;
         check_len("attitude", self.attitude.as_ref().map(Vec::len))?;
         check_len("vel_ned", self.vel_ned.as_ref().map(Vec::len))?;
@@ -309,21 +353,21 @@ impl FlightData {
         check_len("controls", self.controls.as_ref().map(Vec::len))?;
         for (i, t) in self.time.iter().enumerate() {
             if !t.is_finite() {
-                return Err(format!("time[{i}] is not finite"));
+                return Err(not_finite("time", i));
             }
             if i > 0 && *t <= self.time[i - 1] {
-                return Err(format!(
-                    "time[{i}] = {t} is not after time[{}] = {}",
-                    i - 1,
-                    self.time[i - 1]
-                ));
+                return Err(ValidationError::TimeNotIncreasing {
+                    index: i,
+                    time: *t,
+                    previous: self.time[i - 1],
+                });
             }
         }
-        let vecs = |name: &str, v: Option<&Vec<DVec3>>| -> Result<(), String> {
-            match v.and_then(|v| v.iter().position(|x| !x.is_finite())) {
-                Some(i) => Err(format!("{name}[{i}] is not finite")),
-                None => Ok(()),
-            }
+        let vecs = |channel: &'static str, v: Option<&Vec<DVec3>>| match v
+            .and_then(|v| v.iter().position(|x| !x.is_finite()))
+        {
+            Some(i) => Err(not_finite(channel, i)),
+            None => Ok(()),
         };
         vecs("pos_ned", Some(&self.pos_ned))?;
         vecs("vel_ned", self.vel_ned.as_ref())?;
@@ -334,14 +378,14 @@ impl FlightData {
             .as_ref()
             .and_then(|a| a.iter().position(|e| !e.is_finite()))
         {
-            return Err(format!("attitude[{i}] is not finite"));
+            return Err(not_finite("attitude", i));
         }
         if let Some(i) = self
             .airspeed
             .as_ref()
             .and_then(|a| a.iter().position(|x| !x.is_finite()))
         {
-            return Err(format!("airspeed[{i}] is not finite"));
+            return Err(not_finite("airspeed", i));
         }
         if let Some(i) = self.controls.as_ref().and_then(|c| {
             c.iter().position(|c| {
@@ -351,7 +395,7 @@ impl FlightData {
                     && c.rudder.is_finite())
             })
         }) {
-            return Err(format!("controls[{i}] is not finite"));
+            return Err(not_finite("controls", i));
         }
         Ok(())
     }
@@ -385,27 +429,6 @@ impl FlightData {
         let (t0, t1) = (self.time[i], self.time[i + 1]);
         let s = ((t - t0) / (t1 - t0)).clamp(0.0, 1.0);
         Some(self.pos_ned[i].lerp(self.pos_ned[i + 1], s))
-    }
-
-    /// [`derive_missing_with`](Self::derive_missing_with) with the default [`Window`].
-    /// [`parse`] and [`read`] call this before returning.
-    pub fn derive_missing(&mut self) {
-        self.derive_missing_with(Window::default());
-    }
-
-    /// Fills absent channels that can be computed, and records them in
-    /// [`derived`](Self::derived):
-    ///
-    /// * `vel_ned`: R·vel_body when attitude and body velocity are present (exact), else the
-    ///   smoothed derivative of the positions;
-    /// * `rates_body`: from the smoothed derivatives of the continuously unwrapped attitude
-    ///   ([`body_rates_from_attitude`]);
-    /// * `vel_body`: Rᵀ·vel_ned when attitude is present.
-    ///
-    /// Present channels are never changed. Does nothing with fewer than two samples or when
-    /// [`validate`](Self::validate) fails.
-    pub fn derive_missing_with(&mut self, window: Window) {
-        derive::derive_missing(self, window);
     }
 }
 

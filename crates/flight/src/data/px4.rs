@@ -32,15 +32,15 @@ use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::import::{rate_text, ImportReport};
 use super::read::flat_earth_ned;
-use super::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
+use super::report::{rate_text, ImportReport};
+use super::ulog::{UlogError, UlogErrorKind, UlogFile};
 use super::{FlightData, Metadata};
 use crate::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
 mod series;
-use series::*;
+use series::{slerp, Series};
 
 /// Highest default rate of the time base, Hz (a log's 100–250 Hz estimates are resampled to
 /// this unless [`UlogOptions::rate_hz`] says otherwise).
@@ -361,7 +361,7 @@ pub fn from_ulog(
         .push(("ulog_time_zero_us".into(), format!("{zero_us:.0}")));
     data.derive_missing();
     if let Err(why) = data.validate() {
-        return Err(err(UlogErrorKind::BadValues(why)));
+        return Err(err(UlogErrorKind::BadValues(why.to_string())));
     }
     report.samples = data.len();
     report.rate_hz = Some(rate);
@@ -659,16 +659,6 @@ fn use_channel(
         series.gap_note(report);
     }
     used
-}
-
-/// The field names of a topic, for errors (at most 12).
-fn field_list(t: &Topic) -> String {
-    let names: Vec<&str> = t.fields.iter().map(|f| f.name.as_str()).collect();
-    if names.len() > 12 {
-        format!("{}, … ({} fields)", names[..12].join(", "), names.len())
-    } else {
-        names.join(", ")
-    }
 }
 
 #[cfg(test)]

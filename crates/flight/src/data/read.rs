@@ -144,11 +144,17 @@ pub(super) fn parse_metadata(rest: &str, meta: &mut Metadata) -> Result<(), Data
         }
     };
     match key {
-        "vehicle" => meta.vehicle = Some(value.parse::<VehicleKind>().map_err(bad)?),
+        "vehicle" => {
+            meta.vehicle = Some(
+                value
+                    .parse::<VehicleKind>()
+                    .map_err(|e| bad(e.to_string()))?,
+            )
+        }
         "aircraft" => meta.aircraft = Some(value.to_string()),
         "latitude_deg" | "longitude_deg" | "altitude_m" => {
             let v = number()?;
-            crate::effects::Origin::check_field(key, v).map_err(bad)?;
+            crate::effects::Origin::check_field(key, v).map_err(|e| bad(e.to_string()))?;
             match key {
                 "latitude_deg" => meta.latitude_deg = Some(v),
                 "longitude_deg" => meta.longitude_deg = Some(v),

@@ -30,13 +30,12 @@
 //!
 //! Turning PX4 topics into a [`super::FlightData`] is [`super::px4`]'s job.
 
-use std::collections::HashMap;
 use std::fmt;
 use std::io::Read;
 use std::path::Path;
 
 mod parser;
-use parser::*;
+use parser::Parser;
 
 /// Largest file read, bytes (1 GiB). PX4 logs of a long flight at high rates are a few
 /// hundred MB.
@@ -412,16 +411,7 @@ impl UlogFile {
     /// # Errors
     /// See the module documentation.
     pub fn parse(bytes: &[u8], file: &str, keep: impl Fn(&str) -> bool) -> Result<Self, UlogError> {
-        Parser {
-            bytes,
-            file,
-            keep: &keep,
-            log: UlogFile::default(),
-            formats: HashMap::new(),
-            ids: HashMap::new(),
-            in_data: false,
-        }
-        .run()
+        Parser::new(bytes, file, &keep).run()
     }
 
     /// The first instance (lowest multi id) of topic `name` that has samples kept.
@@ -443,92 +433,5 @@ impl UlogFile {
     /// The value of parameter `name` (e.g. `MAV_TYPE`).
     pub fn param(&self, name: &str) -> Option<f64> {
         self.params.iter().find(|(k, _)| k == name).map(|(_, v)| *v)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn formats(defs: &[&str]) -> HashMap<String, Vec<RawField>> {
-        let mut p = Parser {
-            bytes: &[],
-            file: "t.ulg",
-            keep: &|_| true,
-            log: UlogFile::default(),
-            formats: HashMap::new(),
-            ids: HashMap::new(),
-            in_data: false,
-        };
-        for d in defs {
-            p.format(0, d.as_bytes()).unwrap();
-        }
-        p.formats
-    }
-
-    #[test]
-    fn nested_formats_flatten_with_offsets_and_padding() {
-        let f = formats(&[
-            "esc:uint16_t rpm;float volt;uint8_t[2] _padding0;",
-            "status:uint64_t timestamp;float[2] q;esc[2] e;uint8_t _padding1;",
-        ]);
-        let mut out = Vec::new();
-        let (min, full) = flatten(&f, "status", "", 0, &mut out).unwrap();
-        let names: Vec<_> = out.iter().map(|f| (f.name.as_str(), f.offset)).collect();
-        assert_eq!(
-            names,
-            [
-                ("timestamp", 0),
-                ("q[0]", 8),
-                ("q[1]", 12),
-                ("e[0].rpm", 16),
-                ("e[0].volt", 18),
-                ("e[1].rpm", 24),
-                ("e[1].volt", 26),
-            ]
-        );
-        // The nested padding counts inside (the next element starts after it); only the
-        // trailing padding of the outer format may be left out.
-        assert_eq!((min, full), (32, 33));
-    }
-
-    #[test]
-    fn bad_formats_are_errors_not_panics() {
-        let f = formats(&["loop:loop inner;"]);
-        let mut out = Vec::new();
-        let e = flatten(&f, "loop", "", 0, &mut out).unwrap_err();
-        assert!(e.contains("nested"), "{e}");
-        let e = flatten(&f, "missing", "", 0, &mut out).unwrap_err();
-        assert!(e.contains("no format definition `missing`"), "{e}");
-        let mut p = Parser {
-            bytes: &[],
-            file: "t.ulg",
-            keep: &|_| true,
-            log: UlogFile::default(),
-            formats: HashMap::new(),
-            ids: HashMap::new(),
-            in_data: false,
-        };
-        for bad in ["no colon", "x:float", "x:float[zz] a;", "x:float[70000] a;"] {
-            let e = p.format(40, bad.as_bytes()).unwrap_err();
-            assert!(
-                e.to_string().starts_with("t.ulg: byte 40: bad format"),
-                "{e}"
-            );
-        }
-    }
-
-    #[test]
-    fn info_values() {
-        let mut p = vec![12u8];
-        p.extend_from_slice(b"char[4] name");
-        p.extend_from_slice(b"PX4\0");
-        assert_eq!(key_value(&p), Some(("name".into(), "PX4".into())));
-        let mut p = vec![16u8];
-        p.extend_from_slice(b"int32_t MAV_TYPE");
-        p.extend_from_slice(&22i32.to_le_bytes());
-        assert_eq!(key_value(&p), Some(("MAV_TYPE".into(), "22".into())));
-        assert_eq!(key_value(&[200, 1, 2]), None);
-        assert_eq!(key_value(&[]), None);
     }
 }

@@ -5,31 +5,65 @@
 //! invalid data and I/O, so it reads best on its own.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::DVec3;
+use wireflight_fsio::FsError;
 
-use super::{FlightData, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED};
+use super::{
+    DataError, FlightData, ValidationError, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED,
+};
 use crate::Controls;
 use wireflight_geometry::euler::EulerZyx;
+
+/// Flight data that cannot be written: invalid, empty, not readable back, or an I/O error.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum WriteError {
+    /// Data that fails [`FlightData::validate`].
+    #[error("{}: cannot write flight data: {error}", path.display())]
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// The invariant broken.
+        error: ValidationError,
+    },
+    /// Data without samples.
+    #[error("{}: cannot write flight data: no samples", path.display())]
+    NoSamples {
+        /// The file.
+        path: PathBuf,
+    },
+    /// Text the reader would reject (a value beyond its ranges, `inf`).
+    #[error("cannot write flight data that would not read back: {0}")]
+    WouldNotReadBack(DataError),
+    /// The file could not be written.
+    #[error(transparent)]
+    Io(#[from] FsError),
+}
 
 /// Writes `data` as wireflight CSV ([`to_csv_string`]) atomically.
 ///
 /// # Errors
 /// Data that fails [`FlightData::validate`] or has no samples (the file could not be read
 /// back), and I/O errors.
-pub fn write(path: &Path, data: &FlightData) -> anyhow::Result<()> {
-    if let Err(e) = data.validate() {
-        anyhow::bail!("{}: cannot write flight data: {e}", path.display());
+pub fn write(path: &Path, data: &FlightData) -> Result<(), WriteError> {
+    if let Err(error) = data.validate() {
+        return Err(WriteError::Invalid {
+            path: path.to_path_buf(),
+            error,
+        });
     }
     if data.is_empty() {
-        anyhow::bail!("{}: cannot write flight data: no samples", path.display());
+        return Err(WriteError::NoSamples {
+            path: path.to_path_buf(),
+        });
     }
     // Never write a file that the reader rejects (`inf` from huge noise, positions beyond the
     // reader's ranges): say so now rather than when the file is read.
     let text = to_csv_string(data);
     if let Err(e) = super::read::parse(&text, &path.display().to_string()) {
-        anyhow::bail!("cannot write flight data that would not read back: {e}");
+        return Err(WriteError::WouldNotReadBack(e));
     }
     Ok(wireflight_fsio::write_atomic(path, text.as_bytes())?)
 }

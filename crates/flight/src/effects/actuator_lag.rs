@@ -2,7 +2,7 @@
 //! lag τ·ẋ = cmd − x. The surfaces are states of the model (not measured: a comparison
 //! reconstructs them from the command history).
 
-use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, ParamSpec};
 
 /// Shortest accepted actuator time constant, s: below this the lag is below any sample
 /// interval of interest and the ODE becomes needlessly stiff.
@@ -29,20 +29,11 @@ pub struct ActuatorLag {
 }
 
 impl Effect for ActuatorLag {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn varies_in_space(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        std::slice::from_ref(&self.tau_s)
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        std::slice::from_mut(&mut self.tau_s)
+    effect_basics! {
+        info: INFO,
+        values: tau_s,
+        varies_in_time: false,
+        varies_in_space: false,
     }
     fn actuator_tau(&self) -> Option<f64> {
         Some(self.tau_s.max(MIN_ACTUATOR_TAU))

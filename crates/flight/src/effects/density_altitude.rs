@@ -1,7 +1,7 @@
 //! `density_altitude`: ISA troposphere density ρ(h) = 1.225·(1 − 0.0065 h/288.15)^4.2559
 //! replaces the constant one (for `drag`, k scales by ρ(h)/1.225).
 
-use super::{Applies, Effect, EffectContext, EffectInfo};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo};
 
 /// Sea-level density of the ISA, kg/m³.
 pub const RHO_SEA_LEVEL: f64 = 1.225;
@@ -26,11 +26,9 @@ pub fn isa_density(h: f64) -> f64 {
 pub struct DensityAltitude;
 
 impl Effect for DensityAltitude {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
+    effect_basics! {
+        info: INFO,
+        varies_in_time: false,
     }
     fn density(&self, altitude_m: f64, _rho: f64) -> f64 {
         isa_density(altitude_m)

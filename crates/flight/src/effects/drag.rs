@@ -2,7 +2,9 @@
 
 use glam::DVec3;
 
-use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample, RHO_SEA_LEVEL};
+use super::{
+    effect_basics, Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample, RHO_SEA_LEVEL,
+};
 
 /// The catalogue entry.
 pub static INFO: EffectInfo = EffectInfo {
@@ -27,20 +29,11 @@ pub struct Drag {
 }
 
 impl Effect for Drag {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn varies_in_space(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        std::slice::from_ref(&self.k)
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        std::slice::from_mut(&mut self.k)
+    effect_basics! {
+        info: INFO,
+        values: k,
+        varies_in_time: false,
+        varies_in_space: false,
     }
     fn accel_ned(&self, s: &Sample) -> DVec3 {
         // The point mass's baseline density is the sea-level value; with `density_altitude`

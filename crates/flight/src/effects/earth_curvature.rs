@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{Applies, Effect, EffectContext, EffectInfo, Sample};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, Sample};
 
 /// Radius of the spherical Earth of `earth_curvature`, m.
 pub const EARTH_RADIUS: f64 = 6_371_000.0;
@@ -22,11 +22,9 @@ pub static INFO: EffectInfo = EffectInfo {
 pub struct EarthCurvature;
 
 impl Effect for EarthCurvature {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
+    effect_basics! {
+        info: INFO,
+        varies_in_time: false,
     }
     fn accel_ned(&self, s: &Sample) -> DVec3 {
         DVec3::new(

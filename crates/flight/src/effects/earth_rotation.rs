@@ -4,7 +4,7 @@
 use glam::DVec3;
 
 use super::gravity_model::LATITUDE;
-use super::{Applies, Effect, EffectContext, EffectInfo, Sample};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, Sample};
 
 /// Earth's rotation rate, rad/s.
 pub const EARTH_RATE: f64 = 7.292115e-5;
@@ -36,20 +36,11 @@ pub struct EarthRotation {
 }
 
 impl Effect for EarthRotation {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn varies_in_space(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        std::slice::from_ref(&self.latitude_deg)
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        std::slice::from_mut(&mut self.latitude_deg)
+    effect_basics! {
+        info: INFO,
+        values: latitude_deg,
+        varies_in_time: false,
+        varies_in_space: false,
     }
     fn accel_ned(&self, s: &Sample) -> DVec3 {
         -2.0 * earth_rotation_ned(self.latitude_deg).cross(s.vel_ned)

@@ -2,7 +2,7 @@
 //! of g0: g = 9.7803253359·(1 + 0.00193185265241 sin²λ)/√(1 − 0.00669437999013 sin²λ)
 //! − 3.086e-6·h.
 
-use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, ParamSpec};
 
 /// The latitude parameter shared by the Earth effects: held when the data's metadata give it.
 pub(super) const LATITUDE: ParamSpec = ParamSpec {
@@ -38,17 +38,10 @@ pub struct GravityModel {
 }
 
 impl Effect for GravityModel {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        std::slice::from_ref(&self.latitude_deg)
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        std::slice::from_mut(&mut self.latitude_deg)
+    effect_basics! {
+        info: INFO,
+        values: latitude_deg,
+        varies_in_time: false,
     }
     fn gravity(&self, altitude_m: f64, _g: f64) -> f64 {
         wgs84_gravity(self.latitude_deg, altitude_m)

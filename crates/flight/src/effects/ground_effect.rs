@@ -1,7 +1,7 @@
 //! `ground_effect` (fixed wing): the induced-drag term multiplied by
 //! φ = (16h/b)²/(1 + (16h/b)²), h = −down > 0 (ground at down = 0), b the span.
 
-use super::{Applies, Effect, EffectContext, EffectInfo, Sample};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, Sample};
 
 /// The catalogue entry.
 pub static INFO: EffectInfo = EffectInfo {
@@ -20,11 +20,9 @@ pub struct GroundEffect {
 }
 
 impl Effect for GroundEffect {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
+    effect_basics! {
+        info: INFO,
+        varies_in_time: false,
     }
     fn induced_drag_factor(&self, s: &Sample) -> f64 {
         if self.span.is_nan() || self.span <= 0.0 {

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample};
 
 /// The catalogue entry.
 pub static INFO: EffectInfo = EffectInfo {
@@ -26,20 +26,11 @@ pub struct Gyroscopic {
 }
 
 impl Effect for Gyroscopic {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn varies_in_space(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        std::slice::from_ref(&self.k_gyro)
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        std::slice::from_mut(&mut self.k_gyro)
+    effect_basics! {
+        info: INFO,
+        values: k_gyro,
+        varies_in_time: false,
+        varies_in_space: false,
     }
     fn force_moment_body(&self, s: &Sample) -> (DVec3, DVec3) {
         let h = DVec3::new(self.k_gyro * s.controls.throttle, 0.0, 0.0);

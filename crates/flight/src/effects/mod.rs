@@ -15,6 +15,10 @@
 //! 2. **forces**, given the resulting [`Sample`]: [`Effect::accel_ned`] (world-frame
 //!    acceleration, summed), [`Effect::force_moment_body`] (body-frame force and moment,
 //!    summed), [`Effect::induced_drag_factor`] (multiplied).
+//!
+//! What every implementation says the same way — its [`EffectInfo`], where its parameter
+//! values are stored, whether it varies in time or space — is written by [`effect_basics!`],
+//! so an effect's file holds only its own physics.
 
 mod actuator_lag;
 mod density_altitude;
@@ -41,6 +45,191 @@ pub use wind::Wind;
 use glam::{DMat3, DVec3};
 
 use super::{Controls, VehicleKind};
+
+pub use crate::effect_basics;
+
+/// Writes the part of an `impl Effect for …` block that every effect writes the same way:
+///
+/// * `info: STATIC` — [`Effect::info`], returning `&STATIC`;
+/// * `values: FIELD` (optional; none for an effect without parameters) —
+///   [`Effect::values`] and [`Effect::values_mut`] over the field that stores the parameter
+///   values in the order of the info's `params`: an `f64` (one parameter), a `DVec3` (three)
+///   or an `[f64; N]` (see [`ParamValues`]);
+/// * `varies_in_time: false`, `varies_in_space: false` (optional, in this order) —
+///   [`Effect::varies_in_time`] and [`Effect::varies_in_space`] for an effect whose hooks do
+///   not depend on the time or on the position (both are `true` when not said, the safe
+///   answer).
+///
+/// The hooks the effect needs follow in the same block.
+///
+/// ```
+/// use glam::DVec3;
+/// use wireflight_flight::effects::{
+///     effect_basics, Applies, Effect, EffectContext, EffectInfo, Origin, ParamSpec,
+/// };
+///
+/// static UPDRAFT: EffectInfo = EffectInfo {
+///     name: "updraft",
+///     summary: "rising air everywhere",
+///     applies: Applies::Both,
+///     params: &[ParamSpec::new("w_mps", "m/s", (0.0, 20.0), 1.0)],
+///     make: |_| Box::new(Updraft { w: 1.0 }),
+/// };
+///
+/// #[derive(Clone, Debug)]
+/// struct Updraft {
+///     w: f64,
+/// }
+///
+/// impl Effect for Updraft {
+///     effect_basics! {
+///         info: UPDRAFT,
+///         values: w,
+///         varies_in_time: false,
+///         varies_in_space: false,
+///     }
+///     fn wind_at(&self, _pos_ned: DVec3, _t: f64) -> DVec3 {
+///         DVec3::new(0.0, 0.0, -self.w)
+///     }
+/// }
+///
+/// let ctx = EffectContext {
+///     origin: Origin::default(),
+///     span_m: 0.0,
+/// };
+/// let mut e = UPDRAFT.build(&ctx);
+/// e.set_param("w_mps", 3.0).unwrap();
+/// assert_eq!(e.param("w_mps"), Some(3.0));
+/// assert!(!e.varies_in_space());
+/// ```
+#[macro_export]
+macro_rules! effect_basics {
+    (
+        info: $info:path
+        $(, values: $values:tt)?
+        $(, varies_in_time: $time:expr)?
+        $(, varies_in_space: $space:expr)?
+        $(,)?
+    ) => {
+        fn info(&self) -> &'static $crate::effects::EffectInfo {
+            &$info
+        }
+        $(
+            fn values(&self) -> &[f64] {
+                $crate::effects::ParamValues::as_values(&self.$values)
+            }
+            fn values_mut(&mut self) -> &mut [f64] {
+                $crate::effects::ParamValues::as_values_mut(&mut self.$values)
+            }
+        )?
+        $(
+            fn varies_in_time(&self) -> bool {
+                $time
+            }
+        )?
+        $(
+            fn varies_in_space(&self) -> bool {
+                $space
+            }
+        )?
+    };
+}
+
+/// Where an effect stores its parameter values, seen as the slice of [`Effect::values`]: one
+/// `f64`, a `DVec3` (three) or an array (used by [`effect_basics!`]).
+pub trait ParamValues {
+    /// The values.
+    fn as_values(&self) -> &[f64];
+    /// The values, to set.
+    fn as_values_mut(&mut self) -> &mut [f64];
+}
+
+impl ParamValues for f64 {
+    fn as_values(&self) -> &[f64] {
+        std::slice::from_ref(self)
+    }
+    fn as_values_mut(&mut self) -> &mut [f64] {
+        std::slice::from_mut(self)
+    }
+}
+
+impl ParamValues for DVec3 {
+    fn as_values(&self) -> &[f64] {
+        AsRef::<[f64; 3]>::as_ref(self)
+    }
+    fn as_values_mut(&mut self) -> &mut [f64] {
+        AsMut::<[f64; 3]>::as_mut(self)
+    }
+}
+
+impl<const N: usize> ParamValues for [f64; N] {
+    fn as_values(&self) -> &[f64] {
+        self
+    }
+    fn as_values_mut(&mut self) -> &mut [f64] {
+        self
+    }
+}
+
+/// A parameter of an effect that cannot be set: an unknown name, or a value outside its range.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ParamError {
+    /// A value outside the parameter's range, or not finite.
+    #[error("parameter `{name}` = {value} is outside its range [{lo}, {hi}] {unit}")]
+    OutOfRange {
+        /// The parameter.
+        name: &'static str,
+        /// The value refused.
+        value: f64,
+        /// The least valid value.
+        lo: f64,
+        /// The greatest valid value.
+        hi: f64,
+        /// The parameter's unit.
+        unit: &'static str,
+    },
+    /// A parameter named for an effect that has none.
+    #[error("effect `{effect}` has no parameters (given `{given}`)")]
+    NoParameters {
+        /// The effect.
+        effect: &'static str,
+        /// The name given.
+        given: String,
+    },
+    /// A name that is not one of the effect's parameters.
+    #[error("effect `{effect}` has no parameter `{given}` (it has {})", .known.join(", "))]
+    Unknown {
+        /// The effect.
+        effect: &'static str,
+        /// The name given.
+        given: String,
+        /// The effect's parameters.
+        known: Vec<&'static str>,
+    },
+    /// An effect whose [`Effect::values_mut`] has no slot for a parameter its info lists.
+    #[error("effect `{effect}` does not store `{name}`")]
+    NotStored {
+        /// The effect.
+        effect: &'static str,
+        /// The parameter.
+        name: &'static str,
+    },
+}
+
+/// A field of an [`Origin`] outside its range ([`Origin::RANGES`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{key} = {value} is outside {lo}..={hi}")]
+pub struct OriginError {
+    /// The field, as named in [`Origin::RANGES`].
+    pub key: &'static str,
+    /// The value refused.
+    pub value: f64,
+    /// The least valid value.
+    pub lo: f64,
+    /// The greatest valid value.
+    pub hi: f64,
+}
 
 /// The catalogue: every built-in effect, in the spec's order. One line per effect.
 pub static CATALOGUE: &[&EffectInfo] = &[
@@ -96,10 +285,10 @@ impl Origin {
     ///
     /// # Errors
     /// The value is outside the field's range (the message names both).
-    pub fn check_field(key: &str, value: f64) -> Result<(), String> {
+    pub fn check_field(key: &str, value: f64) -> Result<(), OriginError> {
         match Self::RANGES.iter().find(|(k, _, _)| *k == key) {
-            Some(&(_, lo, hi)) if !(lo..=hi).contains(&value) => {
-                Err(format!("{key} = {value} is outside {lo}..={hi}"))
+            Some(&(key, lo, hi)) if !(lo..=hi).contains(&value) => {
+                Err(OriginError { key, value, lo, hi })
             }
             _ => Ok(()),
         }
@@ -109,7 +298,7 @@ impl Origin {
     ///
     /// # Errors
     /// The first field out of its range.
-    pub fn check(&self) -> Result<(), String> {
+    pub fn check(&self) -> Result<(), OriginError> {
         Self::check_field("latitude_deg", self.latitude_deg)?;
         Self::check_field("longitude_deg", self.longitude_deg)?;
         Self::check_field("altitude_m", self.altitude_m)
@@ -217,16 +406,19 @@ impl ParamSpec {
     /// `value` if it is finite and in range.
     ///
     /// # Errors
-    /// A message naming the parameter, the value and the range.
-    pub fn check(&self, value: f64) -> Result<f64, String> {
+    /// [`ParamError::OutOfRange`], naming the parameter, the value and the range.
+    pub fn check(&self, value: f64) -> Result<f64, ParamError> {
         let (lo, hi) = self.range;
         if value.is_finite() && value >= lo && value <= hi {
             Ok(value)
         } else {
-            Err(format!(
-                "parameter `{}` = {value} is outside its range [{lo}, {hi}] {}",
-                self.name, self.unit
-            ))
+            Err(ParamError::OutOfRange {
+                name: self.name,
+                value,
+                lo,
+                hi,
+                unit: self.unit,
+            })
         }
     }
 }
@@ -298,7 +490,8 @@ pub struct Param {
 
 /// A physical effect: named, with named parameters, acting through hooks (see module docs).
 /// All hooks default to "no effect"; an implementation gives [`info`](Self::info), its
-/// parameter values (if any) and the hooks it needs.
+/// parameter values (if any) and the hooks it needs — the first two, and whether it varies in
+/// time and space, most simply through [`effect_basics!`].
 pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     /// The static description: name, vehicles, parameters.
     fn info(&self) -> &'static EffectInfo;
@@ -397,18 +590,21 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     ///
     /// # Errors
     /// Unknown name, or a value outside the parameter's range.
-    fn set_param(&mut self, name: &str, value: f64) -> Result<(), String> {
+    fn set_param(&mut self, name: &str, value: f64) -> Result<(), ParamError> {
         let info = self.info();
         let Some(i) = info.params.iter().position(|p| p.name == name) else {
-            let known: Vec<&str> = info.params.iter().map(|p| p.name).collect();
+            let known: Vec<&'static str> = info.params.iter().map(|p| p.name).collect();
             return Err(if known.is_empty() {
-                format!("effect `{}` has no parameters (given `{name}`)", info.name)
+                ParamError::NoParameters {
+                    effect: info.name,
+                    given: name.to_string(),
+                }
             } else {
-                format!(
-                    "effect `{}` has no parameter `{name}` (it has {})",
-                    info.name,
-                    known.join(", ")
-                )
+                ParamError::Unknown {
+                    effect: info.name,
+                    given: name.to_string(),
+                    known,
+                }
             });
         };
         let value = info.params[i].check(value)?;
@@ -417,7 +613,10 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
                 *slot = value;
                 Ok(())
             }
-            None => Err(format!("effect `{}` does not store `{name}`", info.name)),
+            None => Err(ParamError::NotStored {
+                effect: info.name,
+                name: info.params[i].name,
+            }),
         }
     }
 }
@@ -650,7 +849,7 @@ mod tests {
         assert!(lag.set_param("tau_s", 0.2).is_ok());
         assert_eq!(lag.param("tau_s"), Some(0.2));
         for bad in [-1.0, 0.0, f64::NAN, f64::INFINITY] {
-            let e = lag.set_param("tau_s", bad).unwrap_err();
+            let e = lag.set_param("tau_s", bad).unwrap_err().to_string();
             assert!(e.contains("tau_s") && e.contains("range"), "{e}");
         }
         assert_eq!(
@@ -658,7 +857,7 @@ mod tests {
             Some(0.2),
             "a refused value changes nothing"
         );
-        let e = lag.set_param("speed", 1.0).unwrap_err();
+        let e = lag.set_param("speed", 1.0).unwrap_err().to_string();
         assert!(
             e.contains("no parameter `speed`") && e.contains("tau_s"),
             "{e}"
@@ -667,6 +866,7 @@ mod tests {
         assert!(density
             .set_param("k", 1.0)
             .unwrap_err()
+            .to_string()
             .contains("no parameters"));
     }
 }

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample};
 
 /// The catalogue entry.
 pub static INFO: EffectInfo = EffectInfo {
@@ -27,20 +27,11 @@ pub struct PropTorque {
 }
 
 impl Effect for PropTorque {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn varies_in_space(&self) -> bool {
-        false
-    }
-    fn values(&self) -> &[f64] {
-        std::slice::from_ref(&self.k_torque)
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        std::slice::from_mut(&mut self.k_torque)
+    effect_basics! {
+        info: INFO,
+        values: k_torque,
+        varies_in_time: false,
+        varies_in_space: false,
     }
     fn force_moment_body(&self, s: &Sample) -> (DVec3, DVec3) {
         let dt = s.controls.throttle;

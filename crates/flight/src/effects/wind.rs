@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 
-use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec};
+use super::{effect_basics, Applies, Effect, EffectContext, EffectInfo, ParamSpec};
 
 /// Largest wind component accepted, m/s (a jet stream is ~100 m/s).
 const MAX_WIND: f64 = 200.0;
@@ -38,23 +38,14 @@ pub struct Wind {
 }
 
 impl Effect for Wind {
-    fn info(&self) -> &'static EffectInfo {
-        &INFO
-    }
-    fn varies_in_time(&self) -> bool {
-        false
-    }
-    fn varies_in_space(&self) -> bool {
-        false
+    effect_basics! {
+        info: INFO,
+        values: ned,
+        varies_in_time: false,
+        varies_in_space: false,
     }
     fn is_uniform_wind(&self) -> bool {
         true
-    }
-    fn values(&self) -> &[f64] {
-        self.ned.as_ref()
-    }
-    fn values_mut(&mut self) -> &mut [f64] {
-        self.ned.as_mut()
     }
     fn wind_at(&self, _pos_ned: DVec3, _t: f64) -> DVec3 {
         self.ned

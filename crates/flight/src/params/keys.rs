@@ -117,39 +117,72 @@ pub fn matching(pattern: &str) -> Vec<&'static AircraftKey> {
     }
 }
 
+/// A number of a parameter set that cannot be set ([`set`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum AircraftKeyError {
+    /// Not a key of [`KEYS`].
+    #[error(
+        "unknown aircraft parameter `{0}` (the keys of a parameter set, e.g. c_m_alpha, \
+         c_ell_p, mass_kg, jx; see assets/aircraft/aerosonde.toml)"
+    )]
+    Unknown(String),
+    /// A value outside the key's range, or not finite.
+    #[error("aircraft parameter `{name}` = {value} is outside its range [{lo}, {hi}] {unit}")]
+    OutOfRange {
+        /// The key.
+        name: &'static str,
+        /// The value refused.
+        value: f64,
+        /// The least valid value.
+        lo: f64,
+        /// The greatest valid value.
+        hi: f64,
+        /// The key's unit.
+        unit: &'static str,
+    },
+    /// A value that would make the inertia tensor singular or not positive definite.
+    #[error(
+        "aircraft parameter `{name}` = {value} makes the inertia tensor singular \
+         (Jx·Jz ≤ Jxz²)"
+    )]
+    SingularInertia {
+        /// The key.
+        name: &'static str,
+        /// The value refused.
+        value: f64,
+    },
+}
+
 /// Set a key, checking its range and that the set stays physical (a positive-definite
 /// inertia tensor).
 ///
 /// # Errors
 /// Unknown key, a value out of range, or a non-physical result; the set is left unchanged.
-pub fn set(p: &mut FixedWingParams, name: &str, value: f64) -> Result<(), String> {
-    let key = find(name).ok_or_else(|| unknown(name))?;
+pub fn set(p: &mut FixedWingParams, name: &str, value: f64) -> Result<(), AircraftKeyError> {
+    let key = find(name).ok_or_else(|| AircraftKeyError::Unknown(name.to_string()))?;
     let (lo, hi) = key.range;
     if !(value.is_finite() && value >= lo && value <= hi) {
-        return Err(format!(
-            "aircraft parameter `{name}` = {value} is outside its range [{lo}, {hi}] {}",
-            key.unit
-        ));
+        return Err(AircraftKeyError::OutOfRange {
+            name: key.name,
+            value,
+            lo,
+            hi,
+            unit: key.unit,
+        });
     }
     let mut next = p.clone();
     if let Some(slot) = slot(&mut next, name) {
         *slot = value;
     }
     if !next.mass.inertia_is_regular() {
-        return Err(format!(
-            "aircraft parameter `{name}` = {value} makes the inertia tensor singular \
-             (Jx·Jz ≤ Jxz²)"
-        ));
+        return Err(AircraftKeyError::SingularInertia {
+            name: key.name,
+            value,
+        });
     }
     *p = next;
     Ok(())
-}
-
-fn unknown(name: &str) -> String {
-    format!(
-        "unknown aircraft parameter `{name}` (the keys of a parameter set, e.g. c_m_alpha, \
-         c_ell_p, mass_kg, jx; see assets/aircraft/aerosonde.toml)"
-    )
 }
 
 /// The set as TOML, in the layout of `assets/aircraft/aerosonde.toml` (numbers written so
@@ -208,12 +241,11 @@ mod tests {
     fn bad_values_are_refused_and_change_nothing() {
         let mut p = FixedWingParams::aerosonde();
         let before = p.clone();
-        assert!(set(&mut p, "mass_kg", -1.0).unwrap_err().contains("range"));
+        let message = |e: AircraftKeyError| e.to_string();
+        assert!(message(set(&mut p, "mass_kg", -1.0).unwrap_err()).contains("range"));
         assert!(set(&mut p, "c_m_alpha", f64::NAN).is_err());
-        assert!(set(&mut p, "jxz", 10.0).unwrap_err().contains("singular"));
-        assert!(set(&mut p, "c_m_alfa", 1.0)
-            .unwrap_err()
-            .contains("unknown"));
+        assert!(message(set(&mut p, "jxz", 10.0).unwrap_err()).contains("singular"));
+        assert!(message(set(&mut p, "c_m_alfa", 1.0).unwrap_err()).contains("unknown"));
         assert_eq!(p, before);
         assert_eq!(matching("c_m_*").len(), 4);
         assert_eq!(matching("c_ell_p").len(), 1);

@@ -6,10 +6,70 @@
 
 pub mod keys;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::Context;
 use serde::Deserialize;
+
+/// A parameter set that cannot be had: an unknown name, an unreadable file, or contents that
+/// are not a valid set. Every message names the set's file (or name).
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum ParamSetError {
+    /// Neither a built-in set nor a file.
+    #[error("unknown aircraft `{0}` (built in: aerosonde; or a .toml file)")]
+    Unknown(String),
+    /// The file could not be read.
+    #[error("{}: cannot read", path.display())]
+    Unreadable {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// TOML syntax, a missing or unknown key, a value of the wrong type.
+    #[error("{origin}: bad parameter set")]
+    Toml {
+        /// The file (or name) of the set.
+        origin: String,
+        /// What the TOML reader says.
+        #[source]
+        source: toml::de::Error,
+    },
+    /// A number outside its key's range ([`keys::KEYS`]), or not finite.
+    #[error("{origin}: {table}.{name} = {value} is outside its range [{lo:e}, {hi:e}] {unit}")]
+    OutOfRange {
+        /// The file (or name) of the set.
+        origin: String,
+        /// The key's table.
+        table: &'static str,
+        /// The key.
+        name: &'static str,
+        /// The value.
+        value: f64,
+        /// The least valid value.
+        lo: f64,
+        /// The greatest valid value.
+        hi: f64,
+        /// The key's unit.
+        unit: &'static str,
+    },
+    /// An inertia tensor that is singular or not positive definite.
+    #[error(
+        "{origin}: the inertia tensor is singular or not positive definite (Jx·Jz ≤ \
+         Jxz², to 1e-9 relative): jx = {jx}, jz = {jz}, jxz = {jxz}"
+    )]
+    SingularInertia {
+        /// The file (or name) of the set.
+        origin: String,
+        /// Jx, kg·m².
+        jx: f64,
+        /// Jz, kg·m².
+        jz: f64,
+        /// Jxz, kg·m².
+        jxz: f64,
+    },
+}
 
 /// Mass and inertia.
 #[derive(Clone, Debug, Deserialize, PartialEq)]
@@ -129,31 +189,35 @@ impl FixedWingParams {
     /// # Errors
     /// TOML syntax errors, missing or unknown keys, non-finite or non-physical values
     /// (mass, inertias, areas, span, chord, density must be > 0).
-    pub fn from_toml(text: &str, origin: &str) -> anyhow::Result<Self> {
-        let p: FixedWingParams =
-            toml::from_str(text).with_context(|| format!("{origin}: bad parameter set"))?;
+    pub fn from_toml(text: &str, origin: &str) -> Result<Self, ParamSetError> {
+        let p: FixedWingParams = toml::from_str(text).map_err(|source| ParamSetError::Toml {
+            origin: origin.to_string(),
+            source,
+        })?;
         // Every number within its key's range (the ranges `--add aircraft:KEY` fits within):
         // positive sizes, finite coefficients.
         for k in keys::KEYS {
             let v = keys::get(&p, k.name).unwrap_or(f64::NAN);
             let (lo, hi) = k.range;
             if !(v.is_finite() && v >= lo && v <= hi) {
-                anyhow::bail!(
-                    "{origin}: {}.{} = {v} is outside its range [{lo:e}, {hi:e}] {}",
-                    k.table,
-                    k.name,
-                    k.unit
-                );
+                return Err(ParamSetError::OutOfRange {
+                    origin: origin.to_string(),
+                    table: k.table,
+                    name: k.name,
+                    value: v,
+                    lo,
+                    hi,
+                    unit: k.unit,
+                });
             }
         }
         if !p.mass.inertia_is_regular() {
-            anyhow::bail!(
-                "{origin}: the inertia tensor is singular or not positive definite (Jx·Jz ≤ \
-                 Jxz², to 1e-9 relative): jx = {}, jz = {}, jxz = {}",
-                p.mass.jx,
-                p.mass.jz,
-                p.mass.jxz
-            );
+            return Err(ParamSetError::SingularInertia {
+                origin: origin.to_string(),
+                jx: p.mass.jx,
+                jz: p.mass.jz,
+                jxz: p.mass.jxz,
+            });
         }
         Ok(p)
     }
@@ -162,18 +226,19 @@ impl FixedWingParams {
     ///
     /// # Errors
     /// Unknown name / unreadable file / bad contents, naming the file.
-    pub fn load(name_or_path: &str) -> anyhow::Result<Self> {
+    pub fn load(name_or_path: &str) -> Result<Self, ParamSetError> {
         if name_or_path == "aerosonde" {
             return Self::from_toml(AEROSONDE_TOML, "assets/aircraft/aerosonde.toml");
         }
         let path = Path::new(name_or_path);
         if path.extension().is_none() && !path.exists() {
-            anyhow::bail!(
-                "unknown aircraft `{name_or_path}` (built in: aerosonde; or a .toml file)"
-            );
+            return Err(ParamSetError::Unknown(name_or_path.to_string()));
         }
-        let text = wireflight_fsio::read_text(path)
-            .with_context(|| format!("{}: cannot read", path.display()))?;
+        let text =
+            wireflight_fsio::read_text(path).map_err(|source| ParamSetError::Unreadable {
+                path: path.to_path_buf(),
+                source,
+            })?;
         Self::from_toml(&text, &path.display().to_string())
     }
 

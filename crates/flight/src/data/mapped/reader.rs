@@ -2,15 +2,49 @@
 //! mapped column parsed, converted to the program's units and checked, with errors naming the
 //! file, line and column.
 
-use super::*;
+use std::f64::consts::FRAC_PI_2;
+use std::path::Path;
+
+use glam::DVec3;
+
+use super::{ColumnMap, MAX_MAPPED_BYTES};
+use crate::data::read::{flat_earth_ned, parse_metadata};
+use crate::data::report::ImportReport;
+use crate::data::{DataError, DataErrorKind, FlightData, Metadata};
+use crate::Controls;
+use wireflight_geometry::euler::EulerZyx;
+
+/// A CSV that cannot be read through its column map.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum MappedError {
+    /// What the project's CSV reader would say: the file, the line, the column, the problem.
+    #[error(transparent)]
+    Data(#[from] DataError),
+    /// Latitudes beyond ±90° once scaled (degrees mapped as radians).
+    #[error(
+        "{file}: row {row} (after the header), column `{column}`: latitude {radians} rad is \
+         beyond ±90° (degrees? map it as lat={column}:deg)"
+    )]
+    Latitude {
+        /// The file.
+        file: String,
+        /// The 1-based data row.
+        row: usize,
+        /// The latitude's column.
+        column: String,
+        /// The latitude, rad.
+        radians: f64,
+    },
+}
 
 /// Reads a CSV file through `map` (derived channels filled in) and says what was found.
 ///
 /// # Errors
-/// [`DataError`]s (inside the `anyhow::Error`) naming the file, line and column: unreadable or non-UTF-8 file, no header,
+/// [`DataError`]s naming the file, line and column: unreadable or non-UTF-8 file, no header,
 /// a mapped column missing from the header, non-numeric or non-finite cells, rows of the
-/// wrong length, times that do not increase, latitudes beyond ±90°.
-pub fn read(path: &Path, map: &ColumnMap) -> anyhow::Result<(FlightData, ImportReport)> {
+/// wrong length, times that do not increase; latitudes beyond ±90°.
+pub fn read(path: &Path, map: &ColumnMap) -> Result<(FlightData, ImportReport), MappedError> {
     let file = path.display().to_string();
     let whole = |kind| DataError {
         file: file.clone(),
@@ -49,9 +83,9 @@ pub fn parse(
     text: &str,
     file: &str,
     map: &ColumnMap,
-) -> anyhow::Result<(FlightData, ImportReport)> {
+) -> Result<(FlightData, ImportReport), MappedError> {
     let at = |line: usize, column: Option<&str>, kind| {
-        anyhow::Error::new(DataError {
+        MappedError::Data(DataError {
             file: file.to_string(),
             line: Some(line),
             column: column.map(str::to_string),
@@ -199,12 +233,12 @@ pub fn parse(
             let lon = take("lon").unwrap_or_else(|| vec![0.0; n]);
             if let Some(i) = lat.iter().position(|la| la.abs() > FRAC_PI_2 + 1e-12) {
                 let c = map.get("lat").map_or("lat", |e| e.column.as_str());
-                anyhow::bail!(
-                    "{file}: row {} (after the header), column `{c}`: latitude {} rad is beyond \
-                     ±90° (degrees? map it as lat={c}:deg)",
-                    i + 1,
-                    lat[i]
-                );
+                return Err(MappedError::Latitude {
+                    file: file.to_string(),
+                    row: i + 1,
+                    column: c.to_string(),
+                    radians: lat[i],
+                });
             }
             // Heights: alt above sea level, or height above the origin.
             let alt = take("alt").or_else(|| down.as_ref().map(|d| d.iter().map(|v| -v).collect()));

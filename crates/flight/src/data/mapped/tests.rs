@@ -1,3 +1,7 @@
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use glam::DVec3;
+
 use super::*;
 
 #[test]

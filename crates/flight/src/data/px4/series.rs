@@ -1,7 +1,11 @@
 //! One topic's samples as a cleaned time series, and resampling onto the flight's time base
 //! (linear; quaternions by slerp).
 
-use super::*;
+use glam::DQuat;
+
+use super::GAP_NOTE_S;
+use crate::data::report::ImportReport;
+use crate::data::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
 
 /// One topic's samples: times (s from the log's start) and columns, cleaned.
 #[derive(Clone, Debug)]
@@ -137,11 +141,7 @@ impl Series {
 /// For each time of the increasing `grid`, calls `f(i, s)` with the sample `i` at or before
 /// it and the fraction `s` of the way to sample `i + 1` (`None` beyond the ends, where `i` is
 /// the end sample). `t` is increasing and not empty.
-pub(super) fn walk<T>(
-    t: &[f64],
-    grid: &[f64],
-    mut f: impl FnMut(usize, Option<f64>) -> T,
-) -> Vec<T> {
+fn walk<T>(t: &[f64], grid: &[f64], mut f: impl FnMut(usize, Option<f64>) -> T) -> Vec<T> {
     let n = t.len();
     let mut i = 0;
     grid.iter()
@@ -172,4 +172,14 @@ pub(super) fn slerp(t: &[f64], q: &[DQuat], grid: &[f64]) -> Vec<DQuat> {
             a.slerp(b, s).normalize()
         }
     })
+}
+
+/// The field names of a topic, for errors (at most 12).
+fn field_list(t: &Topic) -> String {
+    let names: Vec<&str> = t.fields.iter().map(|f| f.name.as_str()).collect();
+    if names.len() > 12 {
+        format!("{}, … ({} fields)", names[..12].join(", "), names.len())
+    } else {
+        names.join(", ")
+    }
 }

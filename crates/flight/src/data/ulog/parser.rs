@@ -1,38 +1,58 @@
 //! The ULog parser: the definitions section (formats flattened, parameters, info), then the
 //! data section (subscriptions, data of the wanted topics, appended data), bounded and
-//! tolerant of a log cut short.
+//! tolerant of a log cut short. It fills in the types of the parent module ([`UlogFile`],
+//! [`Topic`]), whose layout fields only it writes.
 
-use super::*;
+use std::collections::HashMap;
 
-// ---------------------------------------------------------------------------------------------
-// The parser
+use super::{
+    is_ulog, Field, Scalar, Topic, UlogError, UlogErrorKind, UlogFile, MAGIC, MAX_FIELDS,
+    MAX_NESTING, SYNC_MAGIC,
+};
 
 /// One field of a format as written: type name, array length, field name.
 #[derive(Clone, Debug)]
-pub(super) struct RawField {
-    pub(super) ty: String,
-    pub(super) array: Option<usize>,
-    pub(super) name: String,
+struct RawField {
+    ty: String,
+    array: Option<usize>,
+    name: String,
 }
 
+/// The state of one parse: the bytes, the formats and subscriptions seen so far, and the
+/// [`UlogFile`] being filled in.
 pub(super) struct Parser<'a> {
-    pub(super) bytes: &'a [u8],
-    pub(super) file: &'a str,
-    pub(super) keep: &'a dyn Fn(&str) -> bool,
-    pub(super) log: UlogFile,
+    bytes: &'a [u8],
+    file: &'a str,
+    keep: &'a dyn Fn(&str) -> bool,
+    log: UlogFile,
     /// Formats by name.
-    pub(super) formats: HashMap<String, Vec<RawField>>,
+    formats: HashMap<String, Vec<RawField>>,
     /// Message id → index into `log.topics`.
-    pub(super) ids: HashMap<u16, usize>,
+    ids: HashMap<u16, usize>,
     /// Whether the data section has begun (the first subscription or data message).
-    pub(super) in_data: bool,
+    in_data: bool,
 }
 
-impl Parser<'_> {
-    pub(super) fn err(&self, offset: usize, kind: UlogErrorKind) -> UlogError {
+impl<'a> Parser<'a> {
+    /// A parser of `bytes`, `file` naming them in errors, keeping the samples of the topics
+    /// for which `keep` is true.
+    pub(super) fn new(bytes: &'a [u8], file: &'a str, keep: &'a dyn Fn(&str) -> bool) -> Self {
+        Self {
+            bytes,
+            file,
+            keep,
+            log: UlogFile::default(),
+            formats: HashMap::new(),
+            ids: HashMap::new(),
+            in_data: false,
+        }
+    }
+
+    fn err(&self, offset: usize, kind: UlogErrorKind) -> UlogError {
         UlogError::at(self.file, offset, kind)
     }
 
+    /// Reads the whole file.
     pub(super) fn run(mut self) -> Result<UlogFile, UlogError> {
         let b = self.bytes;
         if b.len() < 16 {
@@ -138,7 +158,7 @@ impl Parser<'_> {
     }
 
     /// A message cut short at `pos`: an error in the definitions section, a note in the data.
-    pub(super) fn cut(&mut self, pos: usize, what: &str, needed: usize) -> Result<(), UlogError> {
+    fn cut(&mut self, pos: usize, what: &str, needed: usize) -> Result<(), UlogError> {
         if self.in_data {
             self.log.truncated_at = Some(pos);
             return Ok(());
@@ -155,7 +175,7 @@ impl Parser<'_> {
     }
 
     /// `B`: compat[8], incompat[8], appended offsets u64[3]. Returns the appended offsets.
-    pub(super) fn flag_bits(&mut self, pos: usize, p: &[u8]) -> Result<Vec<usize>, UlogError> {
+    fn flag_bits(&mut self, pos: usize, p: &[u8]) -> Result<Vec<usize>, UlogError> {
         if p.len() < 40 {
             return Err(self.err(
                 pos,
@@ -192,7 +212,7 @@ impl Parser<'_> {
     }
 
     /// `F`: `name:type field;type field;…`.
-    pub(super) fn format(&mut self, pos: usize, p: &[u8]) -> Result<(), UlogError> {
+    fn format(&mut self, pos: usize, p: &[u8]) -> Result<(), UlogError> {
         let bad = |why: String| self.err(pos, UlogErrorKind::BadFormat(why));
         let text = std::str::from_utf8(p).map_err(|_| bad("not ASCII text".into()))?;
         let (name, body) = text
@@ -229,7 +249,7 @@ impl Parser<'_> {
     }
 
     /// `A`: u8 multi id, u16 message id, topic name.
-    pub(super) fn subscribe(&mut self, pos: usize, p: &[u8]) -> Result<(), UlogError> {
+    fn subscribe(&mut self, pos: usize, p: &[u8]) -> Result<(), UlogError> {
         if p.len() < 4 {
             self.log.corrupt_messages += 1;
             return Ok(());
@@ -259,8 +279,8 @@ impl Parser<'_> {
                 self.ids.remove(&id);
                 return Ok(());
             }
-            Err(why) => {
-                return Err(self.err(pos, UlogErrorKind::BadFormat(why)).in_topic(&name));
+            Err(kind) => {
+                return Err(self.err(pos, kind).in_topic(&name));
             }
         };
         self.log.topics.push(Topic {
@@ -278,7 +298,7 @@ impl Parser<'_> {
     }
 
     /// `D`: u16 message id, then the packed fields.
-    pub(super) fn data(&mut self, p: &[u8]) {
+    fn data(&mut self, p: &[u8]) {
         let Some(&i) = (p.len() >= 2)
             .then(|| u16::from_le_bytes([p[0], p[1]]))
             .and_then(|id| self.ids.get(&id))
@@ -301,20 +321,25 @@ impl Parser<'_> {
 
 /// Flattens format `name` into `out` (names prefixed by `prefix`, offsets from the start of
 /// the sample). Returns the sizes without and with trailing padding.
-pub(super) fn flatten(
+///
+/// # Errors
+/// [`UlogErrorKind::BadFormat`]: formats nested too deep, a missing format, too many fields, a
+/// sample larger than a message.
+fn flatten(
     formats: &HashMap<String, Vec<RawField>>,
     name: &str,
     prefix: &str,
     depth: usize,
     out: &mut Vec<Field>,
-) -> Result<(usize, usize), String> {
+) -> Result<(usize, usize), UlogErrorKind> {
     let mut size = 0;
     let mut min = 0;
     flatten_into(formats, name, prefix, depth, out, &mut size, &mut min)?;
     Ok((min, size))
 }
 
-pub(super) fn flatten_into(
+/// [`flatten`]'s work: adds the fields of format `name` to `out`, `size` and `min` growing.
+fn flatten_into(
     formats: &HashMap<String, Vec<RawField>>,
     name: &str,
     prefix: &str,
@@ -322,15 +347,16 @@ pub(super) fn flatten_into(
     out: &mut Vec<Field>,
     size: &mut usize,
     min: &mut usize,
-) -> Result<(), String> {
+) -> Result<(), UlogErrorKind> {
+    let bad = UlogErrorKind::BadFormat;
     if depth > MAX_NESTING {
-        return Err(format!(
+        return Err(bad(format!(
             "formats nested more than {MAX_NESTING} deep (a format inside itself?)"
-        ));
+        )));
     }
     let fields = formats
         .get(name)
-        .ok_or_else(|| format!("no format definition `{name}`"))?;
+        .ok_or_else(|| bad(format!("no format definition `{name}`")))?;
     for f in fields {
         let count = f.array.unwrap_or(1);
         let padding = f.name.starts_with("_padding");
@@ -343,7 +369,7 @@ pub(super) fn flatten_into(
                 Some(ty) => {
                     if !padding {
                         if out.len() >= MAX_FIELDS {
-                            return Err(format!("more than {MAX_FIELDS} fields"));
+                            return Err(bad(format!("more than {MAX_FIELDS} fields")));
                         }
                         out.push(Field {
                             name: full,
@@ -363,7 +389,7 @@ pub(super) fn flatten_into(
                 }
             }
             if *size > u16::MAX as usize {
-                return Err(format!("`{name}` is larger than a message can be"));
+                return Err(bad(format!("`{name}` is larger than a message can be")));
             }
         }
     }
@@ -372,7 +398,7 @@ pub(super) fn flatten_into(
 
 /// An `I` or `P` payload: u8 key length, key `type name`, value. Returns the name and the
 /// value as text (char arrays as strings, numbers printed).
-pub(super) fn key_value(p: &[u8]) -> Option<(String, String)> {
+fn key_value(p: &[u8]) -> Option<(String, String)> {
     let n = *p.first()? as usize;
     let key = std::str::from_utf8(p.get(1..1 + n)?).ok()?;
     let value = p.get(1 + n..)?;
@@ -398,7 +424,7 @@ pub(super) fn key_value(p: &[u8]) -> Option<(String, String)> {
 
 /// Where reading can resume after unreadable bytes from `from`: just after the next sync
 /// marker.
-pub(super) fn find_sync(b: &[u8], from: usize) -> Option<usize> {
+fn find_sync(b: &[u8], from: usize) -> Option<usize> {
     let rest = b.get(from..)?;
     rest.windows(SYNC_MAGIC.len())
         .position(|w| w == SYNC_MAGIC)
@@ -406,10 +432,85 @@ pub(super) fn find_sync(b: &[u8], from: usize) -> Option<usize> {
 }
 
 /// At most 60 characters of `s`, for messages.
-pub(super) fn clip(s: &str) -> String {
+fn clip(s: &str) -> String {
     let mut out: String = s.chars().take(60).collect();
     if s.chars().count() > 60 {
         out.push('…');
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn formats(defs: &[&str]) -> HashMap<String, Vec<RawField>> {
+        let mut p = Parser::new(&[], "t.ulg", &|_| true);
+        for d in defs {
+            p.format(0, d.as_bytes()).unwrap();
+        }
+        p.formats
+    }
+
+    #[test]
+    fn nested_formats_flatten_with_offsets_and_padding() {
+        let f = formats(&[
+            "esc:uint16_t rpm;float volt;uint8_t[2] _padding0;",
+            "status:uint64_t timestamp;float[2] q;esc[2] e;uint8_t _padding1;",
+        ]);
+        let mut out = Vec::new();
+        let (min, full) = flatten(&f, "status", "", 0, &mut out).unwrap();
+        let names: Vec<_> = out.iter().map(|f| (f.name.as_str(), f.offset)).collect();
+        assert_eq!(
+            names,
+            [
+                ("timestamp", 0),
+                ("q[0]", 8),
+                ("q[1]", 12),
+                ("e[0].rpm", 16),
+                ("e[0].volt", 18),
+                ("e[1].rpm", 24),
+                ("e[1].volt", 26),
+            ]
+        );
+        // The nested padding counts inside (the next element starts after it); only the
+        // trailing padding of the outer format may be left out.
+        assert_eq!((min, full), (32, 33));
+    }
+
+    #[test]
+    fn bad_formats_are_errors_not_panics() {
+        let f = formats(&["loop:loop inner;"]);
+        let mut out = Vec::new();
+        let e = flatten(&f, "loop", "", 0, &mut out)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("nested"), "{e}");
+        let e = flatten(&f, "missing", "", 0, &mut out)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("no format definition `missing`"), "{e}");
+        let mut p = Parser::new(&[], "t.ulg", &|_| true);
+        for bad in ["no colon", "x:float", "x:float[zz] a;", "x:float[70000] a;"] {
+            let e = p.format(40, bad.as_bytes()).unwrap_err();
+            assert!(
+                e.to_string().starts_with("t.ulg: byte 40: bad format"),
+                "{e}"
+            );
+        }
+    }
+
+    #[test]
+    fn info_values() {
+        let mut p = vec![12u8];
+        p.extend_from_slice(b"char[4] name");
+        p.extend_from_slice(b"PX4\0");
+        assert_eq!(key_value(&p), Some(("name".into(), "PX4".into())));
+        let mut p = vec![16u8];
+        p.extend_from_slice(b"int32_t MAV_TYPE");
+        p.extend_from_slice(&22i32.to_le_bytes());
+        assert_eq!(key_value(&p), Some(("MAV_TYPE".into(), "22".into())));
+        assert_eq!(key_value(&[200, 1, 2]), None);
+        assert_eq!(key_value(&[]), None);
+    }
 }

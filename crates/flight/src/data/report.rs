@@ -1,0 +1,233 @@
+//! What a reader found in a file ([`ImportReport`]): per channel, where it came from, how many
+//! samples and at what rate, and what was done to it (resampled, held, dropped), with notes on
+//! anything doubtful in the file. The ULog and column-mapped readers ([`super::px4`],
+//! [`super::mapped`]) fill one in; [`super::load`] hands it on.
+
+use std::fmt;
+
+/// One channel of an import: where it came from and what became of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChannelFound {
+    /// The channel, e.g. `position`, `attitude`.
+    pub channel: String,
+    /// Where it came from: topic and fields, or columns.
+    pub source: String,
+    /// Samples in the file (after dropping unusable ones).
+    pub samples: usize,
+    /// Median sample rate in the file, Hz, where meaningful.
+    pub rate_hz: Option<f64>,
+    /// Whether it is in the flight data.
+    pub used: bool,
+    /// What was done, or why it is not used.
+    pub note: String,
+}
+
+/// What a reader found in a file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImportReport {
+    /// The file.
+    pub file: String,
+    /// The format, e.g. `PX4 ULog`.
+    pub format: String,
+    /// Facts about the file: (what, value), e.g. (`system`, `PX4 PX4_SITL`).
+    pub about: Vec<(String, String)>,
+    /// The channels looked for, found or not.
+    pub channels: Vec<ChannelFound>,
+    /// Samples of the flight data.
+    pub samples: usize,
+    /// Its uniform rate when resampled, Hz.
+    pub rate_hz: Option<f64>,
+    /// Its duration, s.
+    pub duration_s: f64,
+    /// Anything doubtful.
+    pub notes: Vec<String>,
+}
+
+impl ImportReport {
+    /// A report of `format` for `file`.
+    pub fn new(file: &str, format: &str) -> Self {
+        Self {
+            file: file.to_string(),
+            format: format.to_string(),
+            ..Self::default()
+        }
+    }
+
+    /// Adds a channel.
+    pub fn channel(
+        &mut self,
+        channel: &str,
+        source: impl Into<String>,
+        samples: usize,
+        rate_hz: Option<f64>,
+        used: bool,
+        note: impl Into<String>,
+    ) {
+        self.channels.push(ChannelFound {
+            channel: channel.to_string(),
+            source: source.into(),
+            samples,
+            rate_hz,
+            used,
+            note: note.into(),
+        });
+    }
+
+    /// Adds a note.
+    pub fn note(&mut self, note: impl Into<String>) {
+        self.notes.push(note.into());
+    }
+
+    /// The report as JSON.
+    pub fn to_json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "file": self.file,
+            "format": self.format,
+            "about": self.about.iter().map(|(k, v)| serde_json::json!({"what": k, "value": v})).collect::<Vec<_>>(),
+            "channels": self.channels.iter().map(|c| serde_json::json!({
+                "channel": c.channel, "source": c.source, "samples": c.samples,
+                "rate_hz": c.rate_hz, "used": c.used, "note": c.note,
+            })).collect::<Vec<_>>(),
+            "samples": self.samples,
+            "rate_hz": self.rate_hz,
+            "duration_s": self.duration_s,
+            "notes": self.notes,
+        })
+    }
+}
+
+/// A sample rate for people: `250 Hz`, `12.5 Hz`, `0.2 Hz`.
+pub fn rate_text(hz: f64) -> String {
+    if hz >= 99.5 {
+        format!("{hz:.0} Hz")
+    } else if hz >= 0.995 {
+        let s = format!("{hz:.1}");
+        format!("{} Hz", s.strip_suffix(".0").unwrap_or(&s))
+    } else {
+        format!("{hz:.2} Hz")
+    }
+}
+
+impl fmt::Display for ImportReport {
+    /// A few lines: the file and format, the facts, a table of channels (text left-aligned,
+    /// numbers right-aligned), the result, the notes.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{} ({})", self.file, self.format)?;
+        for (k, v) in &self.about {
+            writeln!(f, "  {k}: {v}")?;
+        }
+        let rows: Vec<[String; 5]> = self
+            .channels
+            .iter()
+            .map(|c| {
+                [
+                    c.channel.clone(),
+                    c.source.clone(),
+                    c.samples.to_string(),
+                    c.rate_hz.map_or_else(|| "–".to_string(), rate_text),
+                    if c.used {
+                        c.note.clone()
+                    } else if c.note.is_empty() {
+                        "not used".to_string()
+                    } else {
+                        format!("not used: {}", c.note)
+                    },
+                ]
+            })
+            .collect();
+        let header = ["channel", "from", "samples", "rate", "note"];
+        let width = |i: usize| {
+            rows.iter()
+                .map(|r| r[i].chars().count())
+                .chain([header[i].chars().count()])
+                .max()
+                .unwrap_or(0)
+        };
+        let w: Vec<usize> = (0..5).map(width).collect();
+        let line = |f: &mut fmt::Formatter<'_>, r: [&str; 5]| {
+            let pad = |s: &str, n: usize| " ".repeat(n.saturating_sub(s.chars().count()));
+            let text = format!(
+                "  {}{}  {}{}  {}{}  {}{}  {}",
+                r[0],
+                pad(r[0], w[0]),
+                r[1],
+                pad(r[1], w[1]),
+                pad(r[2], w[2]),
+                r[2],
+                pad(r[3], w[3]),
+                r[3],
+                r[4]
+            );
+            writeln!(f, "{}", text.trim_end())
+        };
+        if !rows.is_empty() {
+            line(f, header)?;
+            for r in &rows {
+                line(f, [&r[0], &r[1], &r[2], &r[3], &r[4]])?;
+            }
+        }
+        match self.rate_hz {
+            Some(hz) => writeln!(
+                f,
+                "  flight data: {} samples at {} over {:.1} s",
+                self.samples,
+                rate_text(hz),
+                self.duration_s
+            )?,
+            None => writeln!(
+                f,
+                "  flight data: {} samples over {:.1} s",
+                self.samples, self.duration_s
+            )?,
+        }
+        for n in &self.notes {
+            writeln!(f, "  note: {n}")?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn report_aligns_text_left_and_numbers_right() {
+        let mut r = ImportReport::new("f.ulg", "PX4 ULog");
+        r.channel(
+            "position",
+            "vehicle_local_position x, y, z",
+            313,
+            Some(10.0),
+            true,
+            "",
+        );
+        r.channel(
+            "airspeed",
+            "airspeed true_airspeed_m_s",
+            7,
+            Some(0.5),
+            false,
+            "covers 2 %",
+        );
+        r.samples = 776;
+        r.rate_hz = Some(25.0);
+        r.duration_s = 31.04;
+        r.note("xy_valid is false");
+        let text = r.to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "f.ulg (PX4 ULog)");
+        assert_eq!(
+            lines[2],
+            "  position  vehicle_local_position x, y, z      313    10 Hz"
+        );
+        assert_eq!(
+            lines[3],
+            "  airspeed  airspeed true_airspeed_m_s            7  0.50 Hz  not used: covers 2 %"
+        );
+        assert_eq!(lines[4], "  flight data: 776 samples at 25 Hz over 31.0 s");
+        assert_eq!(lines[5], "  note: xy_valid is false");
+        assert_eq!(rate_text(250.0), "250 Hz");
+        assert_eq!(rate_text(12.5), "12.5 Hz");
+    }
+}
