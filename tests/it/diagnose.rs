@@ -6,7 +6,7 @@
 //! the error above the noise floor, its fitted parameters match the truth; clean data give no
 //! verdict; two hidden effects are both found by iterating.
 //!
-//! Where an effect shows depends on physics, and each case flies where it does (see README,
+//! Where an effect shows depends on physics, and each case flies where it does (see docs/validation.md,
 //! "What each effect needs to be seen"): the Earth effects (gravity_model, earth_rotation,
 //! earth_curvature) move a 25 m/s aircraft by centimetres in a window, far below GPS noise, so
 //! they are tested on a fast point-mass shot over several kilometres; ground_effect needs a

@@ -492,30 +492,3 @@ fn commands_read_ulog_and_mapped_csv() {
     );
     assert!(!Path::new(&dir.path().join("f")).exists());
 }
-
-/// The README's quoted import report is what `import` prints (lines the README cuts short with
-/// `…` are compared up to the cut).
-#[test]
-fn readme_report_matches_the_command() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
-    let start = readme
-        .find("```text\ntests/data/px4-sitl-hop.ulg (PX4 ULog)")
-        .expect("the README quotes the report");
-    let block = &readme[start + "```text\n".len()..];
-    let block = &block[..block.find("```").unwrap()];
-    let o = wireflight(&["import", "--flight", "tests/data/px4-sitl-hop.ulg"]);
-    let (so, se) = text(&o);
-    assert!(o.status.success(), "{se}");
-    for line in block.lines() {
-        let line = line.trim_end();
-        if line.trim() == "..." {
-            continue;
-        }
-        let quoted = line.split('…').next().unwrap();
-        assert!(
-            so.lines().any(|l| l.starts_with(quoted)),
-            "README line not printed: {line:?}\n{so}"
-        );
-    }
-}

@@ -1,6 +1,6 @@
 """Shared helpers for flying JSBSim's c172p headless (used by c172p_params.py, fly.py, check.py).
 
-Facts this module relies on (see shared/specs/jsbsim-notes.md):
+Facts this module relies on (see docs/jsbsim.md):
 
 * c172p, not c172x; dt = 1/400 s; rotational integrators = 3 (Adams-Bashforth 2).
 * Surfaces: fcs/elevator-pos-rad, fcs/left-aileron-pos-rad, fcs/right-aileron-pos-rad (= -left)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fly JSBSim's c172p headless and write wireflight flight-data CSV (shared/specs/flight-data.md).
+"""Fly JSBSim's c172p headless and write wireflight flight-data CSV (docs/flight-data.md).
 
     python3 tools/jsbsim/fly.py doublets   --rate 25 --duration 50 --out tests/data/jsbsim-c172p-doublets.csv
     python3 tools/jsbsim/fly.py steps      --rate 25 --duration 50 --out tests/data/jsbsim-c172p-steps.csv

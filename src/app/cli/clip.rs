@@ -7,6 +7,9 @@ use clap::{Args, ValueEnum};
 
 use crate::clip::Window2;
 
+/// Default limit on the size of `clip`'s input file, bytes (256 MiB).
+pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
+
 const EXAMPLES: &str = "\
 Examples:
   wireflight clip --algo blinn --input edges.csv --output clipped.csv --stats
@@ -71,7 +74,7 @@ pub struct ClipArgs {
     #[arg(long)]
     pub stats: bool,
     /// Refuse input files larger than this, bytes.
-    #[arg(long, value_name = "BYTES", default_value_t = crate::app::clip::io::DEFAULT_MAX_BYTES)]
+    #[arg(long, value_name = "BYTES", default_value_t = DEFAULT_MAX_BYTES)]
     pub max_bytes: u64,
 }
 

@@ -48,7 +48,7 @@ pub(super) fn resample_rate(s: &str) -> Result<f64, String> {
 
 const IMPORT_EXAMPLES: &str = "\
 Examples:
-  wireflight import --flight tests/data/px4-sitl-takeoff.ulg --out takeoff.csv
+  wireflight import --flight tests/data/px4-sitl-hop.ulg --out hop.csv
   wireflight import --flight log.ulg --resample 25 --out flight.csv --json
   wireflight import --flight logger.csv --columns 'time=t_us:us,north=x,east=y,down=z' --out f.csv
 

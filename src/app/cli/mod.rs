@@ -328,7 +328,7 @@ Examples:
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
 figure-eight, flight-test (fixed-wing); ballistic (point-mass).
 Effects: wind, drag, density_altitude, gravity_model, earth_rotation, earth_curvature,
-prop_torque, ground_effect, actuator_lag, gyroscopic (see README).
+prop_torque, ground_effect, actuator_lag, gyroscopic (see docs/flight-model.md).
 --hidden effects fly in the truth but nothing about them is written to the file.";
 
 /// `wireflight simulate` options.

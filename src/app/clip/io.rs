@@ -14,9 +14,6 @@ use std::path::{Path, PathBuf};
 
 use glam::{Vec2, Vec4};
 
-/// Default limit on the size of an input file, bytes (256 MiB).
-pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
-
 /// Names of the homogeneous columns.
 pub const HOMOGENEOUS_COLUMNS: [&str; 8] = ["x0", "y0", "z0", "w0", "x1", "y1", "z1", "w1"];
 /// Names of the 2D columns.

@@ -37,7 +37,7 @@ pub enum ImportError {
     /// column map.
     #[error(
         "{0}\n  (a CSV with other column names can be read with a column map: --columns, \
-         see README \"Real flight logs\")"
+         see docs/flight-data.md)"
     )]
     OtherColumns(DataError),
     /// The column-mapped reader's error.

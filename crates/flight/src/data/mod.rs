@@ -1,4 +1,4 @@
-//! Flight data: the CSV format of `shared/specs/flight-data.md`.
+//! Flight data: the CSV format of `docs/flight-data.md`.
 //!
 //! # Reading
 //! [`read`] / [`parse`] accept two dialects, told apart by the header:

@@ -1,5 +1,5 @@
 //! Named physical effects added to a baseline model (the catalogue of
-//! `shared/specs/flight-model.md`), and the trait users implement for their own.
+//! `docs/flight-model.md`), and the trait users implement for their own.
 //!
 //! Each effect is one file: its physics (hooks of [`Effect`]) and its [`EffectInfo`] — name,
 //! the vehicles it applies to, and each parameter's [`ParamSpec`] (unit, valid range, typical

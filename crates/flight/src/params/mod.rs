@@ -1,6 +1,6 @@
 //! Parameter sets of the fixed-wing model (Beard & McLain), read from TOML.
 //!
-//! The format is `assets/aircraft/aerosonde.toml` (a copy of `shared/specs/aerosonde.toml`):
+//! The format is `assets/aircraft/aerosonde.toml` (documented in `docs/flight-model.md`):
 //! tables `[mass]`, `[geometry]`, `[longitudinal]`, `[lateral]`, `[propulsion]`. Unknown keys
 //! are errors (a misspelt coefficient must not silently become zero).
 
