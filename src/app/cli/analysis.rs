@@ -1,6 +1,8 @@
 //! Options of the analysis commands: `compare`, `diagnose`, `identify`.
 
-use super::*;
+use clap::Args;
+
+use super::{parse_size, positive, DataArgs, ModelArgs, WindowArgs};
 
 const COMPARE_EXAMPLES: &str = "\
 Examples:

@@ -1,6 +1,13 @@
 //! How a flight-data file is read (`--columns`, `--resample`, `--surface-max`), and `wireflight import`'s options.
 
-use super::*;
+use std::path::PathBuf;
+
+use clap::Args;
+
+use super::{finite_f64, positive};
+use crate::flight::data::mapped::ColumnMap;
+use crate::flight::data::px4::UlogOptions;
+use crate::flight::data::LoadOptions;
 
 /// How a flight-data file is read (shared by every command that reads one): the project's
 /// CSV and JSBSim's as they are, a PX4 ULog (`.ulg`) resampled, anything else through a

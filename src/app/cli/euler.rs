@@ -1,6 +1,11 @@
 //! `wireflight euler` options and the parsers of conventions, angles, matrices and quaternions.
 
-use super::*;
+use std::path::PathBuf;
+
+use clap::{ArgGroup, Args};
+
+use super::{finite_f64, parse_size};
+use crate::euler::{Convention, Sequence};
 
 pub(super) fn parse_convention(s: &str) -> Result<Convention, String> {
     s.parse().map_err(|e| format!("{e}"))

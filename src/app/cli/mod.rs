@@ -7,18 +7,13 @@ mod euler;
 
 use std::path::PathBuf;
 
-use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::analysis::compare::CompareConfig;
-use crate::camera::CameraPreset;
 use crate::clip::Clipper;
-use crate::euler::{Convention, Sequence};
-use crate::flight::data::mapped::ColumnMap;
-use crate::flight::data::px4::UlogOptions;
-use crate::flight::data::LoadOptions;
+use crate::euler::Convention;
 use crate::flight::spec::{EffectSpec, ModelChoice};
 use crate::flight::VehicleKind;
-use crate::render::Backend;
 
 pub use analysis::*;
 pub use clip::*;

@@ -1,7 +1,11 @@
 //! The value parsers of the options (finite numbers, angles, sizes, planes, time steps) and the
 //! small enums that name a choice (camera, projection, backend).
 
-use super::*;
+use clap::ValueEnum;
+
+use crate::camera::CameraPreset;
+use crate::flight::VehicleKind;
+use crate::render::Backend;
 
 pub(super) fn time_step(s: &str) -> Result<f64, String> {
     let v = finite_f64(s)?;
