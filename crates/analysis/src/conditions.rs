@@ -7,7 +7,7 @@
 //! the aircraft) ∝ t, a missing moment (attitude error, then acceleration) ∝ t³; errors that
 //! do not grow are noise.
 
-use super::compare::Comparison;
+use crate::compare::Comparison;
 use wireflight_flight::data::FlightData;
 
 /// A condition averaged over each window.

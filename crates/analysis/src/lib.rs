@@ -9,6 +9,10 @@
 pub mod compare;
 pub mod conditions;
 pub mod diagnose;
+mod free;
 pub mod identify;
-pub(crate) mod profile;
+mod lm;
+mod profile;
 pub mod report;
+
+pub use free::KeyError;

@@ -5,6 +5,7 @@
 //! The profile is linearised around fitted starts (variable projection): the change of a
 //! window's residuals with a parameter, less what a change of the start could absorb. Normal
 //! equations are summed over windows in parallel; no window's Jacobian outlives its turn.
+//! The parameters are `free`'s; the step taken on these equations is `lm`'s.
 
 use std::borrow::Cow;
 
@@ -15,62 +16,9 @@ use crate::compare::start::{
     param_count, params_of, project_column, project_out, state_of, Scratch, StartFit,
 };
 use crate::compare::Prepared;
-use wireflight_flight::effects::Effect;
+use crate::free::{set_values, Free, Owner};
 use wireflight_flight::model::{Model, State};
 use wireflight_flight::numeric::{axpy, dot, gram, solve_in_place};
-
-/// The effect named `name` in `model`.
-pub(crate) fn effect<'m>(model: &'m Model, name: &str) -> Option<&'m dyn Effect> {
-    model
-        .effects
-        .iter()
-        .find(|e| e.name() == name)
-        .map(|e| e.as_ref())
-}
-
-/// Whose number a fitted parameter is.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Owner {
-    /// A parameter of the effect of that name.
-    Effect(&'static str),
-    /// A number of the aircraft's parameter set.
-    Aircraft,
-}
-
-/// A parameter being fitted: its name, range and typical size, and whose it is.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Free {
-    pub name: &'static str,
-    pub range: (f64, f64),
-    pub scale: f64,
-    pub owner: Owner,
-}
-
-/// Set the free parameters to `theta`, each kept inside its range.
-pub(crate) fn set_values(model: &mut Model, free: &[Free], theta: &[f64]) {
-    for (f, v) in free.iter().zip(theta) {
-        let v = v.clamp(f.range.0, f.range.1);
-        let _ = match f.owner {
-            Owner::Effect(name) => model
-                .effect_mut(name)
-                .map_or(Ok(()), |e| e.set_param(f.name, v)),
-            Owner::Aircraft => model.set_aircraft(f.name, v),
-        };
-    }
-}
-
-/// The current values of the free parameters.
-pub(crate) fn values(model: &Model, free: &[Free]) -> Vec<f64> {
-    free.iter()
-        .map(|f| {
-            match f.owner {
-                Owner::Effect(name) => effect(model, name).and_then(|e| e.param(f.name)),
-                Owner::Aircraft => model.aircraft(f.name),
-            }
-            .unwrap_or(0.0)
-        })
-        .collect()
-}
 
 /// One window's start state and the linearisation of its residuals around it: what a change
 /// of the start can absorb (the columns of `jac`), projected out of every residual change.
@@ -398,6 +346,7 @@ pub(crate) fn window_normal_towards(
     ((gram(&cols, np, m), g), start)
 }
 
+/// Add one share of the normal equations (a window's, a flight's) to a sum.
 pub(crate) fn add_into(sum: &mut Normal, part: &Normal) {
     sum.0.iter_mut().zip(&part.0).for_each(|(s, v)| *s += v);
     sum.1.iter_mut().zip(&part.1).for_each(|(s, v)| *s += v);
@@ -432,89 +381,6 @@ pub(crate) fn normal_equations(
         add_into(&mut sum, p);
     }
     sum
-}
-
-/// What a full Gauss–Newton step could still lower the linearised misfit by, gᵀA⁻¹g (None
-/// when A is singular): below the fit's tolerance, no trial is worth a pass over the windows
-/// — without this check a converged fit spends its last iteration on trials that all fail.
-pub(crate) fn newton_gain(a: &[f64], g: &[f64]) -> Option<f64> {
-    let mut x = g.to_vec();
-    let mut m = a.to_vec();
-    solve_in_place(&mut m, &mut x, g.len())?;
-    let gain = dot(g, &x);
-    gain.is_finite().then_some(gain)
-}
-
-/// Smallest typical size of an aircraft number that is zero in the set (a coefficient of 0:
-/// a change of 0.01 is already a large one for most).
-const AIRCRAFT_MIN_SCALE: f64 = 0.01;
-
-/// The aircraft numbers `keys` of `model` as free parameters, each scaled by a tenth of its
-/// value.
-pub(crate) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<Free>, String> {
-    keys.iter()
-        .map(|&k| {
-            let key = wireflight_flight::params::keys::find(k)
-                .ok_or_else(|| format!("unknown aircraft parameter `{k}`"))?;
-            let v = model
-                .aircraft(k)
-                .ok_or_else(|| format!("a point mass has no aircraft parameter `{k}`"))?;
-            Ok(Free {
-                name: key.name,
-                range: key.range,
-                scale: (0.1 * v.abs()).max(AIRCRAFT_MIN_SCALE),
-                owner: Owner::Aircraft,
-            })
-        })
-        .collect()
-}
-
-/// Stop fitting parameters when an iteration lowers χ² (in noise units) by less than this.
-pub(crate) const FIT_TOL: f64 = 0.01;
-
-/// The least Levenberg–Marquardt damping weight of a parameter: a millionth of the largest
-/// diagonal of the normal matrix (1 when it is all zero), so a parameter without sensitivity
-/// at the current values stays put instead of making the damped system singular.
-fn damping_floor(a: &[f64], np: usize) -> f64 {
-    let max = (0..np)
-        .map(|k| a[k * np + k])
-        .filter(|v| v.is_finite())
-        .fold(0.0f64, f64::max);
-    if max > 0.0 {
-        1e-6 * max
-    } else {
-        1.0
-    }
-}
-
-/// One Levenberg–Marquardt trial: solve (A + λ·diag(A)) δ = −g in the scaled parameters and
-/// step `theta` by δ·scale, each value kept inside its range; None when the damped system is
-/// singular (the caller raises λ). The damping of a parameter the misfit does not see yet (a
-/// thermal's radius while its updraft is 0) is floored by [`damping_floor`], or it would keep
-/// every step singular.
-pub(crate) fn damped_trial(
-    a0: &[f64],
-    g: &[f64],
-    lambda: f64,
-    theta: &[f64],
-    free: &[Free],
-) -> Option<Vec<f64>> {
-    let np = free.len();
-    let floor = damping_floor(a0, np);
-    let mut a = a0.to_vec();
-    for k in 0..np {
-        a[k * np + k] += lambda * a0[k * np + k].max(floor);
-    }
-    let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
-    solve_in_place(&mut a, &mut step, np)?;
-    Some(
-        theta
-            .iter()
-            .zip(&step)
-            .zip(free)
-            .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
-            .collect(),
-    )
 }
 
 #[cfg(test)]

@@ -6,9 +6,9 @@ use std::fmt::Write as _;
 
 use serde_json::{json, Map, Value};
 
-use super::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
-use super::conditions::Condition;
-use super::diagnose::{Candidate, Diagnosis, Verdict};
+use crate::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
+use crate::conditions::Condition;
+use crate::diagnose::{Candidate, Diagnosis, Verdict};
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
 

@@ -39,7 +39,7 @@ use std::sync::Arc;
 use glam::DVec3;
 use rayon::prelude::*;
 
-use attitude::{attitude_error_at, wrap};
+use attitude::attitude_error_at;
 pub use noise::{estimate_noise, expected_channel_errors, NoiseEstimate};
 pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
 use score::{assemble, assemble_as};

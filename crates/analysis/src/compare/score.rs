@@ -2,7 +2,16 @@
 //! misfit and its degrees of freedom, and the per-axis signed mean and RMS that say where the
 //! model is off.
 
-use super::*;
+use rayon::prelude::*;
+
+use super::attitude::wrap;
+use super::predict::Predicted;
+use super::start::param_count;
+use super::{
+    AxisError, ChannelErrors, Comparison, Prediction, Prepared, WindowOutcome, WindowResult,
+};
+use wireflight_flight::model::{AirData, Model};
+use wireflight_geometry::euler::EulerZyx;
 
 /// The comparison of `model` from the outcomes of its windows, in time order.
 pub(super) fn assemble(model: &Model, prep: &Prepared, outcomes: Vec<WindowOutcome>) -> Comparison {
@@ -62,7 +71,7 @@ pub(super) fn assemble_as(
         rate_dps: m.rates.then(|| (sr / n).sqrt()),
     };
     let fitted = if prep.cfg.start_iterations > 0 {
-        windows.len() * start::param_count(model)
+        windows.len() * param_count(model)
     } else {
         0
     };

@@ -7,20 +7,21 @@
 //! Marquardt runs on that, and the starts are then fitted exactly at the result (repeated
 //! when the linearisation was off). The covariance comes from the projected Jacobian.
 
-use super::{AircraftChange, Candidate, Correction, DiagnoseConfig};
+use super::{AircraftChange, Candidate, Correction, DiagnoseConfig, DiagnoseError};
 use crate::compare::start::{Scratch, StartFit};
 use crate::compare::{
     compare_corrections, compare_from_jacobians, compare_refit, compare_with_fits, Comparison,
     Prepared,
 };
+use crate::free::{aircraft_free, effect, set_values, values, Free, Owner};
+use crate::lm::{newton_trial, Lm, FIT_TOL};
 use crate::profile::{
-    add_into, aircraft_free, damped_trial, effect, linear_profile, moving_frame, newton_gain,
-    normal_equations, perturbed_models, set_values, values, window_normal_towards, Free,
-    Linearised, Owner, FIT_TOL,
+    add_into, linear_profile, moving_frame, normal_equations, perturbed_models,
+    window_normal_towards, Linearised,
 };
 use wireflight_flight::effects::{Effect, ParamSpec};
 use wireflight_flight::model::{Model, State};
-use wireflight_flight::numeric::{chi2_quantile, invert, solve_in_place};
+use wireflight_flight::numeric::{chi2_quantile, invert};
 
 /// The fitted parameters' covariance in their own units (row-major), or None when the data
 /// do not determine them.
@@ -82,50 +83,29 @@ fn fit_linearised(
     let (mut chi2, _, mut flown) = linear_profile(model, prep, lin);
     // The start changes of the last accepted trial, not yet applied.
     let mut pending: Option<Vec<Vec<f64>>> = None;
-    let mut lambda = 1e-3;
+    let mut lm = Lm::new(8, 1e-6);
     for _ in 0..iterations {
         let (a0, g) = normal_equations(model, (free, own), theta, prep, lin, Some(&flown));
         if let Some(dq) = pending.take() {
             move_starts(lin, &dq);
         }
-        if newton_gain(&a0, &g).is_some_and(|v| v < FIT_TOL.max(1e-6 * chi2)) {
-            break;
-        }
-        let mut accepted = None;
-        for _ in 0..8 {
-            let Some(trial) = damped_trial(&a0, &g, lambda, theta, free) else {
-                lambda *= 10.0;
-                continue;
-            };
-            if trial == *theta {
-                // The ranges clamp the step to no move: the parameters that would move are at
-                // their bounds, and a shorter step stops there too (an actuator lag fitted
-                // to its least τ flew eight trials a window for nothing).
-                break;
-            }
-            let mut m = model.clone();
-            set_values(&mut m, free, &trial);
-            let (c, dq_trial, flown_trial) = linear_profile(&m, prep, lin);
-            if c.is_finite() && c < chi2 {
-                accepted = Some((trial, m, c, dq_trial, flown_trial));
-                lambda = (lambda / 10.0).max(1e-9);
-                break;
-            }
-            lambda *= 10.0;
-        }
-        let Some((trial, m, c, dq_trial, flown_trial)) = accepted else {
+        let at: &[Linearised] = lin;
+        let Some(step) = lm.step(model, free, theta, (&a0, &g), chi2, |m, _| {
+            let (c, dq, flown) = linear_profile(m, prep, at);
+            (c, (dq, flown))
+        }) else {
             break;
         };
-        let gain = chi2 - c;
-        *theta = trial;
-        *model = m;
-        chi2 = c;
+        *theta = step.theta;
+        *model = step.model;
+        chi2 = step.objective;
+        let (dq, flown_trial) = step.extra;
         flown = flown_trial;
         // Each start belongs where the linearisation puts it at these parameters.
-        pending = Some(dq_trial);
+        pending = Some(dq);
         // The baseline's starts are no longer the model's own.
         own &= starts == Starts::Own;
-        if gain < FIT_TOL.max(1e-6 * chi2) || first_step_only {
+        if step.converged || first_step_only {
             break;
         }
     }
@@ -263,13 +243,16 @@ pub(crate) fn effect_free(
     fixed: &[String],
     prep: &Prepared,
     reset: bool,
-) -> Result<Vec<Free>, String> {
+) -> Result<Vec<Free>, DiagnoseError> {
     let info = effect(model, name)
         .map(|e| e.info())
-        .ok_or_else(|| format!("effect `{name}` was not added"))?;
+        .ok_or_else(|| DiagnoseError::NotAdded(name.to_string()))?;
     for f in fixed {
         if info.param(f).is_none() {
-            return Err(format!("effect `{name}` has no parameter `{f}`"));
+            return Err(DiagnoseError::NoParameter {
+                effect: name.to_string(),
+                param: f.clone(),
+            });
         }
     }
     let known_origin = prep.data.meta.latitude_deg.is_some();
@@ -320,7 +303,7 @@ pub(crate) fn fit_trial(
     before: &Baseline,
     cfg: &DiagnoseConfig,
     candidates: usize,
-) -> Result<Candidate, String> {
+) -> Result<Candidate, DiagnoseError> {
     let (after, cov) = fit(&mut model, free, prep, before, cfg.max_iterations);
     make_candidate(
         base,
@@ -349,7 +332,7 @@ pub fn try_effect(
     before: &Baseline,
     cfg: &DiagnoseConfig,
     candidates: usize,
-) -> Result<Candidate, String> {
+) -> Result<Candidate, DiagnoseError> {
     let name = effect.name().to_string();
     let mut model = base.clone();
     model.add_effect(effect)?;
@@ -378,7 +361,7 @@ pub fn try_aircraft(
     before: &Baseline,
     cfg: &DiagnoseConfig,
     candidates: usize,
-) -> Result<Candidate, String> {
+) -> Result<Candidate, DiagnoseError> {
     let free = aircraft_free(base, keys)?;
     fit_trial(
         base,
@@ -506,16 +489,10 @@ pub(crate) fn full_pass(
         }
         let (a, g) = sum;
         let mut model = f.model;
-        let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
-        let mut m = a.clone();
-        if np > 0 && solve_in_place(&mut m, &mut step, np).is_some() {
-            let theta: Vec<f64> = f
-                .theta
-                .iter()
-                .zip(&step)
-                .zip(&f.free)
-                .map(|((t, s), p)| (t + s * p.scale).clamp(p.range.0, p.range.1))
-                .collect();
+        if let Some(theta) = (np > 0)
+            .then(|| newton_trial(&a, &g, &f.theta, &f.free))
+            .flatten()
+        {
             set_values(&mut model, &f.free, &theta);
         }
         let cov = (np > 0).then(|| covariance(&a, &f.free, &after)).flatten();
@@ -608,7 +585,7 @@ fn make_candidate(
     cov: Option<Vec<f64>>,
     cfg: &DiagnoseConfig,
     candidates: usize,
-) -> Result<Candidate, String> {
+) -> Result<Candidate, DiagnoseError> {
     let np = free.len();
     let sigma = |k: usize| cov.as_ref().map_or(f64::NAN, |c| c[k * np + k].sqrt());
     let mut params = Vec::new();
@@ -618,7 +595,7 @@ fn make_candidate(
         Trial::Effect(name) => {
             let e = effect(model, name)
                 .map(|e| e.clone_box())
-                .ok_or_else(|| format!("effect `{name}` was not added"))?;
+                .ok_or_else(|| DiagnoseError::NotAdded(name.clone()))?;
             for p in e.params() {
                 params.push((p.name.to_string(), p.value));
                 let k = free.iter().position(|f| f.name == p.name);

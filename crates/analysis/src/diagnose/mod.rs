@@ -46,11 +46,12 @@ use fit::{could_be_significant, full_pass};
 pub use fit::{try_aircraft, try_effect, Baseline};
 use screen::{score_aircraft, KeyScore};
 
-use super::compare::{noise_floor, CompareConfig, Comparison, Prepared};
+use crate::compare::{noise_floor, AxisError, CompareConfig, Comparison, NoiseEstimate, Prepared};
+use crate::free::KeyError;
 use wireflight_flight::data::FlightData;
-use wireflight_flight::effects::{Effect, CATALOGUE};
-use wireflight_flight::model::Model;
-use wireflight_flight::spec::EffectSpec;
+use wireflight_flight::effects::{Effect, ParamError, CATALOGUE};
+use wireflight_flight::model::{Model, ModelError};
+use wireflight_flight::spec::{EffectSpec, SpecError};
 
 /// Settings of a diagnosis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,6 +79,49 @@ impl Default for DiagnoseConfig {
             at_floor: 1.25,
         }
     }
+}
+
+/// Why a diagnosis, or a correction, could not be made.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum DiagnoseError {
+    /// The flight is too short for one comparison window.
+    #[error(
+        "the flight ({samples} samples, {duration_s:.2} s) is too short for one {window_s:.1} s \
+         comparison window"
+    )]
+    TooShort {
+        /// Samples in the flight.
+        samples: usize,
+        /// Its duration, s.
+        duration_s: f64,
+        /// The comparison window, s.
+        window_s: f64,
+    },
+    /// The effect is not in the model.
+    #[error("effect `{0}` was not added")]
+    NotAdded(String),
+    /// A parameter to hold that the effect does not have.
+    #[error("effect `{effect}` has no parameter `{param}`")]
+    NoParameter {
+        /// The effect.
+        effect: String,
+        /// The parameter named.
+        param: String,
+    },
+    /// An aircraft number that cannot be fitted.
+    #[error(transparent)]
+    Key(#[from] KeyError),
+    /// The model refused a change: an effect that does not apply or is there already, an
+    /// aircraft number out of range.
+    #[error(transparent)]
+    Model(#[from] ModelError),
+    /// An effect refused a value of one of its parameters.
+    #[error(transparent)]
+    Param(#[from] ParamError),
+    /// An effect spec that does not build.
+    #[error(transparent)]
+    Spec(#[from] SpecError),
 }
 
 /// One tried effect.
@@ -162,7 +206,7 @@ impl Correction {
     ///
     /// # Errors
     /// The effect does not apply or is already there; a key the model does not have.
-    pub fn apply(&self, model: &mut Model) -> Result<(), String> {
+    pub fn apply(&self, model: &mut Model) -> Result<(), ModelError> {
         match self {
             Correction::Effect(e) => model.add_effect(e.clone()),
             Correction::Aircraft(changes) => changes
@@ -212,7 +256,7 @@ pub struct Diagnosis {
     /// Windows of the whole comparison, and of the screening (equal when not screened).
     pub windows: (usize, usize),
     /// The measurement noise of the data.
-    pub base_noise: crate::compare::NoiseEstimate,
+    pub base_noise: NoiseEstimate,
     /// Every number of the aircraft's set by the misfit it alone could remove (best first;
     /// empty for a point mass).
     pub aircraft_scores: Vec<KeyScore>,
@@ -250,7 +294,7 @@ pub fn add_fitted(
     prep: &Prepared,
     adds: &[EffectSpec],
     cfg: &DiagnoseConfig,
-) -> Result<Vec<Candidate>, String> {
+) -> Result<Vec<Candidate>, DiagnoseError> {
     let mut out = Vec::new();
     for spec in adds {
         if spec.is_aircraft() {
@@ -263,7 +307,7 @@ pub fn add_fitted(
                 .map(|k| {
                     wireflight_flight::params::keys::find(k)
                         .map(|key| key.name)
-                        .ok_or_else(|| format!("unknown aircraft parameter `{k}`"))
+                        .ok_or_else(|| KeyError::Unknown(k.clone()))
                 })
                 .collect::<Result<_, _>>()?;
             if keys.is_empty() {
@@ -324,15 +368,14 @@ pub fn diagnose(
     data: &FlightData,
     extra: &[Box<dyn Effect>],
     cfg: &DiagnoseConfig,
-) -> Result<Diagnosis, String> {
+) -> Result<Diagnosis, DiagnoseError> {
     let full = Prepared::new(data, cfg.compare);
     if full.windows.is_empty() {
-        return Err(format!(
-            "the flight ({} samples, {:.2} s) is too short for one {:.1} s comparison window",
-            data.len(),
-            data.duration(),
-            cfg.compare.window_s
-        ));
+        return Err(DiagnoseError::TooShort {
+            samples: data.len(),
+            duration_s: data.duration(),
+            window_s: cfg.compare.window_s,
+        });
     }
     let screened = cfg.screen_windows > 0 && full.windows.len() > cfg.screen_windows;
     let screen = screened.then(|| full.with_max_windows(cfg.screen_windows));
@@ -446,7 +489,7 @@ fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<Strin
             _ => None,
         }
     };
-    let mut axes: Vec<(f64, &super::compare::AxisError)> = cmp
+    let mut axes: Vec<(f64, &AxisError)> = cmp
         .axes
         .iter()
         .filter_map(|a| {
@@ -522,7 +565,7 @@ pub fn iterate(
     extra: &[Box<dyn Effect>],
     cfg: &DiagnoseConfig,
     max_rungs: usize,
-) -> Result<(Vec<Rung>, Model), String> {
+) -> Result<(Vec<Rung>, Model), DiagnoseError> {
     let mut model = base.clone();
     let mut applied = model.effect_names();
     let mut ladder = Vec::new();

@@ -6,11 +6,11 @@
 use rayon::prelude::*;
 
 use super::Prior;
-use crate::profile::{set_values, values, Free};
+use crate::free::{set_values, values, Free};
+use crate::lm::newton_trial;
 use wireflight_flight::data::FlightData;
 use wireflight_flight::derive::{Differentiator, Window};
 use wireflight_flight::model::{Model, State};
-use wireflight_flight::numeric::solve_in_place;
 use wireflight_flight::Controls;
 
 /// At most this many samples of each flight enter the regression (evenly strided).
@@ -105,14 +105,7 @@ pub(super) fn equation_error(
             a[i * np + i] += prior.weight[i];
             g[i] += prior.weight[i] * (theta[i] - prior.centre[i]) / free[i].scale;
         }
-        let mut step: Vec<f64> = g.iter().map(|v| -v).collect();
-        solve_in_place(&mut a, &mut step, np)?;
-        let trial: Vec<f64> = theta
-            .iter()
-            .zip(&step)
-            .zip(free)
-            .map(|((t, s), f)| (t + s * f.scale).clamp(f.range.0, f.range.1))
-            .collect();
+        let trial = newton_trial(&a, &g, &theta, free)?;
         let mut m = base.clone();
         set_values(&mut m, free, &trial);
         let r_trial = residuals(&m);

@@ -23,18 +23,46 @@
 //! correlated residuals as in the diagnosis; |correlation| above [`CONFOUNDED`] names pairs the
 //! data cannot separate.
 
-use super::compare::{compare_refit, compare_with_fits, CompareConfig, Comparison, Prepared};
-use super::profile::{
-    aircraft_free, damped_trial, linear_profile, newton_gain, normal_equations, set_values, values,
-    Free, Linearised, FIT_TOL,
-};
+mod equation_error;
+
+use equation_error::equation_error;
+
+use crate::compare::{compare_refit, compare_with_fits, CompareConfig, Comparison, Prepared};
+use crate::free::{aircraft_free, set_values, values, Free, KeyError};
+use crate::lm::{Lm, FIT_TOL};
+use crate::profile::{add_into, linear_profile, normal_equations, Linearised, Normal};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::{Model, State};
-
-mod equation_error;
-use equation_error::equation_error;
 use wireflight_flight::numeric::invert;
 use wireflight_flight::params::keys::{self, AircraftKey};
+
+/// Why an identification could not be made.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum IdentifyError {
+    /// An aircraft number that cannot be fitted (a point mass has none).
+    #[error(transparent)]
+    Key(#[from] KeyError),
+    /// No number was asked for.
+    #[error("no aircraft parameter to identify")]
+    NothingToFit,
+    /// A flight is too short for one comparison window.
+    #[error("flight {flight} ({duration_s:.2} s) is too short for one {window_s:.1} s window")]
+    TooShort {
+        /// The flight, counted from 1.
+        flight: usize,
+        /// Its duration, s.
+        duration_s: f64,
+        /// The comparison window, s.
+        window_s: f64,
+    },
+    /// The starting model's comparison is not finite.
+    #[error("the starting model's comparison is not finite")]
+    StartNotFinite,
+    /// The identified model's comparison is not finite.
+    #[error("the identified model's comparison is not finite")]
+    ResultNotFinite,
+}
 
 /// Settings of an identification.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -144,7 +172,7 @@ impl Identification {
 ///
 /// # Errors
 /// A pattern matching no key.
-pub fn free_keys(patterns: &[String]) -> Result<Vec<&'static AircraftKey>, String> {
+pub fn free_keys(patterns: &[String]) -> Result<Vec<&'static AircraftKey>, KeyError> {
     if patterns.is_empty() {
         return Ok(keys::KEYS
             .iter()
@@ -155,10 +183,7 @@ pub fn free_keys(patterns: &[String]) -> Result<Vec<&'static AircraftKey>, Strin
     for p in patterns {
         let found = keys::matching(p);
         if found.is_empty() {
-            return Err(format!(
-                "`{p}` matches no aircraft parameter (keys such as c_m_alpha, c_ell_p, mass_kg, \
-                 jx; a prefix ends in `*`, e.g. c_m_*)"
-            ));
+            return Err(KeyError::NoMatch(p.clone()));
         }
         for k in found {
             if !chosen.iter().any(|c| c.name == k.name) {
@@ -222,11 +247,11 @@ pub fn identify(
     flights: &[FlightData],
     keys: &[&'static AircraftKey],
     cfg: &IdentifyConfig,
-) -> Result<Identification, String> {
+) -> Result<Identification, IdentifyError> {
     let names: Vec<&'static str> = keys.iter().map(|k| k.name).collect();
     let free = aircraft_free(base, &names)?;
     if free.is_empty() {
-        return Err("no aircraft parameter to identify".into());
+        return Err(IdentifyError::NothingToFit);
     }
     let preps: Vec<Prepared> = flights
         .iter()
@@ -234,12 +259,11 @@ pub fn identify(
         .collect();
     for (i, p) in preps.iter().enumerate() {
         if p.windows.is_empty() {
-            return Err(format!(
-                "flight {} ({:.2} s) is too short for one {:.1} s window",
-                i + 1,
-                flights[i].duration(),
-                cfg.compare.window_s
-            ));
+            return Err(IdentifyError::TooShort {
+                flight: i + 1,
+                duration_s: flights[i].duration(),
+                window_s: cfg.compare.window_s,
+            });
         }
     }
     let start = values(base, &free);
@@ -257,7 +281,7 @@ pub fn identify(
         .collect();
     let before: Vec<Comparison> = base_fits.iter().map(|(c, _)| c.clone()).collect();
     if before.iter().any(|c| !c.chi2.is_finite()) {
-        return Err("the starting model's comparison is not finite".into());
+        return Err(IdentifyError::StartNotFinite);
     }
     let chi2_base: f64 = before.iter().map(|c| c.chi2).sum();
     let mut s2 = residual_scale(&before);
@@ -297,7 +321,7 @@ pub fn identify(
 
     // Output error: LM on the linearised profile, then exact start fits, until they agree and
     // the residual scale (the prior's weight) has settled.
-    let mut linear = lm(
+    let mut linear = fit_linearised(
         &mut model,
         &free,
         &mut theta,
@@ -328,7 +352,7 @@ pub fn identify(
         if settled || !exact.is_finite() {
             break;
         }
-        linear = lm(
+        linear = fit_linearised(
             &mut model,
             &free,
             &mut theta,
@@ -339,7 +363,7 @@ pub fn identify(
         );
     }
     if after.iter().any(|c| !c.chi2.is_finite()) {
-        return Err("the identified model's comparison is not finite".into());
+        return Err(IdentifyError::ResultNotFinite);
     }
 
     let (cov, correlation) = posterior(&model, &free, &theta, &prior, &fl, &after);
@@ -388,21 +412,14 @@ fn residual_scale(comparisons: &[Comparison]) -> f64 {
 }
 
 /// Sum of every flight's normal equations, and of their linearised misfits.
-fn normal_sum(
-    model: &Model,
-    free: &[Free],
-    theta: &[f64],
-    flights: &[Flight],
-) -> (Vec<f64>, Vec<f64>) {
+fn normal_sum(model: &Model, free: &[Free], theta: &[f64], flights: &[Flight]) -> Normal {
     let np = free.len();
-    let mut a = vec![0.0; np * np];
-    let mut g = vec![0.0; np];
+    let mut sum = (vec![0.0; np * np], vec![0.0; np]);
     for f in flights {
-        let (fa, fg) = normal_equations(model, (free, false), theta, &f.prep, &f.lin, None);
-        a.iter_mut().zip(&fa).for_each(|(s, v)| *s += v);
-        g.iter_mut().zip(&fg).for_each(|(s, v)| *s += v);
+        let part = normal_equations(model, (free, false), theta, &f.prep, &f.lin, None);
+        add_into(&mut sum, &part);
     }
-    (a, g)
+    sum
 }
 
 /// The linearised misfit of every flight at `model`, and each window's start change.
@@ -418,8 +435,9 @@ fn profile_sum(model: &Model, flights: &[Flight]) -> (f64, Vec<Vec<Vec<f64>>>) {
 }
 
 /// Levenberg–Marquardt on the parameters over the flights' linearised profiles plus the
-/// prior weighted by the residual scale `s2` ([`residual_scale`]); updates `model`, `theta` and the windows' starts. Returns the data misfit reached.
-fn lm(
+/// prior weighted by the residual scale `s2` ([`residual_scale`]); updates `model`, `theta`
+/// and the windows' starts. Returns the data misfit reached.
+fn fit_linearised(
     model: &mut Model,
     free: &[Free],
     theta: &mut Vec<f64>,
@@ -431,7 +449,7 @@ fn lm(
     let np = free.len();
     let (mut chi2, _) = profile_sum(model, flights);
     let mut objective = chi2 + s2 * prior.penalty(theta);
-    let mut lambda = 1e-3;
+    let mut lm = Lm::new(10, 1e-7);
     for _ in 0..iterations {
         let (mut a0, mut g) = normal_sum(model, free, theta, flights);
         // The prior's share, in scaled units: s²·weight·(θ − θ₀)/scale.
@@ -439,45 +457,25 @@ fn lm(
             a0[k * np + k] += s2 * prior.weight[k];
             g[k] += s2 * prior.weight[k] * (theta[k] - prior.centre[k]) / free[k].scale;
         }
-        if newton_gain(&a0, &g).is_some_and(|v| v < FIT_TOL.max(1e-7 * objective)) {
-            break;
-        }
-        let mut accepted = None;
-        for _ in 0..10 {
-            let Some(trial) = damped_trial(&a0, &g, lambda, theta, free) else {
-                lambda *= 10.0;
-                continue;
-            };
-            if trial == *theta {
-                // The ranges clamp the step to no move (see `diagnose`'s fit).
-                break;
-            }
-            let mut m = model.clone();
-            set_values(&mut m, free, &trial);
-            let (c, dq_trial) = profile_sum(&m, flights);
-            let obj = c + s2 * prior.penalty(&trial);
-            if obj.is_finite() && obj < objective {
-                accepted = Some((m, c, obj, dq_trial));
-                lambda = (lambda / 10.0).max(1e-9);
-                break;
-            }
-            lambda *= 10.0;
-        }
-        let Some((m, c, obj, dq)) = accepted else {
+        let at: &[Flight] = flights;
+        let Some(step) = lm.step(model, free, theta, (&a0, &g), objective, |m, trial| {
+            let (c, dq) = profile_sum(m, at);
+            (c + s2 * prior.penalty(trial), (c, dq))
+        }) else {
             break;
         };
-        let gain = objective - obj;
-        // The values as set (each kept inside its range), not the unclamped step.
-        *theta = values(&m, free);
-        *model = m;
+        let (c, dq) = step.extra;
+        // The values as set in the model.
+        *theta = values(&step.model, free);
+        *model = step.model;
         chi2 = c;
-        objective = obj;
+        objective = step.objective;
         for (f, d) in flights.iter_mut().zip(&dq) {
             for (l, dw) in f.lin.iter_mut().zip(d) {
                 l.q.iter_mut().zip(dw).for_each(|(q, v)| *q += v);
             }
         }
-        if gain < FIT_TOL.max(1e-7 * objective) {
+        if step.converged {
             break;
         }
     }

@@ -3,6 +3,7 @@ use crate::compare::CompareConfig;
 use crate::profile::Normal;
 use wireflight_flight::autopilot::Manoeuvre;
 use wireflight_flight::effects::Origin;
+use wireflight_flight::numeric::solve_in_place;
 use wireflight_flight::simulate::{simulate, Noise, SimSpec};
 use wireflight_flight::spec::{EffectSpec, ModelSpec};
 use wireflight_flight::VehicleKind;
