@@ -10,6 +10,7 @@
 
 #![warn(missing_docs)]
 
+mod figures;
 pub mod flythrough;
 pub mod mesh_files;
 pub mod output;

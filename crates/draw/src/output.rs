@@ -2,17 +2,70 @@
 //! one animated GIF.
 //! Every file is written atomically ([`wireflight_fsio::write_atomic`]).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use anyhow::{bail, Context};
+use thiserror::Error;
 
 use crate::progress::Progress;
-use crate::render::gif::GifAnimation;
-use crate::render::{svg, LineScene, OutputFormat, Rasterizer};
+use crate::render::gif::{GifAnimation, GifError};
+use crate::render::{svg, LineScene, OutputFormat, Rasterizer, RenderError, UnknownFormat};
 use crate::scene::replay::ReplayScene;
-use wireflight_fsio::{write_atomic, StagedDir};
+use wireflight_fsio::{write_atomic, FsError, StagedDir};
 use wireflight_geometry::clip::ClipStats;
 use wireflight_geometry::pipeline::Viewport;
+
+/// Why pictures could not be written.
+#[derive(Debug, Error)]
+pub enum OutputError {
+    /// The file name names no format.
+    #[error(transparent)]
+    Format(#[from] UnknownFormat),
+    /// The rasterizer failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    /// The PNG encoder failed.
+    #[error("encoding PNG")]
+    EncodePng(#[source] png::EncodingError),
+    /// A file or directory could not be written (the error names it).
+    #[error(transparent)]
+    Fs(#[from] FsError),
+    /// Frames per second outside (0, 1000].
+    #[error("--fps {fps} must be in (0, 1000]")]
+    Fps {
+        /// The frame rate asked for.
+        fps: f64,
+    },
+    /// More frames than allowed.
+    #[error(
+        "{span_s:.6e} s of flight at {fps} fps is {frames:.3e} frames, more than --max-frames \
+         {max_frames} (raise it, or lower --fps)"
+    )]
+    TooManyFrames {
+        /// Flight time to draw, s.
+        span_s: f64,
+        /// Frames per second.
+        fps: f64,
+        /// Frames that would take (not finite for a span that is not).
+        frames: f64,
+        /// The most allowed.
+        max_frames: u64,
+    },
+    /// A GIF asked for at more than 100 frames per second.
+    #[error("{}: a GIF shows at most 100 frames per second", path.display())]
+    GifFps {
+        /// The GIF file.
+        path: PathBuf,
+    },
+    /// The GIF could not be encoded.
+    #[error("{}", path.display())]
+    Gif {
+        /// The GIF file.
+        path: PathBuf,
+        /// What went wrong.
+        #[source]
+        source: GifError,
+    },
+}
 
 /// Draw `scene` and write it to `path` in the format its extension names. Returns how it was
 /// drawn (the rasterizer's description, or `svg`).
@@ -23,12 +76,12 @@ pub fn write_still(
     path: &Path,
     scene: &LineScene,
     rasterizer: &mut Rasterizer,
-) -> anyhow::Result<String> {
+) -> Result<String, OutputError> {
     let (bytes, how) = match OutputFormat::of(path)? {
         OutputFormat::Png => {
             let image = rasterizer.draw(scene)?;
             (
-                image.encode_png().context("encoding PNG")?,
+                image.encode_png().map_err(OutputError::EncodePng)?,
                 rasterizer.describe(),
             )
         }
@@ -90,57 +143,51 @@ pub fn write_frames(
     out: FrameOut<'_>,
     rasterizer: &mut Rasterizer,
     quiet_progress: bool,
-) -> anyhow::Result<FramesWritten> {
+) -> Result<FramesWritten, OutputError> {
     if !(fps > 0.0 && fps <= 1000.0) {
-        bail!("--fps {fps} must be in (0, 1000]");
+        return Err(OutputError::Fps { fps });
     }
     let count = ((t1 - t0) * fps).floor() + 1.0;
     if !(count.is_finite() && count >= 1.0 && count <= max_frames as f64) {
-        bail!(
-            "{:.6e} s of flight at {fps} fps is {count:.3e} frames, more than --max-frames \
-             {max_frames} (raise it, or lower --fps)",
-            t1 - t0
-        );
+        return Err(OutputError::TooManyFrames {
+            span_s: t1 - t0,
+            fps,
+            frames: count,
+            max_frames,
+        });
     }
     let frames = count as usize;
+    let gif_error = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source: GifError| OutputError::Gif { path, source }
+    };
+    // Where the frames go: a staging directory, or the animation being encoded.
+    let mut sink = match out {
+        FrameOut::Pngs(dir) => Sink::Pngs(StagedDir::new(dir)?),
+        FrameOut::Gif(path) => {
+            if fps > 100.0 {
+                return Err(OutputError::GifFps {
+                    path: path.to_path_buf(),
+                });
+            }
+            let delay = GifAnimation::delay_for(fps);
+            let gif = GifAnimation::new(viewport.width, viewport.height, delay)
+                .map_err(gif_error(path))?;
+            Sink::Gif(path, gif)
+        }
+    };
     let mut total = ClipStats::default();
     let progress = Progress::bar(frames as u64, "frames", quiet_progress);
     let mut bytes = 0;
-    let mut gif = None;
-    let mut staged = None;
-    match out {
-        FrameOut::Pngs(dir) => staged = Some(StagedDir::new(dir)?),
-        FrameOut::Gif(path) => {
-            if fps > 100.0 {
-                bail!(
-                    "{}: a GIF shows at most 100 frames per second",
-                    path.display()
-                );
-            }
-            gif = Some(
-                GifAnimation::new(
-                    viewport.width,
-                    viewport.height,
-                    GifAnimation::delay_for(fps),
-                )
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
-            );
-        }
-    }
     for k in 0..frames {
         let (lines, stats) = replay.frame(t0 + k as f64 / fps, viewport);
         total.merge(&stats);
         let image = rasterizer.draw(lines)?;
-        match (out, gif.as_mut()) {
-            (FrameOut::Gif(path), Some(g)) => g
-                .push(&image)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?,
-            (FrameOut::Pngs(_), _) | (FrameOut::Gif(_), None) => {
-                let Some(staged) = staged.as_ref() else {
-                    bail!("internal: no staging directory for PNG frames");
-                };
+        match &mut sink {
+            Sink::Gif(path, gif) => gif.push(&image).map_err(gif_error(path))?,
+            Sink::Pngs(staged) => {
                 let path = staged.path().join(format!("frame_{k:05}.png"));
-                let png = image.encode_png().context("encoding PNG")?;
+                let png = image.encode_png().map_err(OutputError::EncodePng)?;
                 bytes += png.len();
                 write_atomic(&path, &png)?;
             }
@@ -148,22 +195,30 @@ pub fn write_frames(
         progress.inc(1);
     }
     drop(progress);
-    if let Some(staged) = staged {
-        staged.commit_replace(is_frame_name)?;
-    }
-    let mut fps_written = fps;
-    if let (FrameOut::Gif(path), Some(g)) = (out, gif) {
-        let data = g
-            .finish()
-            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-        bytes = data.len();
-        write_atomic(path, &data)?;
-        fps_written = 100.0 / GifAnimation::delay_for(fps) as f64;
-    }
+    let fps_written = match sink {
+        Sink::Pngs(staged) => {
+            staged.commit_replace(is_frame_name)?;
+            fps
+        }
+        Sink::Gif(path, gif) => {
+            let data = gif.finish().map_err(gif_error(path))?;
+            bytes = data.len();
+            write_atomic(path, &data)?;
+            100.0 / GifAnimation::delay_for(fps) as f64
+        }
+    };
     Ok(FramesWritten {
         frames,
         stats: total,
         fps: fps_written,
         bytes,
     })
+}
+
+/// Where [`write_frames`] puts the frames while it draws them.
+enum Sink<'a> {
+    /// PNG files in a staging directory that replaces the output directory at the end.
+    Pngs(StagedDir),
+    /// The animation, written to its file at the end.
+    Gif(&'a Path, GifAnimation),
 }

@@ -324,7 +324,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
     // Through a symbolic link: replace what it points to.
     let target = match std::fs::symlink_metadata(path) {
         Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path)
-            .map_err(|e| FsError::io(&path, "follow the symbolic link", e))?,
+            .map_err(|e| FsError::io(path, "follow the symbolic link", e))?,
         _ => path.to_path_buf(),
     };
     let dir = parent_dir(&target);
@@ -348,7 +348,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
         let _ = std::fs::remove_file(&tmp);
     }
     unregister(&tmp);
-    result.map_err(|e| FsError::io(&path, "write", e))
+    result.map_err(|e| FsError::io(path, "write", e))
 }
 
 /// Write a directory of files as a whole through a [`StagedDir`]: a reader (or a crash) sees
@@ -382,7 +382,7 @@ pub fn write_dir_atomic(
         "the marker file `{marker}` is not among the files to write"
     );
     if dir.is_dir() {
-        let mut entries = std::fs::read_dir(dir).map_err(|e| FsError::io(&dir, "read", e))?;
+        let mut entries = std::fs::read_dir(dir).map_err(|e| FsError::io(dir, "read", e))?;
         let empty = entries.next().is_none();
         refuse_unless!(
             empty || dir.join(marker).is_file(),

@@ -510,7 +510,8 @@ impl App {
 /// # Errors
 /// Encoding or write errors, naming the file.
 pub fn write_screenshot(scene: &LineScene, path: &Path) -> anyhow::Result<()> {
-    crate::output::write_still(path, scene, &mut Rasterizer::Cpu).map(|_| ())
+    crate::output::write_still(path, scene, &mut Rasterizer::Cpu)?;
+    Ok(())
 }
 
 impl ApplicationHandler for App {

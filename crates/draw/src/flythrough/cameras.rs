@@ -65,13 +65,18 @@ impl fmt::Display for CameraMode {
     }
 }
 
+/// A name that is no [`CameraMode`].
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("`{0}` is not a camera (chase, cockpit, orbit, free)")]
+pub struct ParseCameraModeError(pub String);
+
 impl FromStr for CameraMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParseCameraModeError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         Self::ALL
             .into_iter()
             .find(|m| m.name() == s)
-            .ok_or_else(|| format!("`{s}` is not a camera (chase, cockpit, orbit, free)"))
+            .ok_or_else(|| ParseCameraModeError(s.to_string()))
     }
 }
 
@@ -423,7 +428,10 @@ mod tests {
             assert_eq!(m.to_string(), expected);
             assert_eq!(expected.parse::<CameraMode>(), Ok(m));
         }
-        assert!("tail".parse::<CameraMode>().is_err());
+        assert_eq!(
+            "tail".parse::<CameraMode>().unwrap_err().to_string(),
+            "`tail` is not a camera (chase, cockpit, orbit, free)"
+        );
     }
 
     #[test]

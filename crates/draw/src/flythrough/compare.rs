@@ -8,14 +8,14 @@
 //! No window code: the window reads this state, tests drive it directly ([`Compare::wait`],
 //! [`Compare::wait_fit`]).
 
+use std::error::Error;
 use std::panic::AssertUnwindSafe;
 use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 use std::time::Instant;
 
-use anyhow::{bail, Context};
-
 use crate::scene::track::ModelTrack;
+use crate::scene::ReplayError;
 use wireflight_analysis::compare::{
     compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
 };
@@ -113,7 +113,51 @@ pub enum Fit {
     Failed(String),
 }
 
-type Job = Receiver<anyhow::Result<Outcome>>;
+/// Why a comparison could not start, or a recomputation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum CompareError {
+    /// An `--add` that is not an effect spec (the spec's own message).
+    #[error(transparent)]
+    Spec(Box<dyn Error + Send + Sync>),
+    /// An `--add` effect that does not apply to the vehicle.
+    #[error("--add {text}: effect `{name}` does not apply to a {vehicle} model")]
+    NotApplicable {
+        /// The `--add` as given.
+        text: String,
+        /// The effect.
+        name: String,
+        /// The vehicle kind.
+        vehicle: String,
+    },
+    /// An `--add` effect that the base model has already.
+    #[error("--add {text}: `{name}` is already in the base model (--effects or the model file)")]
+    InBase {
+        /// The `--add` as given.
+        text: String,
+        /// The effect.
+        name: String,
+    },
+    /// An `--add` whose parameters do not build the effect.
+    #[error("--add {text}")]
+    Build {
+        /// The `--add` as given.
+        text: String,
+        /// Why.
+        #[source]
+        source: Box<dyn Error + Send + Sync>,
+    },
+    /// The base model cannot be compared with the flight.
+    #[error("comparing the base model with the flight")]
+    Base(#[source] ReplayError),
+    /// A recomputation could not be drawn.
+    #[error(transparent)]
+    Track(#[from] ReplayError),
+    /// The comparison's worker thread panicked (a bug; the message says so) or died.
+    #[error("{0}")]
+    Worker(String),
+}
+
+type Job = Receiver<Result<Outcome, CompareError>>;
 type FitJob = Receiver<Result<Diagnosis, String>>;
 
 /// The comparison state of a `--compare` session.
@@ -144,7 +188,7 @@ impl Compare {
     /// # Errors
     /// An `--add` that is not a catalogue effect, does not apply, is in the base model already
     /// or has a bad parameter; a flight too short to compare.
-    pub fn new(data: Arc<FlightData>, base: Model, adds: &[String]) -> anyhow::Result<Self> {
+    pub fn new(data: Arc<FlightData>, base: Model, adds: &[String]) -> Result<Self, CompareError> {
         let cfg = CompareConfig {
             window_s: CompareConfig::default_window_s(base.vehicle.kind()),
             ..CompareConfig::default()
@@ -162,7 +206,7 @@ impl Compare {
         adds: &[String],
         cfg: CompareConfig,
         start_fit: bool,
-    ) -> anyhow::Result<Self> {
+    ) -> Result<Self, CompareError> {
         let kind = base.vehicle.kind();
         let ctx = base.effect_context();
         let mut rows: Vec<EffectRow> = CATALOGUE
@@ -182,27 +226,30 @@ impl Compare {
             })
             .collect();
         for text in adds {
-            let spec = EffectSpec::parse(text).map_err(anyhow::Error::msg)?;
+            let spec = EffectSpec::parse(text).map_err(|e| CompareError::Spec(e.into()))?;
             let Some(row) = rows.iter_mut().find(|r| r.name == spec.name) else {
-                bail!(
-                    "--add {text}: effect `{}` does not apply to a {kind} model",
-                    spec.name
-                );
+                return Err(CompareError::NotApplicable {
+                    text: text.clone(),
+                    name: spec.name,
+                    vehicle: kind.to_string(),
+                });
             };
             if row.in_base {
-                bail!(
-                    "--add {text}: `{}` is already in the base model (--effects or the model file)",
-                    spec.name
-                );
+                return Err(CompareError::InBase {
+                    text: text.clone(),
+                    name: spec.name,
+                });
             }
-            spec.build(&ctx)
-                .map_err(|e| anyhow::anyhow!("--add {text}: {e}"))?;
+            spec.build(&ctx).map_err(|e| CompareError::Build {
+                text: text.clone(),
+                source: e.into(),
+            })?;
             row.on = true;
             row.fixed = spec.params;
         }
         let empty = Vec::new();
-        let before = evaluate(&data, &base, &empty, cfg, Instant::now())
-            .context("comparing the base model with the flight")?;
+        let before =
+            evaluate(&data, &base, &empty, cfg, Instant::now()).map_err(CompareError::Base)?;
         let mut s = Self {
             now: before.clone(),
             before,
@@ -287,9 +334,9 @@ impl Compare {
         std::thread::spawn(move || {
             // A panic is a bug: the panel says so (and the exit status, see `app`).
             let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
-                evaluate(&data, &model, &effects, cfg, asked)
+                evaluate(&data, &model, &effects, cfg, asked).map_err(CompareError::Track)
             }))
-            .unwrap_or_else(|p| Err(anyhow::anyhow!(panic_message(&*p))));
+            .unwrap_or_else(|p| Err(CompareError::Worker(panic_message(&*p))));
             let _ = tx.send(outcome);
         });
         self.job = Some((rx, asked));
@@ -316,9 +363,11 @@ impl Compare {
             ..defaults
         };
         std::thread::spawn(move || {
-            let outcome =
-                std::panic::catch_unwind(AssertUnwindSafe(|| diagnose(&base, &data, &[], &cfg)))
-                    .unwrap_or_else(|p| Err(panic_message(&*p)));
+            let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
+                diagnose(&base, &data, &[], &cfg)
+                    .map_err(|e| chain(&*Box::<dyn Error + Send + Sync>::from(e)))
+            }))
+            .unwrap_or_else(|p| Err(panic_message(&*p)));
             let _ = tx.send(outcome);
         });
         self.fit = Fit::Running(Instant::now());
@@ -422,7 +471,9 @@ impl Compare {
         };
         let outcome = match got {
             Err(TryRecvError::Empty) => return false,
-            Err(TryRecvError::Disconnected) => Err(anyhow::anyhow!("the comparison thread died")),
+            Err(TryRecvError::Disconnected) => {
+                Err(CompareError::Worker("the comparison thread died".into()))
+            }
             Ok(o) => o,
         };
         let asked = self.job.take().map(|(_, t)| t);
@@ -434,7 +485,7 @@ impl Compare {
                 self.now = o;
                 self.error = None;
             }
-            Err(e) => self.error = Some(format!("{e:#}")),
+            Err(e) => self.error = Some(chain(&e)),
         }
         if self.stale {
             self.request();
@@ -475,7 +526,7 @@ fn evaluate(
     effects: &[String],
     cfg: CompareConfig,
     asked: Instant,
-) -> anyhow::Result<Outcome> {
+) -> Result<Outcome, ReplayError> {
     let start = Instant::now();
     let prep = Prepared::new(
         data,
@@ -516,6 +567,18 @@ pub fn bin_max(time: &[f64], values: &[f64], bins: usize) -> Vec<f32> {
         }
     }
     out
+}
+
+/// An error and its sources, joined by ": " as the command line prints them.
+fn chain(error: &(dyn Error + 'static)) -> String {
+    let mut text = error.to_string();
+    let mut source = error.source();
+    while let Some(e) = source {
+        text.push_str(": ");
+        text.push_str(&e.to_string());
+        source = e.source();
+    }
+    text
 }
 
 /// What a worker thread's panic said, as an error for the panel.

@@ -25,7 +25,7 @@
 //!
 //! Parsing is pure; [`load`] adds the file read. Every error names the file and the line.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::cameras::CameraMode;
 use super::flight::{Controls, MAX_RATE_DPS};
@@ -75,6 +75,23 @@ pub struct ScriptError {
     pub line: usize,
     /// What is wrong.
     pub message: String,
+}
+
+/// Why a script file could not be used ([`load`]).
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("{}: cannot read script", path.display())]
+    Read {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: std::io::Error,
+    },
+    /// A line is bad.
+    #[error(transparent)]
+    Line(#[from] ScriptError),
 }
 
 /// The keys a line may set, for messages.
@@ -196,9 +213,11 @@ pub fn parse(text: &str, file: &str) -> Result<Script, ScriptError> {
 ///
 /// # Errors
 /// The file cannot be read, or a line is bad (file and line named).
-pub fn load(path: &Path) -> anyhow::Result<Script> {
-    let text = wireflight_fsio::read_text(path)
-        .map_err(|e| anyhow::anyhow!("{}: cannot read script: {e}", path.display()))?;
+pub fn load(path: &Path) -> Result<Script, LoadError> {
+    let text = wireflight_fsio::read_text(path).map_err(|source| LoadError::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
     Ok(parse(&text, &path.display().to_string())?)
 }
 

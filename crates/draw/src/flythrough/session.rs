@@ -15,6 +15,7 @@ use super::script::{Player, Script};
 use crate::render::LineScene;
 use crate::scene::builder::{FrameSpec, Layer, SceneBuilder};
 use crate::scene::track::{model_frame, pose_at};
+use crate::scene::ReplayError;
 use wireflight_flight::data::FlightData;
 use wireflight_geometry::clip::{ClipStats, Clipper};
 use wireflight_geometry::euler::{viewer_from_ned, Convention, EulerZyx, Gimbal};
@@ -102,9 +103,9 @@ impl Replay {
     ///
     /// # Errors
     /// A flight without samples.
-    pub fn new(data: FlightData) -> anyhow::Result<Self> {
+    pub fn new(data: FlightData) -> Result<Self, ReplayError> {
         if data.is_empty() {
-            anyhow::bail!("the flight has no samples");
+            return Err(ReplayError::EmptyFlight);
         }
         let path: Vec<Vec3> = data
             .pos_ned
@@ -220,7 +221,7 @@ impl Session {
         data: FlightData,
         camera: CameraMode,
         fov_y: f32,
-    ) -> anyhow::Result<Self> {
+    ) -> Result<Self, ReplayError> {
         Ok(Self::with_source(
             plane,
             Source::Replay(Box::new(Replay::new(data)?)),

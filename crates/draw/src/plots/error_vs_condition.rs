@@ -7,10 +7,11 @@
 use plotters::prelude::*;
 
 use super::style::{
-    axis_top, clip_y, draw_err, draw_hline_dashed, finite_min_max, header, padded, panel, signed,
-    Key, Root, AFTER, BEFORE, NOISE,
+    axis_top, clip_y, draw_hline_dashed, finite_min_max, header, padded, panel, unicode_minus, Key,
+    Root, AFTER, BEFORE, NOISE,
 };
-use super::{ConditionSeries, PlotContext};
+use super::{CanvasError, ConditionSeries, PlotContext};
+use wireflight_flight::numeric::format::signed;
 use wireflight_flight::numeric::pearson;
 
 /// The units the score combines, e.g. "m, m/s, °".
@@ -31,7 +32,7 @@ pub(super) fn draw_error_vs_condition(
     root: &Root,
     ctx: &PlotContext,
     cond: &ConditionSeries,
-) -> anyhow::Result<()> {
+) -> Result<(), CanvasError> {
     let x: &[f64] = &cond.per_window;
     let yb: Vec<f64> = ctx.before.windows.iter().map(|w| w.score).collect();
     let ya: Option<Vec<f64>> = ctx
@@ -39,7 +40,7 @@ pub(super) fn draw_error_vs_condition(
         .map(|(a, _)| a.windows.iter().map(|w| w.score).collect());
     let rb = pearson(x, &yb);
     let ra = ya.as_ref().and_then(|y| pearson(x, y));
-    let r_text = |r: Option<f64>| r.map(|r| signed(r, 2)).unwrap_or_else(|| "n/a".into());
+    let r_text = |r: Option<f64>| r.map_or("n/a".into(), |r| unicode_minus(signed(r, 2)));
     let mut title = format!("Window error vs {} — r = {}", cond.name, r_text(rb));
     if ya.is_some() {
         title.push_str(&format!(" before, {} after", r_text(ra)));
@@ -102,9 +103,7 @@ pub(super) fn draw_error_vs_condition(
                 .map(|&xv| (xv, my + slope * (xv - mx)))
                 .collect();
             for piece in clip_y(&line, 0.0, ytop) {
-                chart
-                    .draw_series(DashedLineSeries::new(piece, 9, 6, BEFORE.stroke_width(2)))
-                    .map_err(draw_err)?;
+                chart.draw_series(DashedLineSeries::new(piece, 9, 6, BEFORE.stroke_width(2)))?;
             }
         }
     }
@@ -115,9 +114,9 @@ pub(super) fn draw_error_vs_condition(
             .map(|(a, b)| Circle::new((*a, *b), 6, color.mix(0.85).filled()))
             .collect()
     };
-    chart.draw_series(dots(&yb, BEFORE)).map_err(draw_err)?;
+    chart.draw_series(dots(&yb, BEFORE))?;
     if let Some(ya) = &ya {
-        chart.draw_series(dots(ya, AFTER)).map_err(draw_err)?;
+        chart.draw_series(dots(ya, AFTER))?;
     }
     Ok(())
 }

@@ -9,10 +9,9 @@ use glam::DVec3;
 use plotters::prelude::*;
 
 use super::style::{
-    draw_err, draw_line, finite_min_max, header, panel, value_range, Key, Root, AFTER, BEFORE,
-    MEASURED,
+    draw_line, finite_min_max, header, panel, value_range, Key, Root, AFTER, BEFORE, MEASURED,
 };
-use super::{prediction_windows, window_segments, PlotContext, Segments};
+use super::{prediction_windows, window_segments, CanvasError, PlotContext, Segments};
 use wireflight_analysis::compare::{Comparison, Prediction};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::derive::unwrap_angles;
@@ -194,7 +193,7 @@ fn build_series(ctx: &PlotContext) -> Vec<Vec<Series>> {
 }
 
 /// Draws `measured_vs_model.png` into `root`: a grid of panels, one row per kind of channel.
-pub(super) fn draw_measured_vs_model(root: &Root, ctx: &PlotContext) -> anyhow::Result<()> {
+pub(super) fn draw_measured_vs_model(root: &Root, ctx: &PlotContext) -> Result<(), CanvasError> {
     let mut legend = vec![
         (Key::Line(MEASURED, 1), "measured".to_string()),
         (
@@ -256,13 +255,11 @@ pub(super) fn draw_measured_vs_model(root: &Root, ctx: &PlotContext) -> anyhow::
                     if let Some(&(t0, v0)) = seg.first() {
                         let yr = chart.y_range();
                         if v0.is_finite() && v0 >= yr.start && v0 <= yr.end {
-                            chart
-                                .draw_series(std::iter::once(Circle::new(
-                                    (t0, v0),
-                                    3,
-                                    color.filled(),
-                                )))
-                                .map_err(draw_err)?;
+                            chart.draw_series(std::iter::once(Circle::new(
+                                (t0, v0),
+                                3,
+                                color.filled(),
+                            )))?;
                         }
                     }
                 }

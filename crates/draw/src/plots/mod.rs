@@ -28,7 +28,9 @@ mod style;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
-use anyhow::Context;
+use plotters::backend::{BitMapBackend, DrawingBackend};
+use plotters::drawing::DrawingAreaErrorKind;
+use thiserror::Error;
 
 use self::error_vs_condition::draw_error_vs_condition;
 use self::measured_vs_model::draw_measured_vs_model;
@@ -36,6 +38,79 @@ use self::residuals::draw_residuals;
 use self::style::{render_png, Root};
 use wireflight_analysis::compare::{Comparison, Prediction};
 use wireflight_flight::data::FlightData;
+use wireflight_fsio::{FsError, StagedDir};
+
+/// Why the plots could not be written. Every error names the directory or the file.
+#[derive(Debug, Error)]
+pub enum PlotError {
+    /// The comparison has no windows, or the flight no samples.
+    #[error("{}: no compared windows to plot", dir.display())]
+    NothingToPlot {
+        /// The plot directory.
+        dir: PathBuf,
+    },
+    /// The "before" and "after" comparisons have different windows.
+    #[error("{}: the two comparisons have {before} and {after} windows", dir.display())]
+    WindowCounts {
+        /// The plot directory.
+        dir: PathBuf,
+        /// Windows of the "before" comparison.
+        before: usize,
+        /// Windows of the "after" comparison.
+        after: usize,
+    },
+    /// A condition series with another count of values than windows.
+    #[error("{}: condition `{name}` has {values} values for {windows} windows", path.display())]
+    ConditionLength {
+        /// The plot file.
+        path: PathBuf,
+        /// The condition.
+        name: String,
+        /// Its values.
+        values: usize,
+        /// The windows.
+        windows: usize,
+    },
+    /// The directory could not be created or staged.
+    #[error("{}: cannot create the plot directory", dir.display())]
+    CreateDir {
+        /// The plot directory.
+        dir: PathBuf,
+        /// Why.
+        #[source]
+        source: FsError,
+    },
+    /// A plot could not be drawn.
+    #[error("{}: cannot draw", path.display())]
+    Draw {
+        /// The plot file.
+        path: PathBuf,
+        /// Why.
+        #[source]
+        source: CanvasError,
+    },
+    /// A file could not be written, or the set not moved into place (the error names it).
+    #[error(transparent)]
+    Write(#[from] FsError),
+}
+
+/// The error of plotters' drawing calls on the in-memory bitmap.
+pub type PlottersError =
+    DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>;
+
+/// Why a plot could not be drawn on its in-memory canvas.
+#[derive(Debug, Error)]
+pub enum CanvasError {
+    /// The embedded font does not load.
+    #[error("the embedded font assets/fonts/DejaVuSans-subset.ttf is not valid")]
+    Font,
+    /// A plotters call failed.
+    #[error("drawing failed")]
+    Plotters(#[from] PlottersError),
+    /// The PNG encoder failed.
+    #[error(transparent)]
+    Png(#[from] png::EncodingError),
+}
 
 /// File name of the measured-vs-model plot.
 pub const MEASURED_VS_MODEL: &str = "measured_vs_model.png";
@@ -88,7 +163,7 @@ pub fn write_plots(
     before: &Comparison,
     after: Option<(&Comparison, &str)>,
     best: Option<&ConditionSeries>,
-) -> anyhow::Result<Vec<PathBuf>> {
+) -> Result<Vec<PathBuf>, PlotError> {
     write_plots_with(dir, data, before, after, best, &PlotInfo::default())
 }
 
@@ -103,45 +178,49 @@ pub fn write_plots_with(
     after: Option<(&Comparison, &str)>,
     best: Option<&ConditionSeries>,
     info: &PlotInfo,
-) -> anyhow::Result<Vec<PathBuf>> {
+) -> Result<Vec<PathBuf>, PlotError> {
     if before.windows.is_empty() || data.is_empty() {
-        anyhow::bail!("{}: no compared windows to plot", dir.display());
+        return Err(PlotError::NothingToPlot {
+            dir: dir.to_path_buf(),
+        });
     }
     if let Some((a, _)) = after {
         if a.windows.len() != before.windows.len() {
-            anyhow::bail!(
-                "{}: the two comparisons have {} and {} windows",
-                dir.display(),
-                before.windows.len(),
-                a.windows.len()
-            );
+            return Err(PlotError::WindowCounts {
+                dir: dir.to_path_buf(),
+                before: before.windows.len(),
+                after: a.windows.len(),
+            });
         }
     }
     if let Some(c) = best {
         if c.per_window.len() != before.windows.len() {
-            anyhow::bail!(
-                "{}: condition `{}` has {} values for {} windows",
-                dir.join(ERROR_VS_CONDITION).display(),
-                c.name,
-                c.per_window.len(),
-                before.windows.len()
-            );
+            return Err(PlotError::ConditionLength {
+                path: dir.join(ERROR_VS_CONDITION),
+                name: c.name.clone(),
+                values: c.per_window.len(),
+                windows: before.windows.len(),
+            });
         }
     }
     // The set is drawn into a temporary directory and moved in together: a run that is
     // stopped or fails leaves the directory as it was, never a partial set.
-    let staged = wireflight_fsio::StagedDir::new(dir)
-        .with_context(|| format!("{}: cannot create the plot directory", dir.display()))?;
+    let staged = StagedDir::new(dir).map_err(|source| PlotError::CreateDir {
+        dir: dir.to_path_buf(),
+        source,
+    })?;
     let ctx = PlotContext::new(data, before, after, info);
 
     let mut written = Vec::new();
     let mut emit = |name: &str,
                     size: (u32, u32),
-                    draw: &dyn Fn(&Root) -> anyhow::Result<()>|
-     -> anyhow::Result<()> {
+                    draw: &dyn Fn(&Root) -> Result<(), CanvasError>|
+     -> Result<(), PlotError> {
         let path = dir.join(name);
-        let bytes =
-            render_png(size, draw).with_context(|| format!("{}: cannot draw", path.display()))?;
+        let bytes = match render_png(size, draw) {
+            Ok(bytes) => bytes,
+            Err(source) => return Err(PlotError::Draw { path, source }),
+        };
         wireflight_fsio::write_atomic(&staged.path().join(name), &bytes)?;
         written.push(path);
         Ok(())

@@ -8,23 +8,27 @@
 use plotters::prelude::*;
 
 use super::style::{
-    axis_top, draw_hline_dashed, draw_line, error_cap, fmt_score, header, panel, shade, Key, Root,
-    AFTER, BEFORE, NOISE, SHADE,
+    axis_top, draw_hline_dashed, draw_line, error_cap, header, panel, shade, Key, Root, AFTER,
+    BEFORE, NOISE, SHADE,
 };
-use super::{window_segments, PlotContext, Segments};
+use super::{window_segments, CanvasError, PlotContext, Segments};
+use crate::figures::three_figures;
 use wireflight_analysis::compare::{estimate_noise, Comparison, Prediction};
 use wireflight_flight::numeric::attitude_error_deg;
 
 /// Draws `residuals.png` into `root`.
-pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> anyhow::Result<()> {
+pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), CanvasError> {
     let d = ctx.data;
     let worst = ctx.worst_spans();
-    let mut title = format!("Residuals — total error {}", fmt_score(ctx.before.total));
+    let mut title = format!(
+        "Residuals — total error {}",
+        three_figures(ctx.before.total)
+    );
     if let Some((a, _)) = ctx.after {
-        title.push_str(&format!(" → {}", fmt_score(a.total)));
+        title.push_str(&format!(" → {}", three_figures(a.total)));
     }
     if let Some(f) = ctx.noise_floor {
-        title.push_str(&format!("  (noise floor {})", fmt_score(f)));
+        title.push_str(&format!("  (noise floor {})", three_figures(f)));
     }
     let mut legend = vec![(Key::Line(BEFORE.to_rgba(), 2), ctx.model_name.clone())];
     if let Some(name) = ctx.after_name() {
@@ -162,7 +166,7 @@ impl ErrorPanel<'_> {
         ctx: &PlotContext,
         x_desc: Option<&str>,
         worst: &[(f64, f64)],
-    ) -> anyhow::Result<()> {
+    ) -> Result<(), CanvasError> {
         let mut chart = panel(
             area,
             self.caption,

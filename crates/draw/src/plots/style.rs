@@ -1,7 +1,7 @@
 //! The look of the comparison plots and the drawing plumbing they share: colours, the
 //! embedded font and text sizes, the title-and-legend header, a chart panel with its axes,
-//! tick labels, clipped and dashed lines, shading, axis ranges, number formatting, and
-//! rendering to PNG.
+//! tick labels, clipped and dashed lines, shading, axis ranges, the minus sign of plotted
+//! numbers, and rendering to PNG.
 //!
 //! Kept apart from the three plots so that each of them reads as "what is drawn", and so that
 //! one change of style reaches all three.
@@ -12,6 +12,9 @@ use std::sync::OnceLock;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, RGBAColor};
+use wireflight_flight::numeric::format::fixed;
+
+use super::CanvasError;
 
 // ---------------------------------------------------------------------------------------------
 // Rendering plumbing.
@@ -21,35 +24,31 @@ pub(super) type Root<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 const FONT: &str = "sans-serif";
 static FONT_BYTES: &[u8] = include_bytes!("../../../../assets/fonts/DejaVuSans-subset.ttf");
 
-fn ensure_font() -> anyhow::Result<()> {
+fn ensure_font() -> Result<(), CanvasError> {
     static OK: OnceLock<bool> = OnceLock::new();
     let ok = *OK.get_or_init(|| {
         plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok()
     });
-    anyhow::ensure!(
-        ok,
-        "the embedded font assets/fonts/DejaVuSans-subset.ttf is not valid"
-    );
-    Ok(())
-}
-
-pub(super) fn draw_err<E: std::fmt::Display>(e: E) -> anyhow::Error {
-    anyhow::anyhow!("drawing failed: {e}")
+    if ok {
+        Ok(())
+    } else {
+        Err(CanvasError::Font)
+    }
 }
 
 /// Draw with `draw` into a white RGB image of `size` and encode it as PNG.
 pub(super) fn render_png(
     size: (u32, u32),
-    draw: &dyn Fn(&Root) -> anyhow::Result<()>,
-) -> anyhow::Result<Vec<u8>> {
+    draw: &dyn Fn(&Root) -> Result<(), CanvasError>,
+) -> Result<Vec<u8>, CanvasError> {
     ensure_font()?;
     let (w, h) = size;
     let mut rgb = vec![255u8; w as usize * h as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
-        root.fill(&WHITE).map_err(draw_err)?;
+        root.fill(&WHITE)?;
         draw(&root)?;
-        root.present().map_err(draw_err)?;
+        root.present()?;
     }
     let mut out = Vec::new();
     {
@@ -98,14 +97,12 @@ pub(super) fn header<'a>(
     title: &str,
     subtitle: &str,
     legend: &[(Key, String)],
-) -> anyhow::Result<Root<'a>> {
+) -> Result<Root<'a>, CanvasError> {
     let (top, rest) = root.split_vertically(HEADER_H);
     let title_style = (FONT, TITLE_PX).into_font().color(&TEXT);
-    top.draw(&Text::new(title.to_string(), (24, 10), title_style))
-        .map_err(draw_err)?;
+    top.draw(&Text::new(title.to_string(), (24, 10), title_style))?;
     let sub_style = (FONT, SUBTITLE_PX).into_font().color(&SUBTLE);
-    top.draw(&Text::new(subtitle.to_string(), (24, 42), sub_style))
-        .map_err(draw_err)?;
+    top.draw(&Text::new(subtitle.to_string(), (24, 42), sub_style))?;
     // Legend: right-aligned on the title's or the subtitle's line if there is room, else on
     // its own line.
     let key_style = (FONT, LABEL_PX + 1.0).into_font().color(&TEXT);
@@ -135,38 +132,33 @@ pub(super) fn header<'a>(
     for ((key, label), width) in legend.iter().zip(widths) {
         let cy = y + 9;
         match key {
-            Key::Line(c, wdt) => top
-                .draw(&PathElement::new(
-                    vec![(x, cy), (x + 28, cy)],
-                    c.stroke_width(*wdt + 1),
-                ))
-                .map_err(draw_err)?,
+            Key::Line(c, wdt) => top.draw(&PathElement::new(
+                vec![(x, cy), (x + 28, cy)],
+                c.stroke_width(*wdt + 1),
+            ))?,
             Key::Dashed(c) => {
                 for k in 0..3 {
                     top.draw(&PathElement::new(
                         vec![(x + k * 11, cy), (x + k * 11 + 6, cy)],
                         c.stroke_width(2),
-                    ))
-                    .map_err(draw_err)?;
+                    ))?;
                 }
             }
-            Key::Dot(c) => top
-                .draw(&Circle::new((x + 14, cy), 5, c.filled()))
-                .map_err(draw_err)?,
-            Key::Band(c) => top
-                .draw(&Rectangle::new([(x, cy - 8), (x + 28, cy + 8)], c.filled()))
-                .map_err(draw_err)?,
+            Key::Dot(c) => top.draw(&Circle::new((x + 14, cy), 5, c.filled()))?,
+            Key::Band(c) => {
+                top.draw(&Rectangle::new([(x, cy - 8), (x + 28, cy + 8)], c.filled()))?
+            }
         }
-        top.draw(&Text::new(label.clone(), (x + 36, y), key_style.clone()))
-            .map_err(draw_err)?;
+        top.draw(&Text::new(label.clone(), (x + 36, y), key_style.clone()))?;
         x += width as i32;
     }
     Ok(rest)
 }
 
-/// Tick labels with as many decimals as the tick spacing needs; U+2212 for minus. Axes
-/// reaching 1e6 or more, or with steps below 1e-6, are labelled in scientific notation with
-/// the digits that tell the ticks apart (never a 100-digit number).
+/// Tick labels with as many decimals as the tick spacing needs ([`fixed`]: never "-0");
+/// U+2212 for minus. Axes reaching 1e6 or more, or with steps below 1e-6, are labelled in
+/// scientific notation with the digits that tell the ticks apart (never a 100-digit number):
+/// what differs from `wireflight_flight::numeric::format`, which has a fixed count of digits.
 pub(super) fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> String {
     // The tick step: the smallest 1, 2 or 5 × 10^k giving at most `n` ticks.
     let raw = (range.end - range.start).abs() / n.max(1) as f64;
@@ -194,20 +186,10 @@ pub(super) fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> S
     };
     move |v: &f64| {
         if scientific || !v.is_finite() {
-            let s = format!("{:.*e}", digits, v);
-            return s.replace('-', "\u{2212}");
-        }
-        let s = format!("{:.*}", decimals, v);
-        let s = if s
-            .trim_start_matches('-')
-            .chars()
-            .all(|c| c == '0' || c == '.')
-        {
-            s.trim_start_matches('-').to_string()
+            unicode_minus(format!("{:.*e}", digits, v))
         } else {
-            s
-        };
-        s.replace('-', "\u{2212}")
+            unicode_minus(fixed(*v, decimals))
+        }
     }
 }
 
@@ -229,7 +211,7 @@ pub(super) fn panel<'a, 'b>(
     y_desc: &str,
     x_labels: usize,
     y_labels: usize,
-) -> anyhow::Result<Chart<'a, 'b>> {
+) -> Result<Chart<'a, 'b>, CanvasError> {
     let mut builder = ChartBuilder::on(area);
     if !caption.is_empty() {
         builder.caption(caption, (FONT, CAPTION_PX).into_font().color(&TEXT));
@@ -241,8 +223,7 @@ pub(super) fn panel<'a, 'b>(
         .margin_bottom(6)
         .x_label_area_size(if x_desc.is_some() { 48 } else { 26 })
         .y_label_area_size(86)
-        .build_cartesian_2d(x.clone(), y.clone())
-        .map_err(draw_err)?;
+        .build_cartesian_2d(x.clone(), y.clone())?;
     let fx = tick_formatter(&x, x_labels);
     let fy = tick_formatter(&y, y_labels);
     let mut mesh = chart.configure_mesh();
@@ -259,7 +240,7 @@ pub(super) fn panel<'a, 'b>(
     if let Some(d) = x_desc {
         mesh.x_desc(d);
     }
-    mesh.draw().map_err(draw_err)?;
+    mesh.draw()?;
     Ok(chart)
 }
 
@@ -271,56 +252,52 @@ pub(super) fn draw_line(
     chart: &mut Chart,
     pts: &[(f64, f64)],
     style: ShapeStyle,
-) -> anyhow::Result<()> {
+) -> Result<(), CanvasError> {
     let y = chart.y_range();
     for piece in clip_y(pts, y.start, y.end) {
         if style.stroke_width > 1 {
             // Wide paths are joined with mitres, which spike far out of the panel at the
             // sharp corners of noisy data; separate segments have no joins.
-            chart
-                .draw_series(
-                    piece
-                        .windows(2)
-                        .map(|s| PathElement::new(vec![s[0], s[1]], style)),
-                )
-                .map_err(draw_err)?;
+            chart.draw_series(
+                piece
+                    .windows(2)
+                    .map(|s| PathElement::new(vec![s[0], s[1]], style)),
+            )?;
         } else {
-            chart
-                .draw_series(std::iter::once(PathElement::new(piece, style)))
-                .map_err(draw_err)?;
+            chart.draw_series(std::iter::once(PathElement::new(piece, style)))?;
         }
     }
     Ok(())
 }
 
 /// Draw a dashed horizontal line at `y` across the chart (if in range).
-pub(super) fn draw_hline_dashed(chart: &mut Chart, y: f64, color: RGBColor) -> anyhow::Result<()> {
+pub(super) fn draw_hline_dashed(
+    chart: &mut Chart,
+    y: f64,
+    color: RGBColor,
+) -> Result<(), CanvasError> {
     let yr = chart.y_range();
     if !(y.is_finite() && y >= yr.start && y <= yr.end) {
         return Ok(());
     }
     let xr = chart.x_range();
-    chart
-        .draw_series(DashedLineSeries::new(
-            [(xr.start, y), (xr.end, y)],
-            9,
-            6,
-            color.stroke_width(2),
-        ))
-        .map_err(draw_err)?;
+    chart.draw_series(DashedLineSeries::new(
+        [(xr.start, y), (xr.end, y)],
+        9,
+        6,
+        color.stroke_width(2),
+    ))?;
     Ok(())
 }
 
 /// Shade the time spans `spans` over the full height of the chart.
-pub(super) fn shade(chart: &mut Chart, spans: &[(f64, f64)]) -> anyhow::Result<()> {
+pub(super) fn shade(chart: &mut Chart, spans: &[(f64, f64)]) -> Result<(), CanvasError> {
     let y = chart.y_range();
-    chart
-        .draw_series(
-            spans
-                .iter()
-                .map(|&(a, b)| Rectangle::new([(a, y.start), (b, y.end)], SHADE.filled())),
-        )
-        .map_err(draw_err)?;
+    chart.draw_series(
+        spans
+            .iter()
+            .map(|&(a, b)| Rectangle::new([(a, y.start), (b, y.end)], SHADE.filled())),
+    )?;
     Ok(())
 }
 
@@ -451,26 +428,10 @@ pub(super) fn error_cap(values: &[f64], at_least: f64) -> f64 {
     }
 }
 
-pub(super) fn signed(v: f64, decimals: usize) -> String {
-    let s = format!("{:+.*}", decimals, v);
+/// A number as a plot writes it: with U+2212 (−) for the minus sign, which the hyphen of
+/// `wireflight_flight::numeric::format` stands in for in plain text.
+pub(super) fn unicode_minus(s: String) -> String {
     s.replace('-', "\u{2212}")
-}
-
-/// Score with a sensible number of significant digits.
-pub(super) fn fmt_score(v: f64) -> String {
-    if !v.is_finite() {
-        return "n/a".into();
-    }
-    let a = v.abs();
-    if a >= 100.0 {
-        format!("{v:.0}")
-    } else if a >= 10.0 {
-        format!("{v:.1}")
-    } else if a >= 1.0 {
-        format!("{v:.2}")
-    } else {
-        format!("{v:.3}")
-    }
 }
 
 #[cfg(test)]

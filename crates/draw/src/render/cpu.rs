@@ -52,7 +52,7 @@ pub fn draw_segment(image: &mut Image, a: Vec2, b: Vec2, color: Rgba) {
 /// ```
 /// // The seed's worked example: (2, 2) to (7, 6).
 /// let mut pts = vec![];
-/// wireflight::render::cpu::bresenham(2, 2, 7, 6, |x, y| pts.push((x, y)));
+/// wireflight_draw::render::cpu::bresenham(2, 2, 7, 6, |x, y| pts.push((x, y)));
 /// assert_eq!(pts, [(2, 2), (3, 3), (4, 4), (5, 4), (6, 5), (7, 6)]);
 /// ```
 pub fn bresenham(x0: i32, y0: i32, x1: i32, y1: i32, mut plot: impl FnMut(i32, i32)) {

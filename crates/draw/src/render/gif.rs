@@ -6,6 +6,42 @@ use std::collections::HashMap;
 
 use super::Image;
 
+/// Why an animation could not be made or a frame added.
+#[derive(Debug, thiserror::Error)]
+pub enum GifError {
+    /// A side of zero or over 65 535 pixels.
+    #[error("a GIF is 1..=65535 pixels a side, not {width}x{height}")]
+    Size {
+        /// Requested width, pixels.
+        width: u32,
+        /// Requested height, pixels.
+        height: u32,
+    },
+    /// A frame delay of zero.
+    #[error("a GIF frame lasts at least 1/100 s")]
+    ZeroDelay,
+    /// A frame of another size than the animation.
+    #[error(
+        "frame {frame} is {width}x{height}, the animation {animation_width}x{animation_height}"
+    )]
+    FrameSize {
+        /// Index of the frame (0-based).
+        frame: usize,
+        /// The frame's width, pixels.
+        width: u32,
+        /// The frame's height, pixels.
+        height: u32,
+        /// The animation's width, pixels.
+        animation_width: u16,
+        /// The animation's height, pixels.
+        animation_height: u16,
+    },
+    /// The encoder failed. (Its error is in the message, not a `source`: the encoder's own
+    /// message already is its source's, and a chain would print it twice.)
+    #[error("{0}")]
+    Encode(gif::EncodingError),
+}
+
 /// An animation being encoded.
 pub struct GifAnimation {
     encoder: gif::Encoder<Vec<u8>>,
@@ -20,20 +56,18 @@ impl GifAnimation {
     ///
     /// # Errors
     /// A side over 65 535 pixels or zero, a zero delay.
-    pub fn new(width: u32, height: u32, delay_cs: u16) -> Result<Self, String> {
+    pub fn new(width: u32, height: u32, delay_cs: u16) -> Result<Self, GifError> {
         let side = |v: u32| u16::try_from(v).ok().filter(|&v| v > 0);
         let (Some(w), Some(h)) = (side(width), side(height)) else {
-            return Err(format!(
-                "a GIF is 1..=65535 pixels a side, not {width}x{height}"
-            ));
+            return Err(GifError::Size { width, height });
         };
         if delay_cs == 0 {
-            return Err("a GIF frame lasts at least 1/100 s".into());
+            return Err(GifError::ZeroDelay);
         }
-        let mut encoder = gif::Encoder::new(Vec::new(), w, h, &[]).map_err(|e| e.to_string())?;
+        let mut encoder = gif::Encoder::new(Vec::new(), w, h, &[]).map_err(GifError::Encode)?;
         encoder
             .set_repeat(gif::Repeat::Infinite)
-            .map_err(|e| e.to_string())?;
+            .map_err(GifError::Encode)?;
         Ok(Self {
             encoder,
             width: w,
@@ -53,12 +87,15 @@ impl GifAnimation {
     ///
     /// # Errors
     /// An image of another size; encoder errors.
-    pub fn push(&mut self, image: &Image) -> Result<(), String> {
+    pub fn push(&mut self, image: &Image) -> Result<(), GifError> {
         if (image.width, image.height) != (self.width as u32, self.height as u32) {
-            return Err(format!(
-                "frame {} is {}x{}, the animation {}x{}",
-                self.frames, image.width, image.height, self.width, self.height
-            ));
+            return Err(GifError::FrameSize {
+                frame: self.frames,
+                width: image.width,
+                height: image.height,
+                animation_width: self.width,
+                animation_height: self.height,
+            });
         }
         let mut frame = match indexed(image) {
             Some((pixels, palette)) => {
@@ -70,9 +107,7 @@ impl GifAnimation {
             }
         };
         frame.delay = self.delay_cs;
-        self.encoder
-            .write_frame(&frame)
-            .map_err(|e| e.to_string())?;
+        self.encoder.write_frame(&frame).map_err(GifError::Encode)?;
         self.frames += 1;
         Ok(())
     }
@@ -91,8 +126,8 @@ impl GifAnimation {
     ///
     /// # Errors
     /// Encoder errors.
-    pub fn finish(self) -> Result<Vec<u8>, String> {
-        self.encoder.into_inner().map_err(|e| e.to_string())
+    pub fn finish(self) -> Result<Vec<u8>, GifError> {
+        self.encoder.into_inner().map_err(GifError::Encode)
     }
 }
 
@@ -139,7 +174,8 @@ mod tests {
         img.pixels[4..8].copy_from_slice(&[200, 0, 0, 255]);
         a.push(&img).unwrap();
         assert_eq!(a.len(), 2);
-        assert!(a.push(&Image::filled(3, 3, [0, 0, 0, 255])).is_err());
+        let err = a.push(&Image::filled(3, 3, [0, 0, 0, 255])).unwrap_err();
+        assert_eq!(err.to_string(), "frame 2 is 3x3, the animation 4x3");
         let bytes = a.finish().unwrap();
         assert!(bytes.starts_with(b"GIF89a"));
         // Decode and compare.
@@ -151,7 +187,13 @@ mod tests {
         let f2 = d.read_next_frame().unwrap().unwrap();
         assert_eq!(f2.delay, 4);
         assert_eq!(&f2.buffer[4..8], &[200, 0, 0, 255]);
-        assert!(GifAnimation::new(0, 3, 4).is_err());
+        assert_eq!(
+            GifAnimation::new(0, 3, 4)
+                .err()
+                .map(|e| e.to_string())
+                .as_deref(),
+            Some("a GIF is 1..=65535 pixels a side, not 0x3")
+        );
         assert_eq!(GifAnimation::delay_for(10.0), 10);
     }
 }

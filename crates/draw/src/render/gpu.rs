@@ -82,6 +82,18 @@ pub enum GpuError {
     Map(String),
 }
 
+/// The vertices of a scene do not fit one GPU buffer ([`LineDrawer::prepare`]).
+#[derive(Debug, Error)]
+#[error("{segments} segments need {bytes} bytes of vertices, max_buffer_size {max}")]
+pub struct TooManyVertices {
+    /// Segments in the scene.
+    pub segments: usize,
+    /// Bytes their vertices need.
+    pub bytes: u64,
+    /// The device's `max_buffer_size`.
+    pub max: u64,
+}
+
 /// One line endpoint: position in pixels and colour as bytes (read as unorm8x4 by the shader).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
@@ -221,7 +233,7 @@ impl LineDrawer {
         queue: &wgpu::Queue,
         scene: &LineScene,
         (width, height): (u32, u32),
-    ) -> Result<(), String> {
+    ) -> Result<(), TooManyVertices> {
         self.vertices.clear();
         self.vertices.reserve(2 * scene.segment_count());
         for batch in &scene.batches {
@@ -238,10 +250,11 @@ impl LineDrawer {
         if bytes > self.vertex_buffer.size() {
             let max = device.limits().max_buffer_size;
             if bytes > max {
-                return Err(format!(
-                    "{} segments need {bytes} bytes of vertices, max_buffer_size {max}",
-                    scene.segment_count()
-                ));
+                return Err(TooManyVertices {
+                    segments: scene.segment_count(),
+                    bytes,
+                    max,
+                });
             }
             let stride = std::mem::size_of::<LineVertex>() as u64;
             let capacity = (self.vertices.len() as u64).next_power_of_two() * stride;
@@ -455,10 +468,10 @@ impl GpuRenderer {
                 scene,
                 (scene.width, scene.height),
             )
-            .map_err(|limit| GpuError::TooLarge {
+            .map_err(|e| GpuError::TooLarge {
                 width: scene.width,
                 height: scene.height,
-                limit,
+                limit: e.to_string(),
             })?;
         let target = self.target.as_ref().expect("ensure_target made one");
         let mut encoder = self

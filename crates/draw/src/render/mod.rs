@@ -5,22 +5,39 @@
 //! its centre is (i + ½, j + ½)). Backends:
 //!
 //! * [`cpu`]: Bresenham into an RGBA8 buffer; bit-exact and deterministic (golden images).
-//! * [`gpu`]: wgpu LineList pipeline into an offscreen texture, read back (any adapter, Mesa
-//!   lavapipe included).
+//! * `gpu` (with the `gpu` feature, on by default): wgpu LineList pipeline into an offscreen
+//!   texture, read back (any adapter, Mesa lavapipe included).
 //! * [`svg`]: the exact segments as vector lines.
 //!
-//! [`Rasterizer`] picks a backend at run time. Writing pictures to files is
-//! [`crate::output`]'s job.
+//! [`Rasterizer`] picks a backend at run time (the CPU one in a build without the `gpu`
+//! feature). Writing pictures to files is [`crate::output`]'s job.
 
 pub mod cpu;
 pub mod gif;
+#[cfg(feature = "gpu")]
 pub mod gpu;
 pub mod rasterizer;
 pub mod svg;
 
-pub use rasterizer::{Backend, OutputFormat, Rasterizer};
+pub use rasterizer::{Backend, OutputFormat, Rasterizer, RenderError, UnknownFormat};
 
 pub use wireflight_geometry::lines::{LineBatch, LineScene, Rgba, Segment2};
+
+/// Why PNG bytes could not be read as an [`Image`] ([`Image::decode_png`]).
+#[derive(Debug, thiserror::Error)]
+pub enum DecodePngError {
+    /// The PNG decoder failed.
+    #[error(transparent)]
+    Png(#[from] png::DecodingError),
+    /// A PNG that is not 8-bit RGB or RGBA.
+    #[error("unsupported PNG layout {color:?} {depth:?}")]
+    Layout {
+        /// Its colour type.
+        color: png::ColorType,
+        /// Its bit depth.
+        depth: png::BitDepth,
+    },
+}
 
 /// An RGBA8 image, rows top to bottom, tightly packed (`width * 4` bytes per row).
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -82,7 +99,7 @@ impl Image {
     ///
     /// # Errors
     /// Decoding errors, or a PNG that is not 8-bit RGB(A).
-    pub fn decode_png(bytes: &[u8]) -> anyhow::Result<Self> {
+    pub fn decode_png(bytes: &[u8]) -> Result<Self, DecodePngError> {
         let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
         let mut reader = decoder.read_info()?;
         let mut buf = vec![0; reader.output_buffer_size().unwrap_or(0)];
@@ -94,7 +111,7 @@ impl Image {
                 .chunks_exact(3)
                 .flat_map(|p| [p[0], p[1], p[2], 255])
                 .collect(),
-            (ct, bd) => anyhow::bail!("unsupported PNG layout {ct:?} {bd:?}"),
+            (color, depth) => return Err(DecodePngError::Layout { color, depth }),
         };
         Ok(Self {
             width: info.width,

@@ -15,16 +15,19 @@ use glam::{DMat3, DVec3, Mat4, Vec2, Vec3};
 
 use super::{font, palette};
 use crate::render::{LineBatch, LineScene, Rgba, Segment2};
+use wireflight_flight::numeric::format::signed;
 use wireflight_geometry::camera::{Camera, Projection};
 use wireflight_geometry::clip::{ClipStats, Clipper, DepthRange};
-use wireflight_geometry::euler::{
-    compare_paths, lerp, slerp, EulerAngles, Frame, PathComparison, Step,
-};
+use wireflight_geometry::euler::{EulerAngles, Frame};
 use wireflight_geometry::mesh::EdgeMesh;
 use wireflight_geometry::pipeline::{EdgeProjector, Viewport};
 
 mod pictures;
-pub use pictures::*;
+pub use pictures::{
+    attitude_panel, gimbal_lock_pictures, gimbal_panel, interpolation_panels,
+    interpolation_pictures, lock_partner, lock_sweep_panels, sheet, step_panels, steps_pictures,
+    Picture, SWEEP_DEG,
+};
 
 /// Vertical field of view of the panels, degrees.
 const FOV_Y_DEG: f32 = 40.0;
@@ -57,19 +60,15 @@ fn model(attitude: DMat3) -> Mat4 {
     Mat4::from_mat3(attitude.as_mat3())
 }
 
-/// The angle as a caption: `+30°`, `-12.5°` (at most one decimal, no `-0`).
+/// The angle as a caption: `+30°`, `-12.5°`, `0°` (at most one decimal, none when it is 0;
+/// zero unsigned).
 pub fn degrees_label(radians: f64) -> String {
-    let d = (radians.to_degrees() * 10.0).round() / 10.0 + 0.0;
-    let digits = if d.fract() == 0.0 {
-        format!("{d:.0}")
-    } else {
-        format!("{d:.1}")
-    };
-    if d > 0.0 {
-        format!("+{digits}°")
-    } else {
-        format!("{digits}°")
+    let d = (radians.to_degrees() * 10.0).round() / 10.0;
+    if d == 0.0 {
+        return "0°".to_string();
     }
+    let decimals = if d.fract() == 0.0 { 0 } else { 1 };
+    format!("{}°", signed(d, decimals))
 }
 
 /// `Z`, `Y'`, `X''`: the axis a rotation of `convention` turns about, primed once per earlier

@@ -30,8 +30,23 @@ use crate::render::{LineBatch, LineScene};
 use wireflight_geometry::camera::{CameraPreset, Projection, Subject};
 use wireflight_geometry::clip::{ClipStats, Clipper, DepthRange, PlaneSet};
 use wireflight_geometry::euler::EulerZyx;
-use wireflight_geometry::mesh::EdgeMesh;
+use wireflight_geometry::mesh::{EdgeMesh, MeshProblem};
 use wireflight_geometry::pipeline::{model_matrix, EdgeProjector, Viewport};
+
+/// Why a recorded flight (and the model's flight beside it) cannot be drawn: by
+/// [`replay::ReplayScene`], [`track::ModelTrack`] and the fly-through's replay.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ReplayError {
+    /// The flight has no samples.
+    #[error("the flight has no samples")]
+    EmptyFlight,
+    /// The flight spans more than a ground grid can be built for in `f32`.
+    #[error("the flight's extent cannot be drawn (no ground grid fits it)")]
+    NoGround(#[source] MeshProblem),
+    /// The comparison was made over some windows only, not sample by sample.
+    #[error("the comparison does not predict every sample of the flight (use all windows)")]
+    PartialComparison,
+}
 
 /// Everything that decides one still frame of one model, apart from the model itself.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -8,7 +8,9 @@
 use glam::{Mat4, Vec2, Vec3};
 
 use super::font::{draw_label, label_width};
+use crate::figures::three_figures;
 use crate::render::Segment2;
+use wireflight_flight::numeric::format::fixed;
 use wireflight_geometry::pipeline::Viewport;
 
 /// Height of the text, pixels, for a frame of this size (7..=16 px, about 1/45 of the height).
@@ -16,37 +18,11 @@ pub fn text_height(viewport: Viewport) -> f32 {
     (viewport.height as f32 / 45.0).clamp(7.0, 16.0).round()
 }
 
-/// A number with about three significant figures, for labels: `0`, `0.042`, `3.25`, `41.7`,
-/// `1250`.
-pub fn label_number(v: f64) -> String {
-    let a = v.abs();
-    let s = if a == 0.0 {
-        "0".to_string()
-    } else if a >= 100.0 {
-        format!("{v:.0}")
-    } else if a >= 10.0 {
-        format!("{v:.1}")
-    } else if a >= 1.0 {
-        format!("{v:.2}")
-    } else {
-        format!("{v:.3}")
-    };
-    // No "-0".
-    if s.trim_start_matches('-')
-        .chars()
-        .all(|c| c == '0' || c == '.')
-    {
-        "0".to_string()
-    } else {
-        s
-    }
-}
-
 /// The time stamp, top left: `T 12.3 S / 31.0 S`.
 pub fn time_stamp(t: f64, t_end: f64, viewport: Viewport, out: &mut Vec<Segment2>) {
     let h = text_height(viewport);
     draw_label(
-        &format!("T {t:.1} S / {t_end:.1} S"),
+        &format!("T {} S / {} S", fixed(t, 1), fixed(t_end, 1)),
         Vec2::new(h, h),
         h,
         out,
@@ -124,15 +100,15 @@ pub fn error_strip(
     }
     let small = (0.8 * th).round().max(6.0);
     draw_label(
-        &format!("{} M", label_number(peak)),
+        &format!("{} M", three_figures(peak)),
         Vec2::new(b.left + 0.4 * th, b.top - 0.1 * small),
         small,
         out,
     );
     draw_label(title, Vec2::new(b.left, b.top - 1.5 * th), th, out);
     // Times at the ends.
-    let start = format!("{} S", label_number(t0));
-    let end = format!("{} S", label_number(t1));
+    let start = format!("{} S", three_figures(t0));
+    let end = format!("{} S", three_figures(t1));
     draw_label(&start, Vec2::new(b.left, b.bottom + 0.4 * th), small, out);
     draw_label(
         &end,
@@ -166,7 +142,7 @@ pub fn error_strip(
     let x = x_of(tc);
     seg(Vec2::new(x, b.top), Vec2::new(x, b.bottom), out);
     let k = time[..n].partition_point(|&s| s <= tc).clamp(1, n) - 1;
-    let now = format!("{} M", label_number(error_m[k]));
+    let now = format!("{} M", three_figures(error_m[k]));
     let w = label_width(&now, small);
     let lx = if x + 0.4 * th + w < b.right {
         x + 0.4 * th
@@ -301,16 +277,6 @@ mod tests {
         width: 800,
         height: 600,
     };
-
-    #[test]
-    fn numbers_for_labels() {
-        assert_eq!(label_number(0.0), "0");
-        assert_eq!(label_number(-0.0001), "0");
-        assert_eq!(label_number(0.0421), "0.042");
-        assert_eq!(label_number(3.254), "3.25");
-        assert_eq!(label_number(41.66), "41.7");
-        assert_eq!(label_number(1250.2), "1250");
-    }
 
     #[test]
     fn smoothing_keeps_lines_and_removes_noise() {

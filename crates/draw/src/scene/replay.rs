@@ -4,15 +4,14 @@
 //! One [`LineScene`] per call of [`ReplayScene::frame`]; the frames are drawn and written by
 //! [`crate::output`]. Pure: no I/O.
 
-use anyhow::Context;
 use glam::Vec3;
 
 use super::builder::{FrameSpec, Layer, Placement, SceneBuilder};
-use super::overlay::{
-    edge_arrow, error_strip, label_number, locate, sample_dots, smooth_path, time_stamp,
-};
+use super::overlay::{edge_arrow, error_strip, locate, sample_dots, smooth_path, time_stamp};
 use super::palette;
 use super::track::{model_frame, pose_at, ModelTrack};
+use super::ReplayError;
+use crate::figures::three_figures;
 use crate::render::{LineBatch, LineScene};
 use wireflight_flight::data::FlightData;
 use wireflight_geometry::camera::{CameraPreset, Subject};
@@ -53,9 +52,9 @@ impl<'a> ReplayScene<'a> {
         data: &'a FlightData,
         aircraft: &EdgeMesh,
         clipper: Clipper,
-    ) -> anyhow::Result<Self> {
+    ) -> Result<Self, ReplayError> {
         if data.is_empty() {
-            anyhow::bail!("the flight has no samples");
+            return Err(ReplayError::EmptyFlight);
         }
         let path: Vec<Vec3> = data
             .pos_ned
@@ -68,7 +67,7 @@ impl<'a> ReplayScene<'a> {
             max = max.max(*p);
         }
         let grid = grid_around(min.truncate(), max.truncate(), GRID_CELLS)
-            .context("the flight's extent cannot be drawn (no ground grid fits it)")?;
+            .map_err(ReplayError::NoGround)?;
         let layers = vec![Layer {
             mesh: grid,
             placement: Placement::Ground,
@@ -143,7 +142,7 @@ impl<'a> ReplayScene<'a> {
                 let away = (m.position - pos.as_vec3()).length();
                 edge_arrow(
                     direction,
-                    &format!("MODEL {} M", label_number(f64::from(away))),
+                    &format!("MODEL {} M", three_figures(f64::from(away))),
                     viewport,
                     &mut arrow,
                 );

@@ -6,10 +6,10 @@
 //! Flight data are in NED/FRD; the viewer is Z-up. Positions map by
 //! [`wireflight_geometry::euler::viewer_from_ned`], attitudes by [`EulerZyx::from_aerospace`]. Pure: no I/O.
 
-use anyhow::bail;
 use glam::{DQuat, DVec3, Vec3};
 
 use super::builder::ModelFrame;
+use super::ReplayError;
 use wireflight_analysis::compare::Comparison;
 use wireflight_flight::data::FlightData;
 use wireflight_geometry::euler::{viewer_from_ned, EulerZyx};
@@ -37,12 +37,16 @@ impl ModelTrack {
     /// From a comparison of `data` made over all its windows (every sample predicted).
     ///
     /// # Errors
-    /// A comparison that does not cover the flight sample by sample.
-    pub fn from_comparison(data: &FlightData, comparison: &Comparison) -> anyhow::Result<Self> {
+    /// A comparison that does not cover the flight sample by sample
+    /// ([`ReplayError::PartialComparison`]).
+    pub fn from_comparison(
+        data: &FlightData,
+        comparison: &Comparison,
+    ) -> Result<Self, ReplayError> {
         let prediction = &comparison.prediction;
         let n = prediction.index.len();
         if n == 0 || n > data.len() || prediction.index.iter().enumerate().any(|(k, &i)| k != i) {
-            bail!("the comparison does not predict every sample of the flight (use all windows)");
+            return Err(ReplayError::PartialComparison);
         }
         let window_starts = comparison.windows.iter().map(|w| w.samples.0).collect();
         let path: Vec<Vec3> = prediction

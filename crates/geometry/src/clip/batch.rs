@@ -42,7 +42,7 @@ const SPREAD: [u8; 8] = [0, 1, 4, 5, 16, 17, 20, 21];
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{batch, boundary_coords, outcode, DepthRange};
+/// use wireflight_geometry::clip::{batch, boundary_coords, outcode, DepthRange};
 /// let p = Vec4::new(2.0, -0.5, -0.1, 1.0);
 /// let code = batch::vertex_code(p, DepthRange::ZeroToOne);
 /// assert_eq!(code & batch::OUTCODE_BITS, outcode(&boundary_coords(p, DepthRange::ZeroToOne)));
@@ -272,8 +272,8 @@ struct Staging {
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
-/// use wireflight::clip::DepthRange;
+/// use wireflight_geometry::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
+/// use wireflight_geometry::clip::DepthRange;
 /// let edges = EdgesSoa::from_pairs(&[
 ///     (Vec4::new(0.0, 0.0, 0.5, 1.0), Vec4::new(0.5, 0.5, 0.5, 1.0)), // inside
 ///     (Vec4::new(2.0, 0.0, 0.5, 1.0), Vec4::new(3.0, 0.0, 0.5, 1.0)), // outside

@@ -31,7 +31,7 @@ use super::{
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{clip_edge, ClipOutcome, DepthRange};
+/// use wireflight_geometry::clip::{clip_edge, ClipOutcome, DepthRange};
 /// // From inside to beyond x = w: cut where x = w.
 /// let a = Vec4::new(0.0, 0.0, 0.5, 1.0);
 /// let c = Vec4::new(3.0, 0.0, 0.5, 1.0);
@@ -119,7 +119,7 @@ pub fn clip_crossing(a: Vec4, c: Vec4, a_code: u8, c_code: u8, depth: DepthRange
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{blinn, ClipOutcome, ClipVolume, DepthRange, PlaneSet};
+/// use wireflight_geometry::clip::{blinn, ClipOutcome, ClipVolume, DepthRange, PlaneSet};
 /// // Keep x ≤ 0.5·w as well: the plane (−1, 0, 0, 0.5).
 /// let mut extra = PlaneSet::default();
 /// extra.push(Vec4::new(-1.0, 0.0, 0.0, 0.5)).unwrap();

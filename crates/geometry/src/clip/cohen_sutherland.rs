@@ -41,7 +41,7 @@ fn code_2d(w: &Window2, p: DVec2) -> u8 {
 ///
 /// ```
 /// use glam::Vec2;
-/// use wireflight::clip::{cohen_sutherland, ClipOutcome, Window2};
+/// use wireflight_geometry::clip::{cohen_sutherland, ClipOutcome, Window2};
 /// // The lecture transcript's example: window 2..4 × 2..4, P inside, Q right of it; the
 /// // right boundary cuts PQ at (4, 5/2).
 /// let w = Window2::new(2.0, 2.0, 4.0, 4.0).unwrap();
@@ -123,7 +123,7 @@ pub fn clip_2d(a: Vec2, c: Vec2, window: &Window2) -> ClipOutcome2 {
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{cohen_sutherland, ClipOutcome, ClipVolume, DepthRange};
+/// use wireflight_geometry::clip::{cohen_sutherland, ClipOutcome, ClipVolume, DepthRange};
 /// let v = ClipVolume::new(DepthRange::ZeroToOne);
 /// let a = Vec4::new(-3.0, 0.0, 0.5, 1.0);
 /// let c = Vec4::new(3.0, 0.0, 0.5, 1.0);

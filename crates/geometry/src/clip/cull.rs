@@ -20,7 +20,7 @@ use super::ClipVolume;
 ///
 /// ```
 /// use glam::{Mat4, Vec3};
-/// use wireflight::clip::{cull, ClipVolume, DepthRange};
+/// use wireflight_geometry::clip::{cull, ClipVolume, DepthRange};
 /// let v = ClipVolume::new(DepthRange::ZeroToOne);
 /// // Clip space itself as "model" space (identity): a unit sphere at x = 5 (w = 1) is out.
 /// assert!(cull::sphere_outside(Vec3::new(5.0, 0.0, 0.5), 1.0, Mat4::IDENTITY, &v));
@@ -55,7 +55,7 @@ pub fn sphere_outside(
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::cull::facing;
+/// use wireflight_geometry::clip::cull::facing;
 /// let (a, b, c) = (Vec4::new(0.0, 0.0, 0.5, 1.0), Vec4::new(1.0, 0.0, 0.5, 1.0), Vec4::new(0.0, 1.0, 0.5, 1.0));
 /// assert!(facing(a, b, c) > 0.0); // counter-clockwise: front
 /// assert!(facing(a, c, b) < 0.0);

@@ -61,7 +61,7 @@ fn interval<P>(boundaries: impl Iterator<Item = (f64, f64)>) -> Result<(f64, f64
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{cyrus_beck, ClipOutcome, ClipVolume, DepthRange};
+/// use wireflight_geometry::clip::{cyrus_beck, ClipOutcome, ClipVolume, DepthRange};
 /// let v = ClipVolume::new(DepthRange::ZeroToOne);
 /// let a = Vec4::new(0.0, 0.0, 0.5, 1.0);
 /// let c = Vec4::new(0.0, 4.0, 0.5, 1.0);
@@ -110,7 +110,7 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
 ///
 /// ```
 /// use glam::{Vec3, Vec4};
-/// use wireflight::clip::{cyrus_beck, ClipOutcome};
+/// use wireflight_geometry::clip::{cyrus_beck, ClipOutcome};
 /// // The slab 0 ≤ x ≤ 1: planes x ≥ 0 and −x + 1 ≥ 0.
 /// let slab = [Vec4::new(1.0, 0.0, 0.0, 0.0), Vec4::new(-1.0, 0.0, 0.0, 1.0)];
 /// let out = cyrus_beck::clip_polyhedron(Vec3::new(-1.0, 2.0, 0.0), Vec3::new(3.0, 2.0, 0.0), &slab);
@@ -161,7 +161,7 @@ impl<'v> ConvexPolygon<'v> {
     ///
     /// ```
     /// use glam::Vec2;
-    /// use wireflight::clip::cyrus_beck::ConvexPolygon;
+    /// use wireflight_geometry::clip::cyrus_beck::ConvexPolygon;
     /// let square = [Vec2::ZERO, Vec2::X, Vec2::ONE, Vec2::Y];
     /// assert!(ConvexPolygon::new(&square).is_some());
     /// let bow_tie = [Vec2::ZERO, Vec2::ONE, Vec2::X, Vec2::Y];
@@ -213,8 +213,8 @@ impl<'v> ConvexPolygon<'v> {
 ///
 /// ```
 /// use glam::Vec2;
-/// use wireflight::clip::cyrus_beck::{clip_polygon, ConvexPolygon};
-/// use wireflight::clip::ClipOutcome;
+/// use wireflight_geometry::clip::cyrus_beck::{clip_polygon, ConvexPolygon};
+/// use wireflight_geometry::clip::ClipOutcome;
 /// let triangle = [Vec2::ZERO, Vec2::new(4.0, 0.0), Vec2::new(0.0, 4.0)];
 /// let poly = ConvexPolygon::new(&triangle).unwrap();
 /// let out = clip_polygon(Vec2::new(-1.0, 1.0), Vec2::new(5.0, 1.0), &poly);

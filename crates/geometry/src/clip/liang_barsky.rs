@@ -60,7 +60,7 @@ fn interval<P>(pq: impl Iterator<Item = (f64, f64)>) -> Result<(f64, f64), ClipO
 ///
 /// ```
 /// use glam::Vec2;
-/// use wireflight::clip::{liang_barsky, ClipOutcome, Window2};
+/// use wireflight_geometry::clip::{liang_barsky, ClipOutcome, Window2};
 /// // The transcript's second example: M (left of the window) to N (right of it), cut at
 /// // M' = (2, 11/4) and N' = (4, 9/4).
 /// let w = Window2::new(2.0, 2.0, 4.0, 4.0).unwrap();
@@ -100,7 +100,7 @@ pub fn clip_2d(a: Vec2, c: Vec2, window: &Window2) -> ClipOutcome2 {
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{liang_barsky, ClipOutcome, ClipVolume, DepthRange};
+/// use wireflight_geometry::clip::{liang_barsky, ClipOutcome, ClipVolume, DepthRange};
 /// let v = ClipVolume::new(DepthRange::NegOneToOne);
 /// let a = Vec4::new(0.0, 0.0, 0.5, 1.0);
 /// let c = Vec4::new(0.0, 0.0, 0.5, -1.0); // straight back through the eye plane
@@ -151,7 +151,7 @@ pub fn clip_homogeneous(a: Vec4, c: Vec4, volume: &ClipVolume) -> ClipOutcome {
 ///
 /// ```
 /// use glam::Vec3;
-/// use wireflight::clip::{liang_barsky, ClipOutcome};
+/// use wireflight_geometry::clip::{liang_barsky, ClipOutcome};
 /// let out = liang_barsky::clip_box(Vec3::ZERO, Vec3::splat(4.0), Vec3::splat(-1.0), Vec3::ONE);
 /// assert_eq!(out, ClipOutcome::Clipped(Vec3::ZERO, Vec3::ONE));
 /// ```

@@ -98,7 +98,7 @@ pub mod plane {
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{boundary_coords, DepthRange};
+/// use wireflight_geometry::clip::{boundary_coords, DepthRange};
 /// // The seed's worked example.
 /// let bc = boundary_coords(Vec4::new(5.0, 2.0, 7.0, 10.0), DepthRange::NegOneToOne);
 /// assert_eq!(bc, [15.0, 5.0, 12.0, 8.0, 17.0, 3.0]);
@@ -302,16 +302,26 @@ impl fmt::Display for Clipper {
     }
 }
 
+/// A name that is no [`Clipper`]'s.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("unknown clipper `{0}` (known: {known})", known = Clipper::names())]
+pub struct ParseClipperError(pub String);
+
+impl Clipper {
+    /// Every clipper's name, comma-separated, for messages.
+    fn names() -> String {
+        let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
+        names.join(", ")
+    }
+}
+
 impl FromStr for Clipper {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParseClipperError;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         Self::ALL
             .into_iter()
             .find(|c| c.name() == s.trim())
-            .ok_or_else(|| {
-                let names: Vec<&str> = Self::ALL.iter().map(|c| c.name()).collect();
-                format!("unknown clipper `{s}` (known: {})", names.join(", "))
-            })
+            .ok_or_else(|| ParseClipperError(s.to_string()))
     }
 }
 
@@ -418,5 +428,23 @@ impl std::fmt::Display for ClipStats {
             write!(f, ", back-facing {}", self.back_facing)?;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clippers_parse_by_name() {
+        for c in Clipper::ALL {
+            assert_eq!(c.name().parse::<Clipper>(), Ok(c));
+        }
+        let err = "bresenham".parse::<Clipper>().unwrap_err();
+        let msg = err.to_string();
+        assert!(
+            msg.starts_with("unknown clipper `bresenham` (known: blinn, "),
+            "{msg}"
+        );
     }
 }

@@ -248,7 +248,7 @@ fn from_corner(w: &Bounds, p0: DVec2, p1: DVec2) -> Canonical {
 ///
 /// ```
 /// use glam::Vec2;
-/// use wireflight::clip::{nicholl_lee_nicholl, ClipOutcome, Window2};
+/// use wireflight_geometry::clip::{nicholl_lee_nicholl, ClipOutcome, Window2};
 /// // The seed's window (left, right, bottom, top) = (30, 220, 50, 240): p1 = (40, 140),
 /// // p2 = (100, 200) lies inside; p1 = (20, 10), p2 = (20, 200) is left of it.
 /// let w = Window2::from_lrbt(30.0, 220.0, 50.0, 240.0).unwrap();

@@ -137,7 +137,7 @@ fn lerp_2d(window: &Window2, k: usize, a: DVec2, b: DVec2, t: f64) -> DVec2 {
 ///
 /// ```
 /// use glam::Vec2;
-/// use wireflight::clip::{sutherland_hodgman, Window2};
+/// use wireflight_geometry::clip::{sutherland_hodgman, Window2};
 /// // A triangle poking out of the right side of the unit window: the tip is cut off.
 /// let w = Window2::new(0.0, 0.0, 1.0, 1.0).unwrap();
 /// let tri = [Vec2::new(0.5, 0.25), Vec2::new(1.5, 0.5), Vec2::new(0.5, 0.75)];
@@ -179,7 +179,7 @@ pub fn clip_polygon_2d(
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{sutherland_hodgman, ClipVolume, DepthRange};
+/// use wireflight_geometry::clip::{sutherland_hodgman, ClipVolume, DepthRange};
 /// // A triangle reaching through the near plane is cut at z = 0.
 /// let tri = [Vec4::new(0.0, 0.0, 0.5, 1.0), Vec4::new(0.5, 0.0, -0.5, 1.0), Vec4::new(0.0, 0.5, -0.5, 1.0)];
 /// let (mut out, mut scratch) = ([Vec4::ZERO; 18], [Vec4::ZERO; 18]);
@@ -294,7 +294,7 @@ fn two_gon<P: Copy + PartialEq>(
 ///
 /// ```
 /// use glam::Vec2;
-/// use wireflight::clip::{sutherland_hodgman, ClipOutcome, Window2};
+/// use wireflight_geometry::clip::{sutherland_hodgman, ClipOutcome, Window2};
 /// let w = Window2::new(2.0, 2.0, 4.0, 4.0).unwrap();
 /// let out = sutherland_hodgman::clip_edge_2d(Vec2::new(1.0, 3.0), Vec2::new(5.0, 2.0), &w);
 /// assert_eq!(out, ClipOutcome::Clipped(Vec2::new(2.0, 2.75), Vec2::new(4.0, 2.25)));
@@ -334,7 +334,7 @@ pub fn clip_edge_2d(a: Vec2, c: Vec2, window: &Window2) -> ClipOutcome2 {
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{sutherland_hodgman, ClipOutcome, ClipVolume, DepthRange};
+/// use wireflight_geometry::clip::{sutherland_hodgman, ClipOutcome, ClipVolume, DepthRange};
 /// let v = ClipVolume::new(DepthRange::ZeroToOne);
 /// let a = Vec4::new(-3.0, 0.0, 0.5, 1.0);
 /// let c = Vec4::new(0.0, 0.0, 0.5, 1.0);

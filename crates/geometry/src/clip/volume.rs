@@ -105,7 +105,7 @@ impl PlaneSet {
 ///
 /// ```
 /// use glam::Vec4;
-/// use wireflight::clip::{boundary_coords, view_plane, DepthRange, PLANE_COUNT};
+/// use wireflight_geometry::clip::{boundary_coords, view_plane, DepthRange, PLANE_COUNT};
 /// let p = Vec4::new(5.0, 2.0, 7.0, 10.0);
 /// let bc = boundary_coords(p, DepthRange::NegOneToOne);
 /// for i in 0..PLANE_COUNT {

@@ -27,7 +27,7 @@ impl Window2 {
     /// `xmin < xmax` and `ymin < ymax`.
     ///
     /// ```
-    /// use wireflight::clip::Window2;
+    /// use wireflight_geometry::clip::Window2;
     /// assert!(Window2::new(2.0, 2.0, 4.0, 4.0).is_some());
     /// assert!(Window2::new(4.0, 2.0, 2.0, 4.0).is_none());
     /// assert!(Window2::new(0.0, 0.0, f32::INFINITY, 1.0).is_none());
@@ -80,7 +80,7 @@ impl Window2 {
     ///
     /// ```
     /// use glam::Vec2;
-    /// use wireflight::clip::{plane, Window2};
+    /// use wireflight_geometry::clip::{plane, Window2};
     /// // The lecture's 2..4 window: (5, 3) is right of it (0010), (1, 5) above-left (1001).
     /// let w = Window2::new(2.0, 2.0, 4.0, 4.0).unwrap();
     /// assert_eq!(w.outcode(Vec2::new(5.0, 3.0)), plane::RIGHT);

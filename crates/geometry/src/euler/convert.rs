@@ -265,7 +265,7 @@ impl EulerAngles {
     /// `R_c(γ)·R_b(β)·R_a(α)` for extrinsic a-b-c. Non-finite angles give NaN elements.
     ///
     /// ```
-    /// use wireflight::euler::{Axis, Convention, EulerAngles};
+    /// use wireflight_geometry::euler::{Axis, Convention, EulerAngles};
     /// let e = EulerAngles::from_degrees("zxz".parse().unwrap(), [30.0, 20.0, 10.0]);
     /// let [a, b, c] = e.angles;
     /// let product = Axis::Z.rotation(a) * Axis::X.rotation(b) * Axis::Z.rotation(c);

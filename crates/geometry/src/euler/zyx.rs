@@ -124,7 +124,7 @@ impl EulerZyx {
     /// ```
     ///
     /// ```
-    /// use wireflight::euler::{EulerZyx, rot_x, rot_y, rot_z};
+    /// use wireflight_geometry::euler::{EulerZyx, rot_x, rot_y, rot_z};
     /// let e = EulerZyx::from_degrees(30.0, 20.0, 10.0);
     /// let product = rot_z(e.yaw) * rot_y(e.pitch) * rot_x(e.roll);
     /// assert!(e.to_matrix().abs_diff_eq(product, 1e-15));

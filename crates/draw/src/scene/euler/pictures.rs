@@ -1,8 +1,20 @@
 //! The panels and pictures of Euler angles built from [`Panel`]s: the elementary steps, a
 //! convention's gimbal rings, the gimbal-lock pair and sweep, and Euler-angle interpolation
 //! against slerp; [`sheet`] lays panels out in a grid. Pure: no I/O.
+//!
+//! The parent module holds the building blocks (the captions' labels, [`Panel`], the gimbal
+//! rings); this one what is drawn with them.
 
-use super::*;
+use glam::{DMat3, DVec3, Vec2, Vec3};
+
+use super::{angles_label, axis_label, degrees_label, slot_color, Panel, Reach, ARC_POINTS};
+use crate::render::{LineBatch, LineScene, Segment2};
+use crate::scene::palette;
+use wireflight_geometry::euler::{
+    compare_paths, lerp, slerp, EulerAngles, Frame, PathComparison, Step,
+};
+use wireflight_geometry::mesh::EdgeMesh;
+use wireflight_geometry::pipeline::Viewport;
 
 /// `count + 1` attitudes evenly along a step, `before` to `after`.
 fn step_path(step: &Step, count: usize) -> Vec<DMat3> {
