@@ -97,8 +97,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             compare: cfg,
             ..DiagnoseConfig::default()
         },
-    )
-    .map_err(anyhow::Error::msg)?;
+    )?;
     let after = (!fitted.is_empty()).then(|| Findings::of(&after_model, &data, &prep));
     // What is said about where the model fails describes the model as it ends up.
     let (final_model, last) = match &after {

@@ -21,7 +21,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     };
     if !args.model.add.is_empty() {
         let prep = Prepared::new(&data, cfg.compare);
-        add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg).map_err(anyhow::Error::msg)?;
+        add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg)?;
     }
     let progress = crate::progress::Progress::spinner(
         &format!("diagnosing {:.0} s of data", data.duration()),

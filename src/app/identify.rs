@@ -48,11 +48,10 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
             ..DiagnoseConfig::default()
         };
         let prep = Prepared::new(&flights[0], cfg.compare);
-        add_fitted(&mut base, &prep, &args.model.add_specs()?, &dcfg)
-            .map_err(anyhow::Error::msg)?;
+        add_fitted(&mut base, &prep, &args.model.add_specs()?, &dcfg)?;
     }
-    let free = free_keys(&args.free).map_err(anyhow::Error::msg)?;
-    let id = identify(&base, &flights, &free, &cfg).map_err(anyhow::Error::msg)?;
+    let free = free_keys(&args.free)?;
+    let id = identify(&base, &flights, &free, &cfg)?;
     let validations: Vec<Validation> = args
         .validate
         .iter()

@@ -25,18 +25,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         }
     };
     if let Some(list) = &args.effects {
-        spec.add_effect_list(list).map_err(anyhow::Error::msg)?;
+        spec.add_effect_list(list)?;
     }
     for add in &args.add {
-        spec.effects
-            .push(EffectSpec::parse(add).map_err(anyhow::Error::msg)?);
+        spec.effects.push(EffectSpec::parse(add)?);
     }
     let listed: Vec<String> = spec.effects.iter().map(EffectSpec::to_arg).collect();
     let mut truth = spec.clone();
     for hidden in &args.hidden {
-        truth
-            .effects
-            .push(EffectSpec::parse(hidden).map_err(anyhow::Error::msg)?);
+        truth.effects.push(EffectSpec::parse(hidden)?);
     }
     let origin = Origin {
         latitude_deg: args.latitude,
@@ -45,7 +42,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     };
     let model = truth.build(origin).context("building the model")?;
     let manoeuvre: Manoeuvre = match &args.manoeuvre {
-        Some(m) => m.parse().map_err(anyhow::Error::msg)?,
+        Some(m) => m.parse()?,
         None if spec.vehicle == VehicleKind::PointMass => Manoeuvre::Ballistic,
         None => Manoeuvre::Level,
     };
@@ -74,7 +71,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         &format!("simulating {:.0} s of flight", args.duration),
         false,
     );
-    let flight = simulate_limited(&model, &sim, args.max_samples).map_err(anyhow::Error::msg)?;
+    let flight = simulate_limited(&model, &sim, args.max_samples)?;
     drop(progress);
     data::write(&args.out, &flight)?;
     println!(

@@ -107,10 +107,7 @@ impl ModelArgs {
     /// # Errors
     /// Unknown effects, malformed `k=v`.
     pub fn add_specs(&self) -> anyhow::Result<Vec<EffectSpec>> {
-        self.add
-            .iter()
-            .map(|a| EffectSpec::parse(a).map_err(anyhow::Error::msg))
-            .collect()
+        self.add.iter().map(|a| Ok(EffectSpec::parse(a)?)).collect()
     }
 }
 
