@@ -1,3 +1,4 @@
+//! Fuzz target: `harness::csv` (../harness.rs).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| wireflight::harness::csv(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| harness::csv(data));

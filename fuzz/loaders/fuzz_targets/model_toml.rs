@@ -1,3 +1,4 @@
+//! Fuzz target: `harness::model_toml` (../harness.rs).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| wireflight::harness::model_toml(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| harness::model_toml(data));

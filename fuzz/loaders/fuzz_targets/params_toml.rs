@@ -1,3 +1,4 @@
+//! Fuzz target: `harness::params_toml` (../harness.rs).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| wireflight::harness::params_toml(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| harness::params_toml(data));

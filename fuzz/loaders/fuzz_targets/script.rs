@@ -1,3 +1,4 @@
+//! Fuzz target: `harness::script` (../harness.rs).
 #![no_main]
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| wireflight::harness::script(data));
+libfuzzer_sys::fuzz_target!(|data: &[u8]| harness::script(data));

@@ -1,6 +1,7 @@
 //! The clippers' property check, shared by the property tests (`tests/it/clip/`), the fuzz
 //! targets (`fuzz/fuzz_targets/`, which include this file by path) and the corpus replay.
-//! Depends on `wireflight` and `glam` only.
+//! Depends on `wireflight-geometry` (by its own name, so that the fuzz crate, which has no
+//! `wireflight`, compiles it too) and `glam` only.
 //!
 //! For one case and one algorithm: no panic; non-finite input gives `NonFinite`; an accepted
 //! edge is the input unchanged with both ends inside; every segment has finite ends with
@@ -16,8 +17,8 @@
 #![allow(dead_code)]
 
 use glam::{Vec2, Vec4};
-use wireflight::clip::batch::{self, EdgesSoa, SegmentsSoa};
-use wireflight::clip::{
+use wireflight_geometry::clip::batch::{self, EdgesSoa, SegmentsSoa};
+use wireflight_geometry::clip::{
     blinn, clip_edge, cohen_sutherland, cyrus_beck, liang_barsky, nicholl_lee_nicholl,
     sutherland_hodgman, ClipOutcome, ClipStats, ClipVolume, Clipper, DepthRange, PlaneSet, Window2,
 };

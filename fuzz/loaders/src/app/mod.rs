@@ -1,2 +1,0 @@
-//! The view's script parser and what it names.
-pub mod view;
