@@ -1,4 +1,4 @@
-//! Issue 15's reproductions: random extreme options from simulate to compare and diagnose.
+//! Hostile-input reproductions: random extreme options from simulate to compare and diagnose.
 
 use super::*;
 

@@ -1,4 +1,4 @@
-//! Issue 15's reproductions: files written whole (temporaries removed on signals and by the next
+//! Hostile-input reproductions: files written whole (temporaries removed on signals and by the next
 //! run, outputs written as a set, modes and links kept).
 
 use super::*;

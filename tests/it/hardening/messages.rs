@@ -1,4 +1,4 @@
-//! Issue 15's reproductions: messages that say what is wrong once and name the input.
+//! Hostile-input reproductions: messages that say what is wrong once and name the input.
 
 use super::*;
 

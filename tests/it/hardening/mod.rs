@@ -1,4 +1,4 @@
-//! Issue 15's reproductions, one test each: hostile inputs and options give a clear error
+//! Hostile-input reproductions, one test each: hostile inputs and options give a clear error
 //! (exit 2) naming the input and the limit, or work; never a panic (101), an abort (134), a
 //! hang, unbounded memory, or a silently wrong result.
 

@@ -1,4 +1,4 @@
-//! Issue 15's reproductions: outputs that are never silently wrong.
+//! Hostile-input reproductions: outputs that are never silently wrong.
 
 use super::*;
 
