@@ -73,6 +73,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let base = args.model.choice().build(&args.flight, &data)?;
     let cfg = args.windows.config(base.vehicle.kind());
+    args.windows.check_fits(&args.flight, &data, &cfg)?;
     let prep = Prepared::new(&data, cfg);
     if prep.windows.is_empty() {
         anyhow::bail!(
@@ -132,7 +133,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         )?;
         if !args.json {
             for f in &files {
-                println!("plot: {}", f.display());
+                println!("plot: {}", crate::app::shown(f));
             }
         }
     }
@@ -177,7 +178,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             println!(
                 "wrote {} {what} to {} (measured: green, model {}: magenta)",
                 w.frames,
-                to.display(),
+                crate::app::shown(to),
                 model_label(final_model)
             );
         }
@@ -208,7 +209,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let b = &before.comparison;
     println!(
         "{}: {} samples, {:.1} s, {} of {} s; model: {}",
-        args.flight.display(),
+        crate::app::shown(&args.flight),
         data.len(),
         data.duration(),
         count(b.windows.len(), "window"),

@@ -15,7 +15,7 @@ use crate::flight::data::{load, FlightData, Loaded};
 pub fn load_flight(path: &Path, args: &DataArgs) -> anyhow::Result<FlightData> {
     let Loaded { data, report } = load(path, &args.options())?;
     if let Some(r) = report.filter(|_| !crate::progress::is_quiet()) {
-        eprint!("{r}");
+        eprint!("{}", crate::fsio::printable(&r.to_string()));
     }
     Ok(data)
 }

@@ -19,6 +19,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         compare: args.windows.config(base.vehicle.kind()),
         ..DiagnoseConfig::default()
     };
+    args.windows.check_fits(&args.flight, &data, &cfg.compare)?;
     if !args.model.add.is_empty() {
         let prep = Prepared::new(&data, cfg.compare);
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg)?;
@@ -85,7 +86,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     } else {
         println!(
             "{}: {} samples, {:.1} s; model {}\n  {}",
-            args.flight.display(),
+            crate::app::shown(&args.flight),
             data.len(),
             data.duration(),
             model_label(&base),

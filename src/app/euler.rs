@@ -45,18 +45,40 @@ enum Given {
 /// angles not at lock for `--gimbal-lock`), unreadable meshes, unwritable output.
 pub fn run(args: &EulerArgs) -> anyhow::Result<()> {
     let convention = args.convention();
+    for (option, angles) in [
+        ("--angles", args.angles),
+        ("--from-angles", args.from_angles),
+        ("--to-angles", args.to_angles),
+    ] {
+        if let (true, Some(a)) = (args.radians, angles) {
+            if let Some(x) = a.iter().find(|x| x.abs() > MAX_RADIANS) {
+                bail!(
+                    "{option}: {x:e} rad is beyond ±{MAX_RADIANS:e} rad, where a multiple of 2π \
+                     cannot be taken off exactly; give the angle reduced, or in degrees \
+                     (reduced exactly at any size)"
+                );
+            }
+        }
+    }
+    let reduce = |a: [f64; 3]| {
+        if args.radians {
+            a
+        } else {
+            a.map(reduce_degrees)
+        }
+    };
     let to_radians = |a: [f64; 3]| {
         if args.radians {
             a
         } else {
-            a.map(f64::to_radians)
+            reduce(a).map(f64::to_radians)
         }
     };
     let given = if let Some(a) = args.angles {
         let degrees = if args.radians {
             a.map(f64::to_degrees)
         } else {
-            a
+            reduce(a)
         };
         Some(Given::Angles(
             EulerAngles::new(convention, to_radians(a)),
@@ -106,6 +128,21 @@ pub fn run(args: &EulerArgs) -> anyhow::Result<()> {
         return steps(args, &solution.euler);
     }
     print_numbers(args, &given, solution)
+}
+
+/// Largest angle in radians taken (`--radians`): beyond it, taking off multiples of an `f64`
+/// 2π would be off by more than 1e-10 rad.
+const MAX_RADIANS: f64 = 1e5;
+
+/// An angle in degrees beyond ±360° reduced to 0..360 exactly (`rem_euclid` of a float by 360
+/// is exact), so that 1e20° is the 280° it is, not whatever 1e20 · π/180 rounds to; angles
+/// within ±360° are kept as typed.
+fn reduce_degrees(d: f64) -> f64 {
+    if d.abs() > 360.0 {
+        d.rem_euclid(360.0)
+    } else {
+        d
+    }
 }
 
 /// The middle angle at its upper lock (Tait–Bryan +90°; proper Euler 0°, where the first and
@@ -360,7 +397,7 @@ fn write_pictures(args: &EulerArgs, pictures: &[Picture], notes: &[String]) -> a
             .map(|p| format!("{}.png", p.name))
             .collect::<Vec<_>>()
             .join(", "),
-        dir.display()
+        crate::app::shown(dir)
     )?;
     emit(&text)
 }

@@ -12,6 +12,7 @@ use crate::app::cli::IdentifyArgs;
 use crate::flight::data::FlightData;
 use crate::flight::model::{Model, Vehicle};
 use crate::flight::params::keys;
+use crate::flight::VehicleKind;
 use crate::numeric::format::{fixed, fmt_number, signed};
 
 /// A held-out flight's error before and after, in noise units.
@@ -26,15 +27,19 @@ struct Validation {
 /// # Errors
 /// Bad data, model or keys; a point mass; a flight too short for a window.
 pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
+    // Every file through the one reader of the commands (CSV, ULog, column maps), as compare.
     let flights: Vec<FlightData> = args
         .flight
         .iter()
-        .map(|p| crate::flight::data::read(p))
-        .collect::<Result<_, _>>()?;
+        .map(|p| crate::app::data::load_flight(p, &args.data))
+        .collect::<anyhow::Result<_>>()?;
     let first = &args.flight[0];
     let mut base = args.model.choice().build(first, &flights[0])?;
     if !matches!(base.vehicle, Vehicle::FixedWing(_)) {
         bail!("identify fits an aircraft's parameter set: the model is a point mass");
+    }
+    for (path, data) in args.flight.iter().zip(&flights) {
+        same_vehicle(path, data, first, "--flight")?;
     }
     let cfg = IdentifyConfig {
         compare: args.windows.config(base.vehicle.kind()),
@@ -50,15 +55,28 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
         let prep = Prepared::new(&flights[0], cfg.compare);
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &dcfg)?;
     }
+    for (path, data) in args.flight.iter().zip(&flights) {
+        args.windows.check_fits(path, data, &cfg.compare)?;
+    }
+    let validating: Vec<FlightData> = args
+        .validate
+        .iter()
+        .map(|p| {
+            let d = crate::app::data::load_flight(p, &args.data)?;
+            same_vehicle(p, &d, first, "--validate")?;
+            args.windows.check_fits(p, &d, &cfg.compare)?;
+            Ok(d)
+        })
+        .collect::<anyhow::Result<_>>()?;
     let free = free_keys(&args.free)?;
     let id = identify(&base, &flights, &free, &cfg)?;
     let validations: Vec<Validation> = args
         .validate
         .iter()
-        .map(|p| {
-            let d = crate::flight::data::read(p)?;
-            let before = compare(&base, &d, cfg.compare).noise_units();
-            let after = compare(&id.model, &d, cfg.compare).noise_units();
+        .zip(&validating)
+        .map(|(p, d)| {
+            let before = compare(&base, d, cfg.compare).noise_units();
+            let after = compare(&id.model, d, cfg.compare).noise_units();
             Ok(Validation {
                 path: p.clone(),
                 before,
@@ -100,7 +118,34 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
         identification_text(args, &base, &flights, &id, &validations)
     );
     if let Some(out) = &args.out {
-        println!("  wrote {}", out.display());
+        println!("  wrote {}", crate::app::shown(out));
+    }
+    Ok(())
+}
+
+/// Refuse a flight that is not of the fixed-wing aircraft being identified (a point mass, or
+/// data without the controls a fixed-wing model is flown by), naming it and the first flight.
+fn same_vehicle(
+    path: &std::path::Path,
+    data: &FlightData,
+    first: &std::path::Path,
+    option: &str,
+) -> anyhow::Result<()> {
+    let name = crate::app::shown;
+    if data.meta.vehicle == Some(VehicleKind::PointMass) || data.attitude.is_none() {
+        bail!(
+            "{option} {}: a point-mass flight, but {} is a fixed-wing one: identify fits one \
+             aircraft's parameter set to flights of that aircraft",
+            name(path),
+            name(first)
+        );
+    }
+    if data.controls.is_none() {
+        bail!(
+            "{option} {}: no control channels, which a fixed-wing model is flown by (as {} is)",
+            name(path),
+            name(first)
+        );
     }
     Ok(())
 }
@@ -151,12 +196,12 @@ fn identification_text(
     let _ = writeln!(
         out,
         "identify: {} flight{} ({seconds:.1} s, {samples} samples); model {}; {} numbers free, \
-         prior ±{:.0}% of the set",
+         prior ±{}% of the set",
         flights.len(),
         if flights.len() == 1 { "" } else { "s" },
         model_label(base),
         id.estimates.len(),
-        100.0 * args.prior
+        fmt_prior_percent(args.prior)
     );
     let _ = writeln!(
         out,
@@ -228,18 +273,25 @@ fn identification_text(
     let mut f = Table::new(["flight", "× noise before", "after"]);
     for ((p, b), a) in args.flight.iter().zip(&id.before).zip(&id.after) {
         f.row([
-            p.display().to_string(),
+            crate::app::shown(p),
             fixed(b.noise_units(), 2),
             fixed(a.noise_units(), 2),
         ]);
     }
     for v in validations {
         f.row([
-            format!("{} (held out)", v.path.display()),
+            format!("{} (held out)", crate::app::shown(&v.path)),
             fixed(v.before, 2),
             fixed(v.after, 2),
         ]);
     }
     out.push_str(&f.render(2));
     out
+}
+
+/// The prior's width in percent as given (`0.3` → `30`, `0.015` → `1.5`), not rounded to a
+/// whole percent.
+fn fmt_prior_percent(prior: f64) -> String {
+    let p = format!("{:.4}", 100.0 * prior);
+    p.trim_end_matches('0').trim_end_matches('.').to_string()
 }

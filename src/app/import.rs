@@ -28,17 +28,22 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
-    match &report {
-        Some(r) => print!("{r}"),
-        None => println!(
-            "{} (flight-data CSV): {} samples over {:.1} s",
-            args.flight.display(),
-            data.len(),
-            data.duration()
-        ),
+    // The report of what the file held goes where every command's does: stderr, unless
+    // --quiet (as `compare`); text from the file has its control characters escaped.
+    if !crate::progress::is_quiet() {
+        let text = match &report {
+            Some(r) => r.to_string(),
+            None => format!(
+                "{} (flight-data CSV): {} samples over {:.1} s\n",
+                args.flight.display(),
+                data.len(),
+                data.duration()
+            ),
+        };
+        eprint!("{}", crate::fsio::printable(&text));
     }
     if let Some(out) = &args.out {
-        println!("wrote {} ({} samples)", out.display(), data.len());
+        println!("wrote {} ({} samples)", crate::app::shown(out), data.len());
     }
     Ok(())
 }

@@ -23,6 +23,13 @@ use clap::{CommandFactory, FromArgMatches};
 
 use cli::{Cli, Command};
 
+/// A path as printed for people: its control characters escaped
+/// ([`crate::fsio::printable`]), so that no file name sets the terminal's title or clears the
+/// screen.
+pub(crate) fn shown(path: &std::path::Path) -> String {
+    crate::fsio::printable(&path.display().to_string()).into_owned()
+}
+
 /// Exit status of a run that hit a bug (a panic, on any thread): distinct from 2 (bad input or
 /// a failed command) and from Rust's 101.
 pub const EXIT_BUG: u8 = 3;
@@ -112,7 +119,10 @@ pub fn main_with_args() -> ExitCode {
         libc::signal(libc::SIGPIPE, libc::SIG_DFL);
     }
     if let Err(e) = crate::fsio::install_signal_cleanup() {
-        eprintln!("wireflight: warning: {e:#}");
+        eprintln!(
+            "wireflight: warning: {}",
+            crate::fsio::printable(&format!("{e:#}"))
+        );
     }
     let default_hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(move |info| {
@@ -131,7 +141,12 @@ pub fn main_with_args() -> ExitCode {
     let code = match result {
         Ok(Ok(())) => ExitCode::SUCCESS,
         Ok(Err(err)) => {
-            eprintln!("wireflight: {err:#}");
+            // File names and fields quoted from input may hold control characters: escaped,
+            // so that no input sets the terminal's title or clears the screen.
+            eprintln!(
+                "wireflight: {}",
+                crate::fsio::printable(&format!("{err:#}"))
+            );
             ExitCode::from(2)
         }
         Err(_) => ExitCode::from(EXIT_BUG),

@@ -59,13 +59,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         println!(
             "wrote {} {what} of {} ({:.1} s at {} fps, {}x{}, {}) to {}{}",
             w.frames,
-            flight.display(),
+            crate::app::shown(flight),
             data.duration(),
             w.fps,
             viewport.width,
             viewport.height,
             rasterizer.describe(),
-            to.display(),
+            crate::app::shown(to),
             if matches!(out, FrameOut::Gif(_)) {
                 format!(" ({} kB)", w.bytes.div_ceil(1000))
             } else {
@@ -116,7 +116,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let (_, gimbal) = spec.attitude.canonical();
     println!(
         "wrote {} ({}x{}, {how}); {} segments drawn",
-        out.display(),
+        crate::app::shown(out),
         spec.viewport.width,
         spec.viewport.height,
         scene.segment_count()

@@ -6,7 +6,7 @@ use crate::app::cli::SimulateArgs;
 use crate::flight::autopilot::Manoeuvre;
 use crate::flight::data;
 use crate::flight::effects::Origin;
-use crate::flight::simulate::{simulate_limited, Noise, SimSpec};
+use crate::flight::simulate::{simulate_bounded, Noise, SimSpec};
 use crate::flight::spec::{EffectSpec, ModelSpec};
 use crate::flight::VehicleKind;
 
@@ -71,12 +71,15 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         &format!("simulating {:.0} s of flight", args.duration),
         false,
     );
-    let flight = simulate_limited(&model, &sim, args.max_samples)?;
+    // --max-samples permits a length; what the machine can hold bounds it too (a run that
+    // would not fit is refused before any work instead of aborting on allocation).
+    let max_bytes = crate::fsio::available_memory().map_or(u64::MAX, |free| free / 10 * 9);
+    let flight = simulate_bounded(&model, &sim, args.max_samples, max_bytes)?;
     drop(progress);
     data::write(&args.out, &flight)?;
     println!(
         "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}",
-        args.out.display(),
+        crate::app::shown(&args.out),
         flight.len(),
         flight.duration(),
         args.rate,

@@ -83,14 +83,15 @@ impl SimSpec {
 #[non_exhaustive]
 pub enum SimulateError {
     /// The duration is zero, negative or not finite.
-    #[error("duration {0} s must be positive")]
+    #[error("--duration {} s must be positive (a finite number > 0)", num(*.0))]
     Duration(f64),
     /// The rate is outside (0, 10000] Hz.
-    #[error("rate {0} Hz must be in (0, 10000]")]
+    #[error("--rate {} Hz must be in (0, 10000]", num(*.0))]
     Rate(f64),
     /// The duration at the rate gives a single sample.
     #[error(
-        "{duration_s} s at {rate_hz} Hz is a single sample: the rate must be at least 1/duration"
+        "--duration {} s at --rate {} Hz is a single sample: the rate must be at least \
+         1/duration", num(*.duration_s), num(*.rate_hz)
     )]
     SingleSample {
         /// The duration, s.
@@ -100,8 +101,8 @@ pub enum SimulateError {
     },
     /// More samples than the limit.
     #[error(
-        "{duration_s} s at {rate_hz} Hz is {samples:.0} samples, more than --max-samples \
-         {max_samples} (raise it, or shorten --duration or lower --rate)"
+        "{} s at {} Hz is {} samples, more than --max-samples {max_samples} (raise it, or \
+         shorten --duration or lower --rate)", num(*.duration_s), num(*.rate_hz), num(*.samples)
     )]
     TooManySamples {
         /// The duration, s.
@@ -115,9 +116,9 @@ pub enum SimulateError {
     },
     /// More integration steps than the limit allows.
     #[error(
-        "{duration_s} s takes {steps:.0} integration steps of at most {MAX_STEP} s, more than \
+        "{} s takes {} integration steps of at most {MAX_STEP} s, more than \
          {STEPS_PER_SAMPLE_LIMIT} × --max-samples {max_samples} (raise it, or shorten \
-         --duration)"
+         --duration)", num(*.duration_s), num(*.steps)
     )]
     TooManySteps {
         /// The duration, s.
@@ -127,8 +128,32 @@ pub enum SimulateError {
         /// The limit of samples.
         max_samples: u64,
     },
+    /// The flight would need more memory than the machine has free.
+    #[error(
+        "{} s at {} Hz is {samples} samples, which need about {} MiB of memory; only {} MiB \
+         is free, so at most {most} samples can be simulated here (--max-samples does not \
+         raise this bound; shorten --duration or lower --rate)",
+        num(*.duration_s), num(*.rate_hz), .bytes >> 20, .available >> 20
+    )]
+    TooMuchMemory {
+        /// The duration, s.
+        duration_s: f64,
+        /// The rate, Hz.
+        rate_hz: f64,
+        /// The samples it would take.
+        samples: u64,
+        /// The memory they need, bytes (about).
+        bytes: u64,
+        /// The memory free for them, bytes.
+        available: u64,
+        /// The most samples that fit.
+        most: u64,
+    },
     /// A noise level that is negative or not finite.
-    #[error("{channel} noise {sigma} must be a finite number ≥ 0")]
+    #[error(
+        "{channel} noise (--noise-{}) {} must be a finite number ≥ 0",
+        noise_option(.channel), num(*.sigma)
+    )]
     Noise {
         /// `position`, `attitude`, `velocity` or `rate`.
         channel: &'static str,
@@ -182,6 +207,26 @@ pub fn simulate_limited(
     spec: &SimSpec,
     max_samples: u64,
 ) -> Result<FlightData, SimulateError> {
+    simulate_bounded(model, spec, max_samples, u64::MAX)
+}
+
+/// About the most memory one sample of a simulated flight takes, bytes, until its file is
+/// written: the recorded channels, their CSV text (with its growth) and the read-back check of
+/// that text (a fixed-wing flight peaks at about 510 bytes a sample; doubled for safety).
+pub const BYTES_PER_SAMPLE: u64 = 1024;
+
+/// [`simulate_limited`], also refusing (before any work) a flight whose samples need more
+/// than `max_bytes` of memory ([`BYTES_PER_SAMPLE`] each): `--max-samples` permits a length,
+/// this bound says what the machine can hold.
+///
+/// # Errors
+/// As [`simulate_limited`], and [`SimulateError::TooMuchMemory`].
+pub fn simulate_bounded(
+    model: &Model,
+    spec: &SimSpec,
+    max_samples: u64,
+    max_bytes: u64,
+) -> Result<FlightData, SimulateError> {
     if !(spec.duration_s > 0.0 && spec.duration_s.is_finite()) {
         return Err(SimulateError::Duration(spec.duration_s));
     }
@@ -201,6 +246,19 @@ pub fn simulate_limited(
             rate_hz: spec.rate_hz,
             samples: n,
             max_samples,
+        });
+    }
+    // `n` ≤ `max_samples` ≤ u64::MAX here.
+    let n_u64 = n as u64;
+    let bytes = n_u64.saturating_mul(BYTES_PER_SAMPLE);
+    if bytes > max_bytes || usize::try_from(n_u64).is_err() {
+        return Err(SimulateError::TooMuchMemory {
+            duration_s: spec.duration_s,
+            rate_hz: spec.rate_hz,
+            samples: n_u64,
+            bytes,
+            available: max_bytes,
+            most: max_bytes / BYTES_PER_SAMPLE,
         });
     }
     let steps = spec.duration_s / (1.0 / spec.rate_hz).min(MAX_STEP);
@@ -300,6 +358,26 @@ pub fn simulate_limited(
         },
     };
     Ok(truth.finish(meta, &spec.noise, spec.seed))
+}
+
+/// The option of a noise channel's level (`position` → `pos`, as in `--noise-pos`).
+fn noise_option(channel: &str) -> &str {
+    match channel {
+        "position" => "pos",
+        "attitude" => "att",
+        "velocity" => "vel",
+        other => other,
+    }
+}
+
+/// A number for a message: as written when it is moderate, else in scientific notation with
+/// four significant digits (never 200 digits of `1e200`).
+fn num(x: f64) -> String {
+    if !x.is_finite() || x == 0.0 || (x.abs() >= 1e-4 && x.abs() < 1e15) {
+        format!("{x}")
+    } else {
+        super::numeric::format::fmt_number(x)
+    }
 }
 
 fn check_finite(x: &State, t: f64) -> Result<(), SimulateError> {

@@ -176,6 +176,39 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
     })
 }
 
+/// The memory this process may still allocate, bytes, as far as the system says: the least of
+/// `MemAvailable` (`/proc/meminfo`) and the room left under the control group's limit (cgroup
+/// v2 `memory.max` − `memory.current`, or v1 `memory.limit_in_bytes` − `memory.usage_in_bytes`).
+/// `None` where none of them can be read (not Linux).
+pub fn available_memory() -> Option<u64> {
+    let read = |p: &str| std::fs::read_to_string(p).ok();
+    let number = |p: &str| read(p).and_then(|t| t.trim().parse::<u64>().ok());
+    let mut best: Option<u64> = None;
+    let mut take = |v: u64| best = Some(best.map_or(v, |b| b.min(v)));
+    if let Some(info) = read("/proc/meminfo") {
+        if let Some(kb) = info.lines().find_map(|l| {
+            l.strip_prefix("MemAvailable:")
+                .and_then(|r| r.trim().strip_suffix("kB"))
+                .and_then(|v| v.trim().parse::<u64>().ok())
+        }) {
+            take(kb.saturating_mul(1024));
+        }
+    }
+    for (limit, usage) in [
+        ("/sys/fs/cgroup/memory.max", "/sys/fs/cgroup/memory.current"),
+        (
+            "/sys/fs/cgroup/memory/memory.limit_in_bytes",
+            "/sys/fs/cgroup/memory/memory.usage_in_bytes",
+        ),
+    ] {
+        // "max" (no limit) does not parse and is skipped.
+        if let (Some(limit), Some(usage)) = (number(limit), number(usage)) {
+            take(limit.saturating_sub(usage));
+        }
+    }
+    best
+}
+
 // ---------------------------------------------------------------------------------------------
 // Temporaries
 
@@ -253,9 +286,27 @@ pub fn install_signal_cleanup() -> Result<(), FsError> {
     Ok(())
 }
 
-/// The name of this process's temporary for `name`: `.NAME.tmp-PID`.
+/// What every temporary's name carries between the destination's name and the PID: the mark
+/// that says wireflight wrote it (`.NAME.wireflight.tmp-PID`). The sweep removes nothing
+/// without it, so `.notes.tmp-123` of another program is never touched.
+const TEMP_MARK: &str = ".wireflight.tmp-";
+
+/// The file inside a staged directory that says wireflight made it (removed before the
+/// directory is moved into place). The sweep removes a directory only when it holds this file.
+const STAGED_MARKER: &str = ".wireflight-staged";
+
+/// The name of this process's temporary for `name`: `.NAME.wireflight.tmp-PID`.
 fn temp_name(name: &str) -> String {
-    format!(".{name}.tmp-{}", std::process::id())
+    format!(".{name}{TEMP_MARK}{}", std::process::id())
+}
+
+/// The PID in a temporary's name (`.NAME.wireflight.tmp-PID`), if `name` is one.
+fn temp_pid(name: &str) -> Option<u32> {
+    let (stem, pid) = name.strip_prefix('.')?.rsplit_once(TEMP_MARK)?;
+    if stem.is_empty() || pid.is_empty() || !pid.bytes().all(|b| b.is_ascii_digit()) {
+        return None;
+    }
+    pid.parse().ok()
 }
 
 /// Whether the process `pid` is alive (Linux: `/proc/PID`; elsewhere assumed alive unless the
@@ -269,8 +320,25 @@ fn alive(pid: u32, modified: Option<std::time::SystemTime>) -> bool {
         .is_none_or(|age| age.as_secs() < 86_400)
 }
 
-/// Remove the temporaries (`.NAME.tmp-PID`) that dead processes left in `dir`, once per
-/// directory and process.
+/// Whether `meta` belongs to the user running this process (Linux: the owner of `/proc/self`
+/// is the effective user; elsewhere not checked).
+fn owned_by_us(meta: &std::fs::Metadata) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        if let Ok(me) = std::fs::metadata("/proc/self") {
+            return meta.uid() == me.uid();
+        }
+    }
+    let _ = meta;
+    true
+}
+
+/// Remove the temporaries that dead wireflight processes left in `dir`, once per directory and
+/// process. Only what wireflight provably wrote goes: a name `.NAME.wireflight.tmp-PID` of a
+/// dead PID, owned by this user, and either a regular file or a directory holding the
+/// staging marker. Anything else (another program's `.x.tmp-1`, a symbolic link, someone
+/// else's file) is left alone.
 fn sweep(dir: &Path) {
     {
         let mut swept = SWEPT.lock().unwrap_or_else(PoisonError::into_inner);
@@ -287,20 +355,24 @@ fn sweep(dir: &Path) {
     for entry in entries.flatten() {
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        let Some(pid) = name
-            .strip_prefix('.')
-            .and_then(|n| n.rsplit_once(".tmp-"))
-            .and_then(|(_, pid)| pid.parse::<u32>().ok())
-        else {
-            continue;
-        };
+        let Some(pid) = temp_pid(name) else { continue };
         if pid == std::process::id() {
             continue;
         }
-        let modified = entry.metadata().ok().and_then(|m| m.modified().ok());
-        if !alive(pid, modified) {
-            let p = entry.path();
-            let _ = std::fs::remove_dir_all(&p).or_else(|_| std::fs::remove_file(&p));
+        let p = entry.path();
+        // Not following a symbolic link.
+        let Ok(meta) = std::fs::symlink_metadata(&p) else {
+            continue;
+        };
+        if !owned_by_us(&meta) || alive(pid, meta.modified().ok()) {
+            continue;
+        }
+        if meta.file_type().is_file() {
+            let _ = std::fs::remove_file(&p);
+        } else if meta.file_type().is_dir()
+            && std::fs::symlink_metadata(p.join(STAGED_MARKER)).is_ok_and(|m| m.is_file())
+        {
+            let _ = std::fs::remove_dir_all(&p);
         }
     }
 }
@@ -312,6 +384,49 @@ fn parent_dir(path: &Path) -> &Path {
     }
 }
 
+/// What a path that is not a regular file is, in words.
+fn describe(meta: &std::fs::Metadata) -> &'static str {
+    let t = meta.file_type();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_char_device() || t.is_block_device() {
+            return "a device";
+        }
+        if t.is_fifo() {
+            return "a FIFO";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if t.is_dir() {
+        "a directory"
+    } else {
+        "not a plain file"
+    }
+}
+
+/// `text` safe to print on a terminal: every control character except newline and tab is
+/// written as an escape (`\u{1b}` for ESC), so a file name or a field read from a file cannot
+/// set the terminal's title, move the cursor or clear the screen. Text without control
+/// characters is returned as it is.
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    let unsafe_char = |c: char| c.is_control() && c != '\n' && c != '\t';
+    if !text.chars().any(unsafe_char) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len() + 8);
+    for c in text.chars() {
+        if unsafe_char(c) {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    std::borrow::Cow::Owned(out)
+}
+
 // ---------------------------------------------------------------------------------------------
 // Output
 
@@ -321,6 +436,13 @@ fn parent_dir(path: &Path) -> &Path {
 /// # Errors
 /// I/O errors, with the path in the message.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
+    // `out/`: a directory's name, not a file's (renaming onto it says only "Not a
+    // directory").
+    refuse_unless!(
+        !path.as_os_str().as_encoded_bytes().ends_with(b"/"),
+        "{}: ends in `/`, which names a directory; give the name of a file to write",
+        path.display()
+    );
     // Through a symbolic link: replace what it points to.
     let target = match std::fs::symlink_metadata(path) {
         Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path)
@@ -331,6 +453,17 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), FsError> {
     let name = target
         .file_name()
         .ok_or_else(|| FsError::Refused(format!("{}: not a file path", path.display())))?;
+    // Only a regular file is replaced: renaming over a device (`/dev/null`), a FIFO or a
+    // socket would put a plain file in its place.
+    if let Ok(meta) = std::fs::metadata(&target) {
+        refuse_unless!(
+            meta.is_file(),
+            "{}: exists and is not a regular file ({}); an output replaces only a regular \
+             file, so name a new file",
+            path.display(),
+            describe(&meta)
+        );
+    }
     sweep(dir);
     let tmp = dir.join(temp_name(&name.to_string_lossy()));
     let old_mode = std::fs::metadata(&target).ok().map(|m| m.permissions());
@@ -405,7 +538,7 @@ pub fn write_dir_atomic(
 }
 
 /// An output directory written as a whole: files go into a temporary directory beside it
-/// (`.NAME.tmp-PID`), and [`commit`](Self::commit) moves them into place. Dropped without a
+/// (`.NAME.wireflight.tmp-PID`), and [`commit`](Self::commit) moves them into place. Dropped without a
 /// commit (an error on the way), the temporary directory is removed and the destination is
 /// untouched.
 #[derive(Debug)]
@@ -454,6 +587,8 @@ impl StagedDir {
         let _ = std::fs::remove_dir_all(&tmp);
         register(&tmp);
         std::fs::create_dir(&tmp).map_err(|e| FsError::io(&tmp, "create", e))?;
+        let marker = tmp.join(STAGED_MARKER);
+        std::fs::write(&marker, b"").map_err(|e| FsError::io(&marker, "create", e))?;
         Ok(Self {
             dest: dest.to_path_buf(),
             tmp,
@@ -477,6 +612,7 @@ impl StagedDir {
     /// # Errors
     /// I/O errors, naming the file.
     pub fn commit_merge(mut self) -> Result<(), FsError> {
+        self.unmark()?;
         std::fs::create_dir_all(&self.dest).map_err(|e| FsError::io(&self.dest, "create", e))?;
         for entry in std::fs::read_dir(&self.tmp).map_err(|e| FsError::io(&self.tmp, "list", e))? {
             let entry = entry.map_err(|e| FsError::io(&self.tmp, "list", e))?;
@@ -494,6 +630,7 @@ impl StagedDir {
     /// # Errors
     /// The destination holds other files, or I/O errors.
     pub fn commit_replace(mut self, ours: impl Fn(&str) -> bool) -> Result<(), FsError> {
+        self.unmark()?;
         if self.dest.is_dir() {
             let listing =
                 std::fs::read_dir(&self.dest).map_err(|e| FsError::io(&self.dest, "list", e))?;
@@ -532,6 +669,17 @@ impl StagedDir {
         }
         self.finish();
         Ok(())
+    }
+
+    /// Remove the staging marker before the directory's files are moved into place.
+    fn unmark(&self) -> Result<(), FsError> {
+        let marker = self.tmp.join(STAGED_MARKER);
+        match std::fs::remove_file(&marker) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                Err(FsError::io(&marker, "remove", e))
+            }
+            _ => Ok(()),
+        }
     }
 
     fn finish(&mut self) {
@@ -636,12 +784,99 @@ mod tests {
     fn dead_processes_temporaries_are_swept() {
         let dir = tempfile::tempdir().unwrap();
         // PID beyond pid_max: never alive.
-        let stale = dir.path().join(".out.csv.tmp-4294967295");
+        let stale = dir.path().join(".out.csv.wireflight.tmp-4294967295");
         std::fs::write(&stale, "partial").unwrap();
-        let stale_dir = dir.path().join(".plots.tmp-4294967294");
+        let stale_dir = dir.path().join(".plots.wireflight.tmp-4294967294");
         std::fs::create_dir(&stale_dir).unwrap();
+        std::fs::write(stale_dir.join(STAGED_MARKER), b"").unwrap();
+        std::fs::write(stale_dir.join("a.png"), b"x").unwrap();
         write_atomic(&dir.path().join("other.csv"), b"x").unwrap();
         assert!(!stale.exists() && !stale_dir.exists());
+    }
+
+    #[test]
+    fn the_sweep_leaves_what_wireflight_did_not_write() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        // Another program's temporaries, with a dead PID.
+        std::fs::write(d.join(".notes.tmp-4294967295"), b"mine").unwrap();
+        std::fs::create_dir(d.join(".work.tmp-4294967294")).unwrap();
+        std::fs::write(d.join(".work.tmp-4294967294/keep"), b"x").unwrap();
+        // wireflight's name, but a directory without the staging marker, and a link.
+        std::fs::create_dir(d.join(".data.wireflight.tmp-4294967293")).unwrap();
+        std::fs::write(d.join("target"), b"t").unwrap();
+        std::os::unix::fs::symlink(d.join("target"), d.join(".l.wireflight.tmp-4294967292"))
+            .unwrap();
+        std::fs::write(d.join(".x.wireflight.tmp-12a"), b"x").unwrap();
+        write_atomic(&d.join("new.csv"), b"x").unwrap();
+        assert_eq!(
+            listing(d),
+            [
+                ".data.wireflight.tmp-4294967293",
+                ".l.wireflight.tmp-4294967292",
+                ".notes.tmp-4294967295",
+                ".work.tmp-4294967294",
+                ".x.wireflight.tmp-12a",
+                "new.csv",
+                "target"
+            ]
+        );
+        assert!(d.join(".work.tmp-4294967294/keep").exists());
+    }
+
+    #[test]
+    fn outputs_never_replace_devices_or_fifos() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
+        // SAFETY: a valid NUL-terminated path.
+        assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
+        let err = write_atomic(&fifo, b"x").unwrap_err();
+        assert!(format!("{err}").contains("not a regular file"), "{err}");
+        assert!(std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo());
+        // A link to a device: refused before anything is written; /dev/null stays a device.
+        let link = dir.path().join("null");
+        std::os::unix::fs::symlink("/dev/null", &link).unwrap();
+        assert!(write_atomic(&link, b"x").is_err());
+        assert!(write_atomic(Path::new("/dev/null"), b"x").is_err());
+        assert!(std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device());
+        assert_eq!(listing(dir.path()), ["null", "pipe"]);
+        // A directory is no file either.
+        std::fs::create_dir(dir.path().join("d")).unwrap();
+        assert!(write_atomic(&dir.path().join("d"), b"x").is_err());
+    }
+
+    #[test]
+    fn staged_directories_carry_no_marker_into_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        let staged = StagedDir::new(&out).unwrap();
+        std::fs::write(staged.path().join("a.png"), b"x").unwrap();
+        staged.commit_replace(|_| true).unwrap();
+        assert_eq!(listing(&out), ["a.png"]);
+        let staged = StagedDir::new(&out).unwrap();
+        std::fs::write(staged.path().join("b.png"), b"x").unwrap();
+        staged.commit_merge().unwrap();
+        assert_eq!(listing(&out), ["a.png", "b.png"]);
+    }
+
+    #[test]
+    fn printable_escapes_control_characters() {
+        assert!(matches!(
+            printable("plain\ttext\n"),
+            std::borrow::Cow::Borrowed(_)
+        ));
+        assert_eq!(
+            printable("a\u{1b}]0;pwned\u{7}b\r\u{9b}2J\nc"),
+            r"a\u{1b}]0;pwned\u{7}b\r\u{9b}2J".to_string() + "\nc"
+        );
     }
 
     #[test]

@@ -111,9 +111,13 @@ tried as the starting point. The output is an ordinary parameter-set TOML.";
 #[derive(Debug, Args)]
 #[command(after_help = IDENTIFY_EXAMPLES)]
 pub struct IdentifyArgs {
-    /// Flight data (CSV); repeat for several flights. (`--data` is another spelling.)
-    #[arg(long, alias = "data", value_name = "FILE.csv", required = true)]
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns; repeat for several
+    /// flights of one fixed-wing aircraft. (`--data` is another spelling.)
+    #[arg(long, alias = "data", value_name = "FILE", required = true)]
     pub flight: Vec<std::path::PathBuf>,
+    /// How the flight files are read (for every --flight and --validate).
+    #[command(flatten)]
+    pub data: DataArgs,
     /// The model to start from (its aircraft set is the prior's centre).
     #[command(flatten)]
     pub model: ModelArgs,
@@ -124,11 +128,13 @@ pub struct IdentifyArgs {
     /// mass_kg`) [default: every aerodynamic coefficient].
     #[arg(long, value_name = "K1,K2*,...", value_delimiter = ',')]
     pub free: Vec<String>,
-    /// Relative width (1σ) of the prior toward the starting set.
-    #[arg(long, default_value_t = 0.3, value_parser = positive)]
+    /// Relative width (1σ) of the prior toward the starting set, in 0.01..=3 (1 % to 300 %
+    /// of each number).
+    #[arg(long, default_value_t = 0.3, value_parser = prior_width)]
     pub prior: f64,
-    /// Held-out flights: their error before and after is printed (repeatable).
-    #[arg(long, value_name = "FILE.csv")]
+    /// Held-out flights of the same aircraft: their error before and after is printed
+    /// (repeatable).
+    #[arg(long, value_name = "FILE")]
     pub validate: Vec<std::path::PathBuf>,
     /// Skip the equation-error starting point.
     #[arg(long)]
@@ -139,4 +145,23 @@ pub struct IdentifyArgs {
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// Narrowest and widest `--prior`: below 1 % the prior pins the numbers (the fit cannot move
+/// them, and their ± would be the prior's alone); beyond 300 % it no longer regularises and
+/// numbers the flights do not determine get no finite ±.
+pub const PRIOR_RANGE: (f64, f64) = (0.01, 3.0);
+
+/// `--prior`: a relative width in [`PRIOR_RANGE`].
+fn prior_width(s: &str) -> Result<f64, String> {
+    let v = positive(s)?;
+    let (lo, hi) = PRIOR_RANGE;
+    if (lo..=hi).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{v} is outside {lo}..={hi}: the prior's relative width is 1 % to 300 % of each \
+             number"
+        ))
+    }
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use clap::{ArgGroup, Args};
 
-use super::{finite_f64, parse_size};
+use super::finite_f64;
 use crate::euler::{Convention, Sequence};
 
 pub(super) fn parse_convention(s: &str) -> Result<Convention, String> {
@@ -176,11 +176,21 @@ pub(super) fn parse_quat(s: &str) -> Result<[f64; 4], String> {
 pub const MAX_PANEL_SIDE: u32 = 2048;
 
 pub(super) fn parse_panel_size(s: &str) -> Result<(u32, u32), String> {
-    let (w, h) = parse_size(s)?;
-    if w.max(h) > MAX_PANEL_SIDE || w.min(h) < 64 {
-        return Err(format!(
-            "{w}x{h}: each side must be in 64..={MAX_PANEL_SIDE} pixels"
-        ));
-    }
-    Ok((w, h))
+    // The panel's own range, stated for every side out of it (not the general 1..=16384 of
+    // other sizes, which a panel is not allowed).
+    let range = || format!("each side must be in 64..={MAX_PANEL_SIDE} pixels");
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("`{s}` is not WIDTHxHEIGHT (e.g. 320x240); {}", range()))?;
+    let side = |t: &str, name: &str| -> Result<u32, String> {
+        let v: u64 = t
+            .trim()
+            .parse()
+            .map_err(|_| format!("{name} `{t}` is not a whole number; {}", range()))?;
+        u32::try_from(v)
+            .ok()
+            .filter(|v| (64..=MAX_PANEL_SIDE).contains(v))
+            .ok_or_else(|| format!("{name} {v} is outside 64..={MAX_PANEL_SIDE} pixels"))
+    };
+    Ok((side(w, "width")?, side(h, "height")?))
 }

@@ -128,6 +128,31 @@ pub struct WindowArgs {
 }
 
 impl WindowArgs {
+    /// Refuse a flight in which `--window-offset` leaves no whole window, naming the option.
+    ///
+    /// # Errors
+    /// The offset and a window run past the flight's end.
+    pub fn check_fits(
+        &self,
+        path: &std::path::Path,
+        data: &crate::flight::data::FlightData,
+        cfg: &CompareConfig,
+    ) -> anyhow::Result<()> {
+        let duration = data.duration();
+        if self.window_offset > 0.0 && self.window_offset + cfg.window_s > duration {
+            anyhow::bail!(
+                "{}: --window-offset {} s leaves no {} s window in the flight's {:.2} s (give \
+                 an offset of at most {:.2} s)",
+                crate::app::shown(path),
+                crate::numeric::format::fmt_number(self.window_offset),
+                cfg.window_s,
+                duration,
+                (duration - cfg.window_s).max(0.0)
+            );
+        }
+        Ok(())
+    }
+
     /// The comparison settings for a vehicle.
     pub fn config(&self, vehicle: VehicleKind) -> CompareConfig {
         CompareConfig {

@@ -2,8 +2,10 @@
 //! clippers themselves live in [`crate::clip`].
 //!
 //! One edge per line, comma-separated: `x0,y0,z0,w0,x1,y1,z1,w1` (homogeneous clip space) or
-//! `x0,y0,x1,y1` (2D). Blank lines and lines starting with `#` are skipped; a first line
-//! whose first field is not a number is a header (echoed to the output). `nan` and `inf`
+//! `x0,y0,x1,y1` (2D). A byte-order mark is skipped. Blank lines and lines starting with `#`
+//! are skipped; a first line is a header (echoed to the output) only when none of its fields
+//! is a number and every one looks like a name (starts with a letter or `_`); any other first
+//! line is an edge, and an error naming the line if it is not one. `nan` and `inf`
 //! are read as such (the clippers drop and count them); a number beyond the `f32` range is
 //! an error. The output has one line per input edge, in order: the clipped edge in the same
 //! columns, or an empty line for an edge with nothing visible.
@@ -53,7 +55,8 @@ pub fn read_bounded(path: &Path, max_bytes: u64) -> Result<String, CsvError> {
         line: 0,
         problem,
     };
-    let file = std::fs::File::open(path).map_err(|e| whole(format!("cannot read: {e}")))?;
+    // A regular file only: a FIFO would block the open, a device would read without end.
+    let file = crate::fsio::open_regular(path).map_err(|e| whole(format!("cannot read: {e}")))?;
     if let Ok(meta) = file.metadata() {
         if meta.is_file() && meta.len() > max_bytes {
             return Err(whole(format!(
@@ -100,6 +103,7 @@ pub fn parse_rows<const N: usize>(
         lines: Vec::new(),
     };
     let mut first = true;
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     for (k, raw) in text.lines().enumerate() {
         let line = k + 1;
         let err = |problem: String| CsvError {
@@ -112,7 +116,7 @@ pub fn parse_rows<const N: usize>(
             continue;
         }
         let fields: Vec<&str> = row.split(',').map(str::trim).collect();
-        if std::mem::take(&mut first) && fields[0].parse::<f64>().is_err() {
+        if std::mem::take(&mut first) && is_header(&fields) {
             file.header = Some(row.to_string());
             continue;
         }
@@ -120,6 +124,7 @@ pub fn parse_rows<const N: usize>(
             let hint = match (N, fields.len()) {
                 (8, 4) => " (2D edges: give --window)",
                 (4, 8) => " (homogeneous edges: leave out --window)",
+                _ if row.contains(';') => " (separate the values with commas, not `;`)",
                 _ => "",
             };
             return Err(err(format!(
@@ -150,6 +155,19 @@ pub fn parse_rows<const N: usize>(
         file.lines.push(line);
     }
     Ok(file)
+}
+
+/// Whether a first row is a header: no field is a number and every field looks like a name
+/// (a letter or `_` first). `0x10`, `1;2;3;4` or a number with a stray character are data,
+/// reported as bad data rather than dropped as a header.
+fn is_header(fields: &[&str]) -> bool {
+    fields.iter().all(|f| {
+        f.parse::<f64>().is_err()
+            && f.chars()
+                .next()
+                .is_some_and(|c| c.is_alphabetic() || c == '_')
+            && !f.chars().any(char::is_control)
+    })
 }
 
 /// Homogeneous edges `(A, C)` from rows of eight numbers.

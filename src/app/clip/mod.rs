@@ -150,7 +150,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         .map_or_else(String::new, |v| v.get_name().to_string());
     println!(
         "wrote {} ({n} edges, {algo}, {what})",
-        args.output.display()
+        crate::app::shown(&args.output)
     );
     if args.stats {
         let per_edge = if n > 0 {

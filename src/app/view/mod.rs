@@ -320,7 +320,7 @@ impl App {
         };
         let note = match write_screenshot(&screenshot_scene(&self.session), &path) {
             Ok(()) => {
-                println!("wrote {}", path.display());
+                println!("wrote {}", crate::app::shown(&path));
                 format!("saved {}", path.display())
             }
             Err(e) => {

@@ -8,8 +8,14 @@ fn temporaries_of_a_killed_run_are_removed_by_the_next() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     // PIDs beyond any pid_max: their processes are gone.
-    std::fs::write(d.join(".old.csv.tmp-4294967295"), vec![0u8; 1000]).unwrap();
-    std::fs::create_dir(d.join(".frames.tmp-4294967294")).unwrap();
+    std::fs::write(
+        d.join(".old.csv.wireflight.tmp-4294967295"),
+        vec![0u8; 1000],
+    )
+    .unwrap();
+    let staged = d.join(".frames.wireflight.tmp-4294967294");
+    std::fs::create_dir(&staged).unwrap();
+    std::fs::write(staged.join(".wireflight-staged"), b"").unwrap();
     flight(d, "a.csv", &[]);
     let names: Vec<String> = std::fs::read_dir(d)
         .unwrap()
@@ -45,7 +51,7 @@ fn sigterm_and_sigint_remove_the_temporaries() {
             .spawn()
             .unwrap();
         // Wait until it writes frames into its temporary directory.
-        let tmp = d.join(format!(".frames.tmp-{}", child.id()));
+        let tmp = d.join(format!(".frames.wireflight.tmp-{}", child.id()));
         let start = Instant::now();
         while std::fs::read_dir(&tmp).map_or(0, Iterator::count) < 2 {
             assert!(

@@ -6,9 +6,11 @@ use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
+mod commands;
 mod extremes;
 mod files;
 mod messages;
+mod outputs;
 mod wrong_output;
 
 fn bin() -> Command {
