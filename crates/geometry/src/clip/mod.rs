@@ -48,6 +48,7 @@ pub mod liang_barsky;
 pub mod nicholl_lee_nicholl;
 pub mod sutherland_hodgman;
 mod volume;
+pub mod weiler_atherton;
 mod window;
 
 pub use blinn::clip_edge;
