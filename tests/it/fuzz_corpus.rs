@@ -28,6 +28,11 @@ fn csv() {
 }
 
 #[test]
+fn column_map() {
+    replay("column_map", harness::column_map);
+}
+
+#[test]
 fn obj() {
     replay("obj", harness::obj);
 }
@@ -50,4 +55,14 @@ fn params_toml() {
 #[test]
 fn script() {
     replay("script", harness::script);
+}
+
+#[test]
+fn ulog() {
+    replay("ulog", harness::ulog);
+}
+
+#[test]
+fn ulog_structured() {
+    replay("ulog_structured", harness::ulog_structured);
 }

@@ -19,11 +19,13 @@ pub struct DataArgs {
     #[arg(long, value_name = "MAP|FILE.toml", value_parser = parse_columns)]
     pub columns: Option<ColumnMap>,
     /// PX4 ULog: resample onto this rate, Hz [default: a round rate (50, 25, 20, 10, 5, 2, 1)
-    /// not above the position's and attitude's].
+    /// not above the position's and attitude's]. Refused for a CSV, whose samples are used
+    /// as they are.
     #[arg(long, value_name = "HZ", value_parser = resample_rate)]
     pub resample: Option<f64>,
-    /// PX4 ULog: surface deflection of a full (±1) PX4 roll/pitch/yaw command, degrees.
-    #[arg(long, value_name = "DEG", default_value_t = 25.0, value_parser = positive)]
+    /// PX4 ULog: surface deflection of a full (±1) PX4 roll/pitch/yaw command, degrees, in
+    /// (0, 90] (the surfaces' range is ±90°).
+    #[arg(long, value_name = "DEG", default_value_t = 25.0, value_parser = surface_max)]
     pub surface_max: f64,
 }
 
@@ -42,6 +44,20 @@ impl DataArgs {
 
 pub(super) fn parse_columns(s: &str) -> Result<ColumnMap, String> {
     ColumnMap::from_arg(s).map_err(|e| e.to_string())
+}
+
+/// `--surface-max`: a deflection in (0, 90] degrees, the surfaces' range (±90°, the range of
+/// every reader's `elevator`, `aileron` and `rudder`).
+pub(super) fn surface_max(s: &str) -> Result<f64, String> {
+    let v = positive(s)?;
+    if v <= 90.0 {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{v}° is more than a surface can deflect: the surfaces' range is ±90°, so \
+             --surface-max is at most 90"
+        ))
+    }
 }
 
 pub(super) fn resample_rate(s: &str) -> Result<f64, String> {

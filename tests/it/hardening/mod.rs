@@ -11,6 +11,8 @@ mod extremes;
 mod files;
 mod messages;
 mod outputs;
+mod ranges;
+mod ulog;
 mod wrong_output;
 
 fn bin() -> Command {
@@ -362,6 +364,29 @@ fn devices_directories_and_huge_files_are_not_read() {
         limit,
     );
     assert_refused(&o, &["big.obj", "3145728 bytes", "--max-input-mb"]);
+    // Every reader takes the same limit: a column-mapped CSV and a ULog too.
+    std::fs::write(d.join("big.csv"), vec![b'#'; 3 << 20]).unwrap();
+    let o = run_for(
+        &[
+            "import",
+            "--max-input-mb",
+            "2",
+            "--flight",
+            "big.csv",
+            "--columns",
+            "time=t,north=n,east=e,down=d",
+        ],
+        d,
+        limit,
+    );
+    assert_refused(&o, &["big.csv", "3145728 bytes", "--max-input-mb"]);
+    std::fs::write(d.join("big.ulg"), vec![0u8; 3 << 20]).unwrap();
+    let o = run_for(
+        &["import", "--max-input-mb", "2", "--flight", "big.ulg"],
+        d,
+        limit,
+    );
+    assert_refused(&o, &["big.ulg", "--max-input-mb"]);
 }
 
 #[test]

@@ -46,6 +46,15 @@ impl UlogWriter {
         self.message(b'P', &p);
     }
 
+    /// A string info message (`I`, `char[N] key`).
+    pub fn info_str(&mut self, key: &str, value: &str) {
+        let k = format!("char[{}] {key}", value.len());
+        let mut p = vec![k.len() as u8];
+        p.extend_from_slice(k.as_bytes());
+        p.extend_from_slice(value.as_bytes());
+        self.message(b'I', &p);
+    }
+
     /// Subscribes instance 0 of `topic`; returns its message id.
     pub fn subscribe(&mut self, topic: &str) -> u16 {
         let id = self.next_id;

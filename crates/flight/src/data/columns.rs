@@ -101,6 +101,10 @@ impl Quantity {
     /// The values a cell of this quantity may hold, in SI units (after the column's scale),
     /// and the range as the error message states it. Beyond these the numbers are not a
     /// flight (and would overflow the analysis: squares of 1e200 are infinite).
+    ///
+    /// This table is the one source of the ranges: every reader (the project's and JSBSim's
+    /// CSV in `read.rs`, column maps in `mapped/reader.rs`, PX4 ULog in `px4`) checks the
+    /// values it takes against it where they enter, and `docs/flight-data.md` states it.
     pub(super) fn range(self) -> (f64, f64, &'static str) {
         use std::f64::consts::{FRAC_PI_2, PI, TAU};
         use Quantity as Q;
@@ -116,6 +120,47 @@ impl Quantity {
             Q::Lon => (-PI, TAU, "-180°..360°"),
             Q::Alt => (-1e5, 1e8, "-1e5..1e8 m"),
         }
+    }
+}
+
+impl Quantity {
+    /// The quantity a column map's name (`crate::data::mapped::QUANTITIES`) gives, for its
+    /// range: `height` is checked as `down` (the same range), `lat, lon, alt` as themselves.
+    pub(super) fn of_mapped(name: &str) -> Option<Self> {
+        use Quantity as Q;
+        Some(match name {
+            "time" => Q::Time,
+            "north" => Q::North,
+            "east" => Q::East,
+            "down" | "height" => Q::Down,
+            "lat" => Q::Lat,
+            "lon" => Q::Lon,
+            "alt" => Q::Alt,
+            "roll" => Q::Roll,
+            "pitch" => Q::Pitch,
+            "yaw" => Q::Yaw,
+            "vn" => Q::Vn,
+            "ve" => Q::Ve,
+            "vd" => Q::Vd,
+            "u" => Q::U,
+            "v" => Q::V,
+            "w" => Q::W,
+            "p" => Q::P,
+            "q" => Q::Q,
+            "r" => Q::R,
+            "airspeed" => Q::Airspeed,
+            "throttle" => Q::Throttle,
+            "elevator" => Q::Elevator,
+            "aileron" => Q::Aileron,
+            "rudder" => Q::Rudder,
+            _ => return None,
+        })
+    }
+
+    /// True when `v` (SI, after the column's scale and offset) is within [`Self::range`].
+    pub(super) fn admits(self, v: f64) -> bool {
+        let (lo, hi, _) = self.range();
+        (lo..=hi).contains(&v)
     }
 }
 

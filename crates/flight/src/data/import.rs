@@ -30,6 +30,16 @@ pub enum ImportError {
         /// The file.
         path: PathBuf,
     },
+    /// A resampling rate given for a CSV (resampling is the ULog reader's).
+    #[error(
+        "{}: --resample is for PX4 ULog files; this is a CSV, whose samples are used as they \
+         are (leave out --resample)",
+        path.display()
+    )]
+    ResampleOnCsv {
+        /// The file.
+        path: PathBuf,
+    },
     /// The project's (or JSBSim's) CSV reader's error.
     #[error(transparent)]
     Csv(DataError),
@@ -86,6 +96,11 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, ImportError> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("ulg"))
         || starts_with_ulog_magic(path);
+    if !is_ulog && options.ulog.rate_hz.is_some() {
+        return Err(ImportError::ResampleOnCsv {
+            path: path.to_path_buf(),
+        });
+    }
     if let Some(map) = &options.columns {
         if is_ulog {
             return Err(ImportError::ColumnMapOnUlog {

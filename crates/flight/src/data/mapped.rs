@@ -44,9 +44,6 @@ use super::{METRES_PER_FOOT, MPS_PER_KNOT};
 mod reader;
 pub use reader::{parse, read, MappedError};
 
-/// Largest file read, bytes.
-pub const MAX_MAPPED_BYTES: u64 = 1 << 30;
-
 /// Kinds of quantity, for checking units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dimension {

@@ -23,7 +23,15 @@
 //! `ulog_time_zero_us`. Another channel is used when it covers at least
 //! [`MIN_COVERAGE`] of that span (held at its ends); otherwise it is left out and the report
 //! says so. Samples with a zero time stamp or non-finite values are dropped; samples out of time
-//! order are sorted, repeated time stamps keep the last. The origin (latitude, longitude,
+//! order are sorted and noted (more than 1 % of a topic's is an error: not a time series),
+//! repeated time stamps keep the last; a time stamp more than 1e9 s from the log's start is an
+//! error. Values are held to the CSV reader's ranges (positions ±1e8 m, velocities ±1e5 m/s,
+//! rates ±1e4 rad/s, latitude, longitude, altitude, surfaces ±90°), derived channels too, the
+//! error naming the topic, field and time stamp. Attitude is used only when at least half its
+//! quaternions are near unit length (the report says how many are). The time base may hold
+//! at most [`MAX_SAMPLES_PER_SAMPLE`] samples per position and attitude sample of the log (at
+//! least [`MIN_SAMPLES_BOUND`]): a time stamp moved far from the others is refused, not
+//! interpolated into millions of samples. The origin (latitude, longitude,
 //! altitude) comes from the local position's reference when it is global, else from the first
 //! global sample. `MAV_TYPE` 1 (fixed wing) with attitude and controls makes the data
 //! `vehicle: fixed-wing`; other vehicle types leave the vehicle to `--vehicle`.
@@ -32,6 +40,7 @@ use std::path::Path;
 
 use glam::{DMat3, DQuat, DVec3};
 
+use super::columns::Quantity;
 use super::read::flat_earth_ned;
 use super::report::{rate_text, ImportReport};
 use super::ulog::{UlogError, UlogErrorKind, UlogFile};
@@ -48,6 +57,13 @@ pub const DEFAULT_MAX_RATE_HZ: f64 = 50.0;
 
 /// Most samples of the time base.
 pub const MAX_SAMPLES: usize = 10_000_000;
+
+/// Most samples of the time base for each position and attitude sample the log holds: a
+/// flight resampled far beyond its samples is a time stamp out of place, not a flight.
+pub const MAX_SAMPLES_PER_SAMPLE: usize = 100;
+
+/// The bound of [`MAX_SAMPLES_PER_SAMPLE`] is never below this (a short log at a chosen rate).
+pub const MIN_SAMPLES_BOUND: usize = 10_000;
 
 /// Least fraction of the time base's span a channel must cover to be used.
 pub const MIN_COVERAGE: f64 = 0.9;
@@ -123,16 +139,19 @@ pub fn from_ulog(
 
     // Position: the estimator's local frame, else global positions made local.
     let (pos, origin) = position(log, file, &get, &mut report)?;
-    let attitude = get("vehicle_attitude", &["q[0]", "q[1]", "q[2]", "q[3]"])?;
+    let attitude = match get("vehicle_attitude", &["q[0]", "q[1]", "q[2]", "q[3]"])? {
+        Some(a) => unit_quaternions(a),
+        None => Err((0, 0)),
+    };
     // The time base: where position and attitude both are.
     let (mut t0, mut t1) = pos.span();
-    if let Some(a) = &attitude {
-        let (a0, a1) = a.span();
+    if let Ok(a) = &attitude {
+        let (a0, a1) = (a.t[0], a.t[a.t.len() - 1]);
         t0 = t0.max(a0);
         t1 = t1.min(a1);
     }
     let rate = options.rate_hz.unwrap_or_else(|| {
-        let own = [pos.rate(), attitude.as_ref().and_then(Series::rate)];
+        let own = [pos.rate(), attitude.as_ref().ok().and_then(|a| a.rate)];
         nice_rate(own.into_iter().flatten().fold(1.0, f64::max))
     });
     let n = if t1 > t0 {
@@ -140,13 +159,47 @@ pub fn from_ulog(
     } else {
         0.0
     };
+    let spans = || {
+        let (p0, p1) = pos.span();
+        let att = match &attitude {
+            Ok(a) => format!("attitude {:.3}–{:.3} s", a.t[0], a.t[a.t.len() - 1]),
+            Err(_) => "no attitude".into(),
+        };
+        format!("position {p0:.3}–{p1:.3} s ({} samples), {att}", pos.len())
+    };
     if n < 2.0 {
         return Err(err(UlogErrorKind::Missing(format!(
-            "too short: position and attitude overlap for {:.3} s ({} position samples): fewer \
-             than two samples at {}",
+            "too short: position and attitude overlap for {:.3} s ({}): fewer than two \
+             samples at {}",
             (t1 - t0).max(0.0),
-            pos.len(),
+            spans(),
             rate_text(rate)
+        ))));
+    }
+    // The flight may not be longer than the log's samples justify: a time stamp moved far
+    // from the others would otherwise make millions of interpolated samples out of a few.
+    let held = pos.len() + attitude.as_ref().map_or(0, |a| a.t.len());
+    let bound = (MAX_SAMPLES_PER_SAMPLE * held).max(MIN_SAMPLES_BOUND);
+    if n > bound as f64 {
+        let gap = [pos.longest_gap().map(|g| (g, pos.topic.as_str()))]
+            .into_iter()
+            .chain([attitude
+                .as_ref()
+                .ok()
+                .and_then(|a| a.longest_gap())
+                .map(|g| (g, "vehicle_attitude"))])
+            .flatten()
+            .max_by(|a, b| a.0 .0.total_cmp(&b.0 .0));
+        let gap = gap.map_or(String::new(), |((g, at), topic)| {
+            format!("; the longest gap: {g:.1} s after {at:.3} s in {topic}")
+        });
+        return Err(err(UlogErrorKind::BadValues(format!(
+            "{:.0} s at {} would be {n:.0} samples, more than {MAX_SAMPLES_PER_SAMPLE} for each \
+             of the {held} position and attitude samples the log holds ({bound}): a time stamp \
+             far from the others, or too high a resampling rate? ({}{gap})",
+            t1 - t0,
+            rate_text(rate),
+            spans()
         ))));
     }
     if n > MAX_SAMPLES as f64 {
@@ -178,6 +231,7 @@ pub fn from_ulog(
         .ok()
         .flatten();
     if let (Some(v), true) = (vel, pos.topic == "vehicle_local_position") {
+        v.check_all(file, &[Quantity::Vn, Quantity::Ve, Quantity::Vd])?;
         if use_channel(&mut report, "NED velocity", &v, "vx, vy, vz", span, "") {
             let c = v.linear(&grid);
             data.vel_ned = Some(
@@ -190,47 +244,48 @@ pub fn from_ulog(
 
     // Attitude: quaternions, slerped.
     match &attitude {
-        Some(a) => {
-            let quats: Vec<Option<DQuat>> = (0..a.len())
-                .map(|i| {
-                    let q =
-                        DQuat::from_xyzw(a.cols[1][i], a.cols[2][i], a.cols[3][i], a.cols[0][i]);
-                    let n = q.length();
-                    (n > 0.5 && n < 1.5).then(|| q / n)
-                })
-                .collect();
-            let bad = quats.iter().filter(|q| q.is_none()).count();
-            let (t, q): (Vec<f64>, Vec<DQuat>) =
-                a.t.iter()
-                    .zip(&quats)
-                    .filter_map(|(t, q)| q.map(|q| (*t, q)))
-                    .collect();
-            let note = if bad > 0 {
-                format!("slerped; {bad} samples with a quaternion far from unit length dropped")
+        Ok(a) => {
+            let note = if a.bad > 0 {
+                format!(
+                    "slerped; {} of {} samples with a quaternion far from unit length dropped",
+                    a.bad,
+                    a.bad + a.t.len()
+                )
             } else {
                 "slerped".to_string()
             };
             report.channel(
                 "attitude",
                 "vehicle_attitude q[0..4]",
-                t.len(),
-                a.rate(),
+                a.t.len(),
+                a.rate,
                 true,
                 note,
             );
-            let att = slerp(&t, &q, &grid)
+            let att = slerp(&a.t, &a.q, &grid)
                 .into_iter()
                 .map(|q| EulerZyx::from_matrix(DMat3::from_quat(q)).0)
                 .collect();
             data.attitude = Some(att);
         }
-        None => report.channel(
+        Err((0, 0)) => report.channel(
             "attitude",
             "vehicle_attitude",
             0,
             None,
             false,
             "not in the log",
+        ),
+        Err((good, all)) => report.channel(
+            "attitude",
+            "vehicle_attitude q[0..4]",
+            *good,
+            None,
+            false,
+            format!(
+                "{good} of {all} samples valid (the others' quaternions are far from unit \
+                 length; at least half must be valid)"
+            ),
         ),
     }
 
@@ -244,6 +299,7 @@ pub fn from_ulog(
     };
     match rates {
         Some((r, fields)) => {
+            r.check_all(file, &[Quantity::P, Quantity::Q, Quantity::R])?;
             if use_channel(&mut report, "body rates", &r, fields, span, "") {
                 let c = r.linear(&grid);
                 data.rates_body = Some(
@@ -270,6 +326,7 @@ pub fn from_ulog(
     };
     match airspeed {
         Some(a) => {
+            a.check_all(file, &[Quantity::Airspeed])?;
             let lowest = a.cols[0].iter().copied().fold(f64::INFINITY, f64::min);
             let note = if lowest < 0.0 {
                 format!("readings down to {lowest:.1} m/s (a sensor offset at rest?)")
@@ -291,7 +348,7 @@ pub fn from_ulog(
     }
 
     // Controls.
-    controls(&get, options, &grid, span, &mut data, &mut report)?;
+    controls(file, &get, options, &grid, span, &mut data, &mut report)?;
     if let Some(o) = log.topic("actuator_outputs") {
         report.channel(
             "outputs",
@@ -363,10 +420,139 @@ pub fn from_ulog(
     if let Err(why) = data.validate() {
         return Err(err(UlogErrorKind::BadValues(why.to_string())));
     }
+    // What the CSV reader would refuse is refused here, naming the channel and time, not
+    // when `import --out` writes it (derived channels: a jump of the positions is a speed).
+    derived_in_range(&data, zero_us).map_err(|why| err(UlogErrorKind::BadValues(why)))?;
     report.samples = data.len();
     report.rate_hz = Some(rate);
     report.duration_s = data.duration();
     Ok((data, report))
+}
+
+/// Attitude quaternions near unit length (normalised), with their times.
+struct Quats {
+    t: Vec<f64>,
+    q: Vec<DQuat>,
+    /// Samples dropped: quaternions far from unit length.
+    bad: usize,
+    /// Median rate of the valid samples, Hz.
+    rate: Option<f64>,
+}
+
+impl Quats {
+    fn longest_gap(&self) -> Option<(f64, f64)> {
+        self.t
+            .windows(2)
+            .map(|w| (w[1] - w[0], w[0]))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
+    }
+}
+
+/// The quaternions of `a` (w, x, y, z) whose length is within 0.5..1.5, normalised. Fewer
+/// than two of them, or fewer than half the samples, is `Err((valid, all))`: the attitude is
+/// not used (a few valid samples held across a flight would be a made-up attitude).
+fn unit_quaternions(a: Series) -> Result<Quats, (usize, usize)> {
+    let all = a.len();
+    let (t, q): (Vec<f64>, Vec<DQuat>) = (0..all)
+        .filter_map(|i| {
+            let q = DQuat::from_xyzw(a.cols[1][i], a.cols[2][i], a.cols[3][i], a.cols[0][i]);
+            let n = q.length();
+            (n > 0.5 && n < 1.5).then(|| (a.t[i], q / n))
+        })
+        .unzip();
+    if t.len() < 2 || 2 * t.len() < all {
+        return Err((t.len(), all.max(1)));
+    }
+    let rate = Series {
+        topic: a.topic,
+        t: t.clone(),
+        us: Vec::new(),
+        cols: Vec::new(),
+        fields: Vec::new(),
+        out_of_order: 0,
+    }
+    .rate();
+    Ok(Quats {
+        bad: all - t.len(),
+        t,
+        q,
+        rate,
+    })
+}
+
+/// Checks every channel against the CSV reader's ranges ([`Quantity::range`]).
+///
+/// # Errors
+/// The first value outside: the channel, whether it was derived, the time (s and the ULog
+/// time stamp, `zero_us` being the time base's start) and the range.
+fn derived_in_range(data: &FlightData, zero_us: f64) -> Result<(), String> {
+    use Quantity as Q;
+    let att: Option<Vec<DVec3>> = data.attitude.as_ref().map(|a| {
+        a.iter()
+            .map(|e| DVec3::new(e.roll, e.pitch, e.yaw))
+            .collect()
+    });
+    let air: Option<Vec<DVec3>> = data
+        .airspeed
+        .as_ref()
+        .map(|a| a.iter().map(|&v| DVec3::new(v, 0.0, 0.0)).collect());
+    // (channel, its key in `derived`, values, their quantities)
+    type Channel<'a> = (&'a str, &'a str, Option<&'a Vec<DVec3>>, [Q; 3]);
+    let channels: [Channel<'_>; 6] = [
+        (
+            "position",
+            "pos_ned",
+            Some(&data.pos_ned),
+            [Q::North, Q::East, Q::Down],
+        ),
+        (
+            "NED velocity",
+            "vel_ned",
+            data.vel_ned.as_ref(),
+            [Q::Vn, Q::Ve, Q::Vd],
+        ),
+        (
+            "body velocity",
+            "vel_body",
+            data.vel_body.as_ref(),
+            [Q::U, Q::V, Q::W],
+        ),
+        (
+            "body rates",
+            "rates_body",
+            data.rates_body.as_ref(),
+            [Q::P, Q::Q, Q::R],
+        ),
+        (
+            "attitude",
+            "attitude",
+            att.as_ref(),
+            [Q::Roll, Q::Pitch, Q::Yaw],
+        ),
+        ("airspeed", "airspeed", air.as_ref(), [Q::Airspeed; 3]),
+    ];
+    for (name, key, values, qs) in channels {
+        let Some(values) = values else { continue };
+        for (i, v) in values.iter().enumerate() {
+            for (x, q) in v.to_array().into_iter().zip(qs) {
+                let (lo, hi, range) = q.range();
+                if (lo..=hi).contains(&x) {
+                    continue;
+                }
+                let how = if data.is_derived(key) {
+                    " (derived from the log's other channels: a jump in them?)"
+                } else {
+                    ""
+                };
+                let t = data.time[i];
+                return Err(format!(
+                    "{name}{how}: {x:.6e} at {t:.3} s (ULog time {:.0} µs) is outside {range}",
+                    zero_us + t * 1e6
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The default rate of the time base for channels sampled at up to `hz`: the largest of
@@ -441,6 +627,7 @@ fn position(
     report: &mut ImportReport,
 ) -> Result<(Series, Option<LatLonAlt>), UlogError> {
     if let Some(p) = get("vehicle_local_position", &["x", "y", "z"])? {
+        p.check_all(file, &[Quantity::North, Quantity::East, Quantity::Down])?;
         let lp = log.topic("vehicle_local_position");
         let col = |f: &str| lp.and_then(|t| t.values(f));
         let mut note = Vec::new();
@@ -475,7 +662,14 @@ fn position(
                 .map(|i| (la[i], lo[i], alt.as_ref().map_or(0.0, |a| a[i]))),
             _ => None,
         };
-        if origin.is_none() {
+        if let Some(o) = origin {
+            check_origin(
+                file,
+                "vehicle_local_position",
+                ["ref_lat", "ref_lon", "ref_alt"],
+                o,
+            )?;
+        } else {
             note.push("no global reference: origin unknown".into());
         }
         report.channel(
@@ -511,7 +705,7 @@ fn position(
             }),
         },
     };
-    let Some((mut g, source, deg, metres)) = global else {
+    let Some((mut g, source, deg, metres)): Option<(Series, &str, f64, f64)> = global else {
         return Err(UlogError::file(
             file,
             UlogErrorKind::Missing(
@@ -521,6 +715,10 @@ fn position(
             ),
         ));
     };
+    // The ranges apply to the values in radians and metres; errors show the values as read.
+    g.check(file, 0, deg.to_radians(), Quantity::Lat)?;
+    g.check(file, 1, deg.to_radians(), Quantity::Lon)?;
+    g.check(file, 2, metres, Quantity::Alt)?;
     for v in &mut g.cols[0] {
         *v = (*v * deg).to_radians();
     }
@@ -530,26 +728,13 @@ fn position(
     for v in &mut g.cols[2] {
         *v *= metres;
     }
-    if let Some(i) = g.cols[0]
-        .iter()
-        .position(|la| la.abs() > std::f64::consts::FRAC_PI_2)
-    {
-        return Err(UlogError::file(
-            file,
-            UlogErrorKind::BadValues(format!(
-                "latitude {:.3}° at {:.3} s is not a latitude",
-                g.cols[0][i].to_degrees(),
-                g.t[i]
-            )),
-        )
-        .in_topic(&g.topic)
-        .in_field("lat"));
-    }
     let origin = (
         g.cols[0][0].to_degrees(),
         g.cols[1][0].to_degrees(),
         g.cols[2][0],
     );
+    let [la, lo, alt] = [0, 1, 2].map(|c| g.fields[c].clone());
+    check_origin(file, &g.topic, [&la, &lo, &alt], origin)?;
     let ned = flat_earth_ned(&g.cols[0], &g.cols[1], &g.cols[2]);
     report.channel(
         "position",
@@ -568,8 +753,35 @@ fn position(
     Ok((g, Some(origin)))
 }
 
+/// Checks the origin (latitude °, longitude °, altitude m, from `topic`'s `fields`) against
+/// the ranges of the flight data's metadata ([`crate::effects::Origin::check_field`]), which
+/// the CSV reader applies to what `import --out` writes.
+///
+/// # Errors
+/// The first value outside, naming the topic and field.
+fn check_origin(
+    file: &str,
+    topic: &str,
+    fields: [&str; 3],
+    (lat, lon, alt): LatLonAlt,
+) -> Result<(), UlogError> {
+    let keys = ["latitude_deg", "longitude_deg", "altitude_m"];
+    for ((key, field), v) in keys.into_iter().zip(fields).zip([lat, lon, alt]) {
+        if let Err(e) = crate::effects::Origin::check_field(key, v) {
+            return Err(UlogError::file(
+                file,
+                UlogErrorKind::BadValues(format!("the flight's origin: {e}")),
+            )
+            .in_topic(topic)
+            .in_field(field));
+        }
+    }
+    Ok(())
+}
+
 /// The controls: `actuator_controls_0`, else the torque and thrust setpoints; held.
 fn controls(
+    file: &str,
     get: Getter<'_>,
     options: &UlogOptions,
     grid: &[f64],
@@ -612,8 +824,15 @@ fn controls(
         "held; ±1 → ±{}° (aileron +roll, elevator −pitch, rudder −yaw)",
         options.surface_max_deg
     );
+    let k = options.surface_max_deg.to_radians();
+    for (col, q) in [
+        (0, Quantity::Aileron),
+        (1, Quantity::Elevator),
+        (2, Quantity::Rudder),
+    ] {
+        c.check(file, col, k, q)?;
+    }
     if use_channel(report, "controls", &c, fields, span, &note) {
-        let k = options.surface_max_deg.to_radians();
         let h = c.hold(grid);
         let over = h[3].iter().filter(|t| !(0.0..=1.0).contains(*t)).count();
         if over > 0 {
@@ -670,7 +889,10 @@ mod tests {
         let s = Series {
             topic: "x".into(),
             t: vec![0.0, 1.0, 3.0],
+            us: vec![0, 1_000_000, 3_000_000],
             cols: vec![vec![0.0, 10.0, 30.0]],
+            fields: vec!["x".into()],
+            out_of_order: 0,
         };
         let grid = [-1.0, 0.0, 0.5, 1.0, 2.0, 3.0, 4.0];
         assert_eq!(s.linear(&grid)[0], [0.0, 0.0, 5.0, 10.0, 20.0, 30.0, 30.0]);

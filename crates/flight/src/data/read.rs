@@ -40,7 +40,7 @@ pub fn read(path: &Path) -> Result<FlightData, DataError> {
         let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         DataError {
             file: file.clone(),
-            line: Some(good.iter().filter(|&&b| b == b'\n').count() + 1),
+            line: Some(line_of(good)),
             column: None,
             kind: DataErrorKind::NotUtf8,
         }
@@ -67,7 +67,7 @@ pub fn parse(text: &str, name_for_errors: &str) -> Result<FlightData, DataError>
         file: name_for_errors,
     };
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    let mut lines = text_lines(text).enumerate().map(|(i, l)| (i + 1, l.trim()));
 
     let (meta, header_line, header_text) = read_metadata(&mut lines, &errors)?;
     let header = Header::parse(header_line, header_text, meta.vehicle, &errors)?;
@@ -75,6 +75,35 @@ pub fn parse(text: &str, name_for_errors: &str) -> Result<FlightData, DataError>
     let mut data = assemble(meta, &header, values);
     data.derive_missing();
     Ok(data)
+}
+
+/// The lines of `text`, ended by `\n`, `\r\n` or a lone `\r` (old Mac files and some
+/// loggers end lines with CR alone; read as one line they would give a confusing row-length
+/// error), without their ends; like [`str::lines`] otherwise (no empty line after a final end).
+pub(super) fn text_lines(text: &str) -> impl Iterator<Item = &str> {
+    let mut rest = text;
+    std::iter::from_fn(move || {
+        if rest.is_empty() {
+            return None;
+        }
+        let Some(i) = rest.find(['\r', '\n']) else {
+            return Some(std::mem::take(&mut rest));
+        };
+        let line = &rest[..i];
+        let end = if rest[i..].starts_with("\r\n") { 2 } else { 1 };
+        rest = &rest[i + end..];
+        Some(line)
+    })
+}
+
+/// The 1-based line, as [`text_lines`] counts them, of the byte just after `before`.
+pub(super) fn line_of(before: &[u8]) -> usize {
+    let lone_crs = before
+        .iter()
+        .enumerate()
+        .filter(|&(i, &b)| b == b'\r' && before.get(i + 1) != Some(&b'\n'))
+        .count();
+    before.iter().filter(|&&b| b == b'\n').count() + lone_crs + 1
 }
 
 /// Makes the errors of one parse, all naming the same file.
@@ -587,6 +616,32 @@ mod tests {
         assert!(e.to_string().contains("glider"), "{e}");
         let e = parse("# altitude_m: inf\n", "m.csv").unwrap_err();
         assert!(e.to_string().contains("finite"), "{e}");
+    }
+
+    #[test]
+    fn a_lone_cr_ends_a_line() {
+        for end in ["\r", "\r\n", "\n", "\n\r"] {
+            let text = [
+                "# source: x",
+                "time_s,north_m,east_m,down_m",
+                "0,0,0,0",
+                "1,0,0,x",
+            ]
+            .join(end);
+            let e = parse(&text, "c.csv").unwrap_err();
+            assert!(
+                e.to_string().contains("not a number: `x`") && e.column.is_some(),
+                "{end:?}: {e}"
+            );
+            let text = ["time_s,north_m,east_m,down_m", "0,0,0,0", "1,0,0,1", ""].join(end);
+            assert_eq!(parse(&text, "c.csv").unwrap().len(), 2, "{end:?}");
+        }
+        let lines: Vec<&str> = text_lines("a\rb\r\nc\n\rd\r").collect();
+        assert_eq!(lines, ["a", "b", "c", "", "d"]);
+        // The line of a bad byte is counted the same way.
+        assert_eq!(line_of(b"a\rb\r\nc\n\rd\r"), 6);
+        assert_eq!(line_of(b"a\rb\r\nc\n\rd"), 5);
+        assert_eq!(line_of(b""), 1);
     }
 
     #[test]

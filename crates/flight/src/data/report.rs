@@ -96,6 +96,24 @@ impl ImportReport {
     }
 }
 
+/// Text taken from a file, safe to print: control characters (ESC, CR, BEL, …, and the C1
+/// controls) are shown as `\u{1b}`, so that a log's `sys_name` cannot move the cursor, clear
+/// the screen or retitle the terminal. Text without them is returned as it is.
+pub fn escape(s: &str) -> String {
+    if !s.chars().any(char::is_control) {
+        return s.to_string();
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        if c.is_control() {
+            out.push_str(&format!("\\u{{{:x}}}", c as u32));
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
 /// A sample rate for people: `250 Hz`, `12.5 Hz`, `0.2 Hz`.
 pub fn rate_text(hz: f64) -> String {
     if hz >= 99.5 {
@@ -112,25 +130,26 @@ impl fmt::Display for ImportReport {
     /// A few lines: the file and format, the facts, a table of channels (text left-aligned,
     /// numbers right-aligned), the result, the notes.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(f, "{} ({})", self.file, self.format)?;
+        // Everything here may hold text from the file (info strings, column names): escaped.
+        writeln!(f, "{} ({})", escape(&self.file), escape(&self.format))?;
         for (k, v) in &self.about {
-            writeln!(f, "  {k}: {v}")?;
+            writeln!(f, "  {}: {}", escape(k), escape(v))?;
         }
         let rows: Vec<[String; 5]> = self
             .channels
             .iter()
             .map(|c| {
                 [
-                    c.channel.clone(),
-                    c.source.clone(),
+                    escape(&c.channel),
+                    escape(&c.source),
                     c.samples.to_string(),
                     c.rate_hz.map_or_else(|| "–".to_string(), rate_text),
                     if c.used {
-                        c.note.clone()
+                        escape(&c.note)
                     } else if c.note.is_empty() {
                         "not used".to_string()
                     } else {
-                        format!("not used: {}", c.note)
+                        format!("not used: {}", escape(&c.note))
                     },
                 ]
             })
@@ -181,7 +200,7 @@ impl fmt::Display for ImportReport {
             )?,
         }
         for n in &self.notes {
-            writeln!(f, "  note: {n}")?;
+            writeln!(f, "  note: {}", escape(n))?;
         }
         Ok(())
     }
@@ -228,6 +247,14 @@ mod tests {
         assert_eq!(lines[4], "  flight data: 776 samples at 25 Hz over 31.0 s");
         assert_eq!(lines[5], "  note: xy_valid is false");
         assert_eq!(rate_text(250.0), "250 Hz");
+        assert_eq!(escape("PX4\x1b[2J\r\u{9b}x"), "PX4\\u{1b}[2J\\u{d}\\u{9b}x");
+        assert_eq!(escape("plain ü"), "plain ü");
+        let mut r = ImportReport::new("f.ulg", "PX4 ULog");
+        r.about
+            .push(("system".into(), "evil\x1b]0;title\x07".into()));
+        assert!(r
+            .to_string()
+            .contains("  system: evil\\u{1b}]0;title\\u{7}"));
         assert_eq!(rate_text(12.5), "12.5 Hz");
     }
 }

@@ -10,8 +10,9 @@
 //! flattened to names such as `q[0]` or `esc[2].rpm`; `_padding` fields take room but are not
 //! fields, and trailing padding may be left out of a data message.
 //!
-//! [`UlogFile::parse`] reads a whole file held in memory (files over [`MAX_ULOG_BYTES`] are
-//! refused before they are read), keeping the data of the wanted topics only, so memory is
+//! [`UlogFile::parse`] reads a whole file held in memory ([`UlogFile::read`] reads it through
+//! `wireflight_fsio`, so `--max-input-mb` bounds it; larger files are refused before they are
+//! read), keeping the data of the wanted topics only, so memory is
 //! bounded by what is used. It never panics: every length is checked before it is used, and
 //! layouts are bounded ([`MAX_NESTING`], [`MAX_FIELDS`], messages ≤ 65 535 bytes).
 //!
@@ -31,14 +32,13 @@
 //! Turning PX4 topics into a [`super::FlightData`] is [`super::px4`]'s job.
 
 use std::fmt;
-use std::io::Read;
 use std::path::Path;
 
 mod parser;
 use parser::Parser;
 
-/// Largest file read, bytes (1 GiB). PX4 logs of a long flight at high rates are a few
-/// hundred MB.
+/// The default largest file read, bytes (1 GiB, `--max-input-mb`'s default; the option
+/// governs, [`UlogFile::read`]). PX4 logs of a long flight at high rates are a few hundred MB.
 pub const MAX_ULOG_BYTES: u64 = 1 << 30;
 
 /// Deepest nesting of formats inside formats.
@@ -167,7 +167,9 @@ impl fmt::Display for UlogError {
         if let Some(o) = self.offset {
             write!(f, "byte {o}: ")?;
         }
-        match (&self.topic, &self.field) {
+        // Topic and field names come from the file: control characters escaped.
+        let esc = |s: &Option<String>| s.as_deref().map(super::report::escape);
+        match (esc(&self.topic), esc(&self.field)) {
             (Some(t), Some(x)) => write!(f, "topic `{t}`, field `{x}`: ")?,
             (Some(t), None) => write!(f, "topic `{t}`: ")?,
             (None, Some(x)) => write!(f, "field `{x}`: ")?,
@@ -379,29 +381,16 @@ pub struct UlogFile {
 }
 
 impl UlogFile {
-    /// Reads the file at `path` (at most [`MAX_ULOG_BYTES`]), keeping the samples of the topics
-    /// for which `keep` is true.
+    /// Reads the file at `path` through [`wireflight_fsio::read_bytes`] (a regular file of at
+    /// most `--max-input-mb`, [`wireflight_fsio::InputLimits`]), keeping the samples of the
+    /// topics for which `keep` is true.
     ///
     /// # Errors
     /// An unreadable or too large file, and everything [`parse`](Self::parse) rejects.
     pub fn read(path: &Path, keep: impl Fn(&str) -> bool) -> Result<Self, UlogError> {
         let name = path.display().to_string();
-        let unreadable = |e| UlogError::file(&name, UlogErrorKind::Unreadable(e));
-        let file = wireflight_fsio::open_regular(path).map_err(unreadable)?;
-        let size = file.metadata().map_err(unreadable)?.len();
-        if size > MAX_ULOG_BYTES {
-            return Err(UlogError::file(
-                &name,
-                UlogErrorKind::TooLarge {
-                    size,
-                    max: MAX_ULOG_BYTES,
-                },
-            ));
-        }
-        let mut bytes = Vec::with_capacity(size as usize);
-        file.take(MAX_ULOG_BYTES)
-            .read_to_end(&mut bytes)
-            .map_err(unreadable)?;
+        let bytes = wireflight_fsio::read_bytes(path)
+            .map_err(|e| UlogError::file(&name, UlogErrorKind::Unreadable(e)))?;
         Self::parse(&bytes, &name, keep)
     }
 

@@ -2,13 +2,13 @@
 //! mapped column parsed, converted to the program's units and checked, with errors naming the
 //! file, line and column.
 
-use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 
 use glam::DVec3;
 
-use super::{ColumnMap, MAX_MAPPED_BYTES};
-use crate::data::read::{flat_earth_ned, parse_metadata};
+use super::ColumnMap;
+use crate::data::columns::Quantity;
+use crate::data::read::{flat_earth_ned, line_of, parse_metadata, text_lines};
 use crate::data::report::ImportReport;
 use crate::data::{DataError, DataErrorKind, FlightData, Metadata};
 use crate::Controls;
@@ -23,14 +23,14 @@ pub enum MappedError {
     Data(#[from] DataError),
     /// Latitudes beyond ±90° once scaled (degrees mapped as radians).
     #[error(
-        "{file}: row {row} (after the header), column `{column}`: latitude {radians} rad is \
-         beyond ±90° (degrees? map it as lat={column}:deg)"
+        "{file}: line {line}, column `{column}`: latitude {radians} rad is beyond ±90° \
+         (degrees? map it as lat={column}:deg)"
     )]
     Latitude {
         /// The file.
         file: String,
-        /// The 1-based data row.
-        row: usize,
+        /// The 1-based line (metadata and blank lines count).
+        line: usize,
         /// The latitude's column.
         column: String,
         /// The latitude, rad.
@@ -42,8 +42,10 @@ pub enum MappedError {
 ///
 /// # Errors
 /// [`DataError`]s naming the file, line and column: unreadable or non-UTF-8 file, no header,
-/// a mapped column missing from the header, non-numeric or non-finite cells, rows of the
-/// wrong length, times that do not increase; latitudes beyond ±90°.
+/// a mapped column missing from the header, non-numeric or non-finite cells, values outside
+/// the ranges of the project's CSV once scaled (positions ±1e8 m, times ±1e9 s, …: the one
+/// table, `Quantity::range`), rows of the wrong length, times that do not increase; latitudes
+/// beyond ±90°.
 pub fn read(path: &Path, map: &ColumnMap) -> Result<(FlightData, ImportReport), MappedError> {
     let file = path.display().to_string();
     let whole = |kind| DataError {
@@ -52,23 +54,13 @@ pub fn read(path: &Path, map: &ColumnMap) -> Result<(FlightData, ImportReport), 
         column: None,
         kind,
     };
-    let size = std::fs::metadata(path)
-        .map_err(|e| whole(DataErrorKind::Unreadable(e)))?
-        .len();
-    if size > MAX_MAPPED_BYTES {
-        return Err(
-            whole(DataErrorKind::Unreadable(std::io::Error::other(format!(
-                "{size} bytes is more than the {MAX_MAPPED_BYTES} read here"
-            ))))
-            .into(),
-        );
-    }
+    // The size limit is --max-input-mb's, applied by the bounded read.
     let bytes =
         wireflight_fsio::read_bytes(path).map_err(|e| whole(DataErrorKind::Unreadable(e)))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         DataError {
-            line: Some(good.iter().filter(|&&b| b == b'\n').count() + 1),
+            line: Some(line_of(good)),
             ..whole(DataErrorKind::NotUtf8)
         }
     })?;
@@ -93,7 +85,7 @@ pub fn parse(
         })
     };
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
+    let mut lines = text_lines(text).enumerate().map(|(i, l)| (i + 1, l.trim()));
     // Metadata, then the header.
     let mut meta = Metadata::default();
     let mut header = None;
@@ -152,6 +144,11 @@ pub fn parse(
         .iter()
         .position(|e| e.quantity == "time")
         .unwrap_or(0);
+    let ranges: Vec<Option<Quantity>> = map
+        .entries
+        .iter()
+        .map(|e| Quantity::of_mapped(e.quantity))
+        .collect();
     let mut prev: Option<(f64, usize)> = None;
     let mut cells: Vec<&str> = Vec::with_capacity(names.len());
     for (n, l) in lines {
@@ -193,7 +190,33 @@ pub fn parse(
                     ))
                 }
             };
-            values[k].push(v * e.scale + e.offset);
+            let v = v * e.scale + e.offset;
+            // The ranges of the project's CSV (`Quantity::range`), in SI after the scale and
+            // offset; a latitude beyond ±90° with a hint at the unit it was probably in.
+            if let Some(q) = ranges[k] {
+                if q == Quantity::Lat && !q.admits(v) {
+                    return Err(MappedError::Latitude {
+                        file: file.to_string(),
+                        line: n,
+                        column: e.column.clone(),
+                        radians: v,
+                    });
+                }
+                if !q.admits(v) {
+                    let value = if e.unit.is_empty() {
+                        cell.to_string()
+                    } else {
+                        format!("{cell} {}", e.unit)
+                    };
+                    let range = q.range().2;
+                    return Err(at(
+                        n,
+                        Some(&e.column),
+                        DataErrorKind::OutOfRange { value, range },
+                    ));
+                }
+            }
+            values[k].push(v);
         }
         let t = values[time_k][values[time_k].len() - 1];
         if let Some((previous, previous_line)) = prev {
@@ -231,15 +254,6 @@ pub fn parse(
     let pos_ned = match take("lat") {
         Some(lat) => {
             let lon = take("lon").unwrap_or_else(|| vec![0.0; n]);
-            if let Some(i) = lat.iter().position(|la| la.abs() > FRAC_PI_2 + 1e-12) {
-                let c = map.get("lat").map_or("lat", |e| e.column.as_str());
-                return Err(MappedError::Latitude {
-                    file: file.to_string(),
-                    row: i + 1,
-                    column: c.to_string(),
-                    radians: lat[i],
-                });
-            }
             // Heights: alt above sea level, or height above the origin.
             let alt = take("alt").or_else(|| down.as_ref().map(|d| d.iter().map(|v| -v).collect()));
             let alt = alt.unwrap_or_else(|| vec![0.0; n]);

@@ -90,3 +90,111 @@ fn reads_mapped_rows() {
     assert!(text.contains("time      ms [ms] -1"), "{text}");
     assert!(text.contains("1 column not mapped"), "{text}");
 }
+
+#[test]
+fn every_mapped_quantity_has_a_range() {
+    for (name, _, _) in QUANTITIES {
+        assert!(
+            crate::data::columns::Quantity::of_mapped(name).is_some(),
+            "{name} has no range"
+        );
+    }
+}
+
+#[test]
+fn values_out_of_range_are_refused_where_they_enter() {
+    // The ranges of the project's CSV, in SI after the scale and offset, naming the line,
+    // the column and the range.
+    let base = "time=t:us,north=n,east=e,down=d";
+    let cases = [
+        (
+            base,
+            "t,n,e,d\n0,0,0,0\n1,1e300,0,0\n",
+            "line 3",
+            "`n`",
+            "±1e8 m",
+        ),
+        (
+            base,
+            "t,n,e,d\n0,0,0,0\n1e18,0,0,0\n",
+            "line 3",
+            "`t`",
+            "±1e9 s",
+        ),
+        (
+            "time=t,north=n,east=e,down=d:km",
+            "t,n,e,d\n0,0,0,0\n1,0,0,2e5\n",
+            "line 3",
+            "`d`",
+            "±1e8 m",
+        ),
+        (
+            "time=t,north=n,east=e,down=d:1:1e9",
+            "t,n,e,d\n0,0,0,0\n",
+            "line 2",
+            "`d`",
+            "±1e8 m",
+        ),
+        (
+            "time=t,lat=la:deg,lon=lo:deg,alt=a",
+            "t,la,lo,a\n0,10,1e6,0\n",
+            "line 2",
+            "`lo`",
+            "-180°..360°",
+        ),
+        (
+            "time=t,north=n,east=e,down=d,vn=a,ve=b,vd=c",
+            "t,n,e,d,a,b,c\n0,0,0,0,1e6,0,0\n",
+            "line 2",
+            "`a`",
+            "±1e5 m/s",
+        ),
+        (
+            "time=t,north=n,east=e,down=d,throttle=x,elevator=y,aileron=z:deg,rudder=w",
+            "t,n,e,d,x,y,z,w\n0,0,0,0,0.5,0,91,0\n",
+            "line 2",
+            "`z`",
+            "±90°",
+        ),
+        (
+            "time=t,north=n,east=e,down=d,throttle=x:%,elevator=y:deg,aileron=z:deg,rudder=w:deg",
+            "t,n,e,d,x,y,z,w\n0,0,0,0,150,0,0,0\n",
+            "line 2",
+            "`x`",
+            "0..1",
+        ),
+    ];
+    for (spec, text, line, column, range) in cases {
+        let map = ColumnMap::parse(spec).unwrap();
+        let e = parse(text, "m.csv", &map).unwrap_err().to_string();
+        for want in [
+            "m.csv",
+            line,
+            column,
+            range,
+            "outside the range of a flight",
+        ] {
+            assert!(e.contains(want), "{spec}: `{want}` not in: {e}");
+        }
+    }
+    // The unit is shown with the cell, so that 1e18 µs is seen to be 1e12 s.
+    let map = ColumnMap::parse(base).unwrap();
+    let e = parse("t,n,e,d\n0,0,0,0\n1e18,0,0,0\n", "m.csv", &map).unwrap_err();
+    assert!(e.to_string().contains("`1e18 us`"), "{e}");
+}
+
+#[test]
+fn a_lone_cr_ends_a_line() {
+    let map = ColumnMap::parse("time=t,north=n,east=e,down=d").unwrap();
+    for end in ["\r", "\r\n", "\n"] {
+        let text = ["# source: x", "t,n,e,d", "0,0,0,0", "1,1,0,0", "2,2,0,x"].join(end);
+        let e = parse(&text, "m.csv", &map).unwrap_err().to_string();
+        assert!(
+            e.contains("line 5") && e.contains("not a number: `x`"),
+            "{end:?}: {e}"
+        );
+        let text = ["t,n,e,d", "0,0,0,0", "1,1,0,0", ""].join(end);
+        let (d, _) = parse(&text, "m.csv", &map).unwrap();
+        assert_eq!(d.len(), 2, "{end:?}");
+    }
+}

@@ -4,6 +4,7 @@
 use glam::DQuat;
 
 use super::GAP_NOTE_S;
+use crate::data::columns::Quantity;
 use crate::data::report::ImportReport;
 use crate::data::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
 
@@ -12,16 +13,29 @@ use crate::data::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
 pub(super) struct Series {
     pub(super) topic: String,
     pub(super) t: Vec<f64>,
+    /// The samples' time stamps as written, µs (for messages).
+    pub(super) us: Vec<u64>,
     pub(super) cols: Vec<Vec<f64>>,
+    /// The fields of `cols`, as named in the log.
+    pub(super) fields: Vec<String>,
+    /// Samples whose time stamp is earlier than the one written before it (sorted).
+    pub(super) out_of_order: usize,
 }
+
+/// Most samples of a topic whose time stamps may go back in time (a fraction of the topic's
+/// samples) before the topic is refused as not a time series: sorting a few is repair,
+/// sorting more is guessing.
+pub(super) const MAX_OUT_OF_ORDER: f64 = 0.01;
 
 impl Series {
     /// Fields `fields` of the first instance of `topic` with samples; `None` when the log has
     /// none. Samples with a zero time stamp or a non-finite value are dropped; out-of-order
-    /// samples are sorted, and of samples with equal times the last is kept.
+    /// samples are sorted (more than [`MAX_OUT_OF_ORDER`] of them is an error), and of samples
+    /// with equal times the last is kept.
     ///
     /// # Errors
-    /// The topic has samples but not one of the fields (or no `timestamp`).
+    /// The topic has samples but not one of the fields (or no `timestamp`); a time stamp more
+    /// than 1e9 s from the log's start; time stamps out of order.
     pub(super) fn of(
         log: &UlogFile,
         file: &str,
@@ -49,9 +63,47 @@ impl Series {
                 tp.values(f).ok_or_else(|| missing(f))?
             });
         }
-        let mut idx: Vec<usize> = (0..ts.len())
-            .filter(|&i| ts[i] != 0 && cols.iter().all(|c| c[i].is_finite()))
-            .collect();
+        let bad_time = |why: String| {
+            UlogError::file(file, UlogErrorKind::BadValues(why))
+                .in_topic(topic)
+                .in_field("timestamp")
+        };
+        let (lo, hi, range) = Quantity::Time.range();
+        let secs = |us: u64| (i128::from(us) - i128::from(t_ref)) as f64 * 1e-6;
+        let mut idx: Vec<usize> = Vec::with_capacity(ts.len());
+        let mut out_of_order = 0;
+        let mut first_back: Option<(usize, usize)> = None;
+        for i in 0..ts.len() {
+            if ts[i] == 0 || !cols.iter().all(|c| c[i].is_finite()) {
+                continue;
+            }
+            let t = secs(ts[i]);
+            if !(lo..=hi).contains(&t) {
+                return Err(bad_time(format!(
+                    "sample {i}: time stamp {} µs is {t:.6e} s from the log's start ({} µs), \
+                     outside {range}",
+                    ts[i], t_ref
+                )));
+            }
+            if let Some(&last) = idx.last() {
+                if ts[i] < ts[last] {
+                    out_of_order += 1;
+                    first_back.get_or_insert((last, i));
+                }
+            }
+            idx.push(i);
+        }
+        if let Some((a, b)) = first_back {
+            if out_of_order as f64 > MAX_OUT_OF_ORDER * idx.len() as f64 {
+                return Err(bad_time(format!(
+                    "{out_of_order} of {} time stamps go back in time (the first: sample {b} at \
+                     {} µs after sample {a} at {} µs): the samples are not a time series",
+                    idx.len(),
+                    ts[b],
+                    ts[a]
+                )));
+            }
+        }
         idx.sort_by_key(|&i| ts[i]);
         // Equal times: keep the last written.
         let mut keep: Vec<usize> = Vec::with_capacity(idx.len());
@@ -66,15 +118,70 @@ impl Series {
         }
         Ok(Some(Series {
             topic: topic.to_string(),
-            t: keep
-                .iter()
-                .map(|&i| ts[i].wrapping_sub(t_ref) as i64 as f64 * 1e-6)
-                .collect(),
+            t: keep.iter().map(|&i| secs(ts[i])).collect(),
+            us: keep.iter().map(|&i| ts[i]).collect(),
             cols: cols
                 .iter()
                 .map(|c| keep.iter().map(|&i| c[i]).collect())
                 .collect(),
+            fields: fields.iter().map(|f| f.to_string()).collect(),
+            out_of_order,
         }))
+    }
+
+    /// Checks column `col` (times `scale`) against the range of `q`, the CSV reader's.
+    ///
+    /// # Errors
+    /// The first value outside, naming the topic, the field and the sample's time stamp.
+    pub(super) fn check(
+        &self,
+        file: &str,
+        col: usize,
+        scale: f64,
+        q: Quantity,
+    ) -> Result<(), UlogError> {
+        let (lo, hi, range) = q.range();
+        match self.cols[col]
+            .iter()
+            .position(|v| !(lo..=hi).contains(&(v * scale)))
+        {
+            None => Ok(()),
+            Some(i) => Err(UlogError::file(
+                file,
+                UlogErrorKind::BadValues(format!(
+                    "{} at time stamp {} µs ({:.3} s) is outside {range}{}",
+                    self.cols[col][i],
+                    self.us[i],
+                    self.t[i],
+                    if scale == 1.0 {
+                        String::new()
+                    } else {
+                        format!(
+                            " ({:.6} in SI units: × {scale:.6})",
+                            self.cols[col][i] * scale
+                        )
+                    }
+                )),
+            )
+            .in_topic(&self.topic)
+            .in_field(&self.fields[col])),
+        }
+    }
+
+    /// [`check`](Self::check) of the first `qs.len()` columns, unscaled.
+    pub(super) fn check_all(&self, file: &str, qs: &[Quantity]) -> Result<(), UlogError> {
+        for (col, &q) in qs.iter().enumerate() {
+            self.check(file, col, 1.0, q)?;
+        }
+        Ok(())
+    }
+
+    /// The longest step between samples: (its length, s; the time before it, s).
+    pub(super) fn longest_gap(&self) -> Option<(f64, f64)> {
+        self.t
+            .windows(2)
+            .map(|w| (w[1] - w[0], w[0]))
+            .max_by(|a, b| a.0.total_cmp(&b.0))
     }
 
     pub(super) fn len(&self) -> usize {
@@ -96,17 +203,18 @@ impl Series {
         (*m > 0.0).then(|| 1.0 / *m)
     }
 
-    /// Notes the longest gap when it is longer than [`GAP_NOTE_S`].
+    /// Notes the longest gap when it is longer than [`GAP_NOTE_S`], and samples sorted.
     pub(super) fn gap_note(&self, report: &mut ImportReport) {
-        let gap = self
-            .t
-            .windows(2)
-            .map(|w| (w[1] - w[0], w[0]))
-            .max_by(|a, b| a.0.total_cmp(&b.0));
-        if let Some((g, at)) = gap.filter(|g| g.0 > GAP_NOTE_S) {
+        if let Some((g, at)) = self.longest_gap().filter(|g| g.0 > GAP_NOTE_S) {
             report.note(format!(
                 "{}: a gap of {g:.1} s after {at:.1} s, interpolated across",
                 self.topic
+            ));
+        }
+        if self.out_of_order > 0 {
+            report.note(format!(
+                "{}: {} time stamps out of order (sorted)",
+                self.topic, self.out_of_order
             ));
         }
     }

@@ -220,9 +220,13 @@ impl<'a> Parser<'a> {
             .ok_or_else(|| bad(format!("`{}` has no `name:`", clip(text))))?;
         let mut fields = Vec::new();
         for f in body.split(';').map(str::trim).filter(|f| !f.is_empty()) {
-            let (ty, fname) = f
-                .split_once(' ')
-                .ok_or_else(|| bad(format!("`{name}`: field `{}` is not `type name`", clip(f))))?;
+            let (ty, fname) = f.split_once(' ').ok_or_else(|| {
+                bad(format!(
+                    "`{}`: field `{}` is not `type name`",
+                    clip(name),
+                    clip(f)
+                ))
+            })?;
             let (ty, array) = match ty.split_once('[') {
                 Some((t, rest)) => {
                     let n = rest
@@ -231,7 +235,10 @@ impl<'a> Parser<'a> {
                         .filter(|&n| n <= u16::MAX as usize)
                         .ok_or_else(|| {
                             bad(format!(
-                                "`{name}`: field `{fname}` has a bad array length `{ty}`"
+                                "`{}`: field `{}` has a bad array length `{}`",
+                                clip(name),
+                                clip(fname),
+                                clip(ty)
                             ))
                         })?;
                     (t, Some(n))
@@ -356,7 +363,7 @@ fn flatten_into(
     }
     let fields = formats
         .get(name)
-        .ok_or_else(|| bad(format!("no format definition `{name}`")))?;
+        .ok_or_else(|| bad(format!("no format definition `{}`", clip(name))))?;
     for f in fields {
         let count = f.array.unwrap_or(1);
         let padding = f.name.starts_with("_padding");
@@ -384,12 +391,25 @@ fn flatten_into(
                 }
                 None => {
                     let nested = format!("{full}.");
+                    let before = *size;
                     flatten_into(formats, &f.ty, &nested, depth + 1, out, size, min)?;
+                    // A format of no bytes (no fields) takes no room: in an array it would
+                    // make work without input (65 535 × 65 535 empty elements); refused.
+                    if *size == before {
+                        return Err(bad(format!(
+                            "`{name}`: field `{}` is of format `{}`, which has no bytes",
+                            clip(&f.name),
+                            clip(&f.ty)
+                        )));
+                    }
                     *min = *size;
                 }
             }
             if *size > u16::MAX as usize {
-                return Err(bad(format!("`{name}` is larger than a message can be")));
+                return Err(bad(format!(
+                    "`{}` is larger than a message can be",
+                    clip(name)
+                )));
             }
         }
     }
@@ -431,13 +451,13 @@ fn find_sync(b: &[u8], from: usize) -> Option<usize> {
         .map(|i| from + i + SYNC_MAGIC.len())
 }
 
-/// At most 60 characters of `s`, for messages.
+/// At most 60 characters of `s`, control characters escaped, for messages.
 fn clip(s: &str) -> String {
     let mut out: String = s.chars().take(60).collect();
     if s.chars().count() > 60 {
         out.push('…');
     }
-    out
+    crate::data::report::escape(&out)
 }
 
 #[cfg(test)]
@@ -490,6 +510,20 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("no format definition `missing`"), "{e}");
+        // Formats of no bytes in arrays: refused at the first element, not 65 535² of them.
+        let f = formats(&["e:", "f:e[65535] a;", "t:f[65535] b;"]);
+        let start = std::time::Instant::now();
+        let e = flatten(&f, "t", "", 0, &mut out).unwrap_err().to_string();
+        assert!(
+            e.contains("`f`: field `a` is of format `e`, which has no bytes"),
+            "{e}"
+        );
+        assert!(start.elapsed() < std::time::Duration::from_secs(1));
+        // Names from the file are escaped in messages.
+        let e = flatten(&f, "x\x1b[2J", "", 0, &mut out)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("`x\\u{1b}[2J`"), "{e}");
         let mut p = Parser::new(&[], "t.ulg", &|_| true);
         for bad in ["no colon", "x:float", "x:float[zz] a;", "x:float[70000] a;"] {
             let e = p.format(40, bad.as_bytes()).unwrap_err();
