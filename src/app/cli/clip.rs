@@ -1,5 +1,5 @@
 //! `wireflight clip`'s options: the algorithm, the input's kind (homogeneous or a 2D window)
-//! and the depth range.
+//! and the depth range; for Weiler-Atherton, the polygon files, the operation and the outputs.
 
 use std::path::PathBuf;
 
@@ -15,13 +15,23 @@ Examples:
   wireflight clip --algo blinn --input edges.csv --output clipped.csv --stats
   wireflight clip --algo cohen-sutherland --depth minus-one-to-one --input e.csv --output o.csv
   wireflight clip --algo nicholl-lee-nicholl --window 2,2,4,4 --input 2d.csv --output o.csv
+  wireflight clip --algo weiler-atherton --subject s.txt --clip c.txt --output o.txt --json
 
 Input: one edge per line, x0,y0,z0,w0,x1,y1,z1,w1 (homogeneous clip space, visible where
 -w <= x,y <= w and 0 <= z <= w, or -w <= z <= w with --depth minus-one-to-one), or x0,y0,x1,y1
 with --window XMIN,YMIN,XMAX,YMAX. Blank lines and lines starting with # are skipped; a first
 line that does not start with a number is a header. Output: one line per input edge, in
 order: the visible part in the same columns, or an empty line when nothing is visible.
-2D only: nicholl-lee-nicholl. Homogeneous only: blinn, blinn-batch.";
+2D only: nicholl-lee-nicholl. Homogeneous only: blinn, blinn-batch.
+
+Weiler-Atherton clips polygons: --subject and --clip instead of --input. Polygon files: one
+x,y vertex a line, a blank line between polygons, # comments; each polygon simple (no edge
+meets another but its neighbours at their shared vertex), concave allowed, either way round.
+Every polygon of the subject file is clipped against the first polygon of the clip file (its
+other polygons are not used). --op intersection (default) or difference. The output has the
+same format: each piece of the result as its outline (counter-clockwise), then each of its
+holes (clockwise) as a polygon of its own; --json prints the same polygons, which of them are
+holes, and the area. --picture draws subject, clip polygon and result (PNG).";
 
 /// Line clipping algorithms of the `clip` command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -40,6 +50,17 @@ pub enum Algo {
     NichollLeeNicholl,
     /// Sutherland-Hodgman on the 2-vertex polygon of the edge.
     SutherlandHodgman,
+    /// Weiler-Atherton: polygons against a polygon (--subject, --clip; no edges).
+    WeilerAtherton,
+}
+
+/// The result `clip --algo weiler-atherton` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PolygonOp {
+    /// subject ∩ clip polygon.
+    Intersection,
+    /// subject − clip polygon.
+    Difference,
 }
 
 /// Clip-space depth ranges, as named on the command line.
@@ -58,12 +79,29 @@ pub struct ClipArgs {
     /// The algorithm.
     #[arg(long, value_enum, value_name = "NAME")]
     pub algo: Algo,
-    /// Edges to clip (CSV).
+    /// Edges to clip (CSV); every algorithm but weiler-atherton.
     #[arg(long, value_name = "FILE.csv")]
-    pub input: PathBuf,
-    /// Where to write the clipped edges (CSV, written atomically).
-    #[arg(long, value_name = "FILE.csv")]
+    pub input: Option<PathBuf>,
+    /// Where to write the clipped edges (CSV), or the clipped polygons; written atomically.
+    #[arg(long, value_name = "FILE")]
     pub output: PathBuf,
+    /// weiler-atherton: the polygons to clip (x,y a line, a blank line between polygons).
+    #[arg(long, value_name = "FILE")]
+    pub subject: Option<PathBuf>,
+    /// weiler-atherton: the clip polygon (the file's first polygon).
+    #[arg(long, value_name = "FILE")]
+    pub clip: Option<PathBuf>,
+    /// weiler-atherton: which result [default: intersection].
+    #[arg(long, value_enum)]
+    pub op: Option<PolygonOp>,
+    /// weiler-atherton: print the result as JSON instead of the summary line:
+    /// {"polygons": [[[x, y], ...], ...], "pieces": [{"outer": 0, "holes": [1]}], "area": A}.
+    #[arg(long)]
+    pub json: bool,
+    /// weiler-atherton: draw subject (blue), clip polygon (orange) and result (green) to this
+    /// PNG, written atomically.
+    #[arg(long, value_name = "FILE.png")]
+    pub picture: Option<PathBuf>,
     /// Clip 2D edges (x0,y0,x1,y1) against this window.
     #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", allow_hyphen_values = true, value_parser = parse_window, conflicts_with = "depth")]
     pub window: Option<Window2>,

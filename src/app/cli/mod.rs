@@ -63,7 +63,8 @@ pub enum Command {
     /// Euler angles in any of the 24 conventions: matrices, quaternions, conversions, and
     /// pictures of the rotations, gimbal lock and interpolation.
     Euler(EulerArgs),
-    /// Clip edges from a CSV file with a chosen algorithm (the clipping lab).
+    /// The clipping lab: clip edges from a CSV file with a chosen line clipper, or polygons
+    /// against a polygon with Weiler-Atherton.
     Clip(ClipArgs),
     /// Read a PX4 log or any CSV through a column map, say what was found, write flight data.
     Import(ImportArgs),

@@ -1,8 +1,10 @@
 //! `wireflight clip`: the clipping lab on the command line. Edges from a CSV file (homogeneous
 //! clip space, or 2D with `--window`) → one algorithm → the clipped edges, in input order,
-//! written atomically; `--stats` prints the tally and the time per edge.
+//! written atomically; `--stats` prints the tally and the time per edge. Weiler-Atherton clips
+//! polygons instead ([`polygons`]).
 
 pub mod io;
+pub mod polygons;
 
 use std::time::{Duration, Instant};
 
@@ -49,7 +51,28 @@ fn timed<E: Copy, P>(
 /// Unreadable or oversized input, a malformed line (`FILE:LINE: problem`), an algorithm that
 /// does not apply to the input's kind, an unwritable output.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
-    let text = io::read_bounded(&args.input, args.max_bytes)?;
+    if args.algo == Algo::WeilerAtherton {
+        return polygons::run(args);
+    }
+    let algo = args
+        .algo
+        .to_possible_value()
+        .map_or_else(String::new, |v| v.get_name().to_string());
+    for (given, option) in [
+        (args.subject.is_some(), "--subject"),
+        (args.clip.is_some(), "--clip"),
+        (args.op.is_some(), "--op"),
+        (args.json, "--json"),
+        (args.picture.is_some(), "--picture"),
+    ] {
+        if given {
+            bail!("{option} is for --algo weiler-atherton (polygons); {algo} clips edges from --input");
+        }
+    }
+    let Some(input) = args.input.as_deref() else {
+        bail!("--algo {algo} clips edges: give --input FILE.csv");
+    };
+    let text = io::read_bounded(input, args.max_bytes)?;
     let (body, stats, elapsed, n, what) = match args.window {
         Some(window) => {
             let clip: fn(Vec2, Vec2, &Window2) -> ClipOutcome<Vec2> = match args.algo {
@@ -66,8 +89,9 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                 },
                 Algo::NichollLeeNicholl => nicholl_lee_nicholl::clip_2d,
                 Algo::SutherlandHodgman => sutherland_hodgman::clip_edge_2d,
+                Algo::WeilerAtherton => unreachable!("polygons::run"),
             };
-            let file = io::parse_rows(&text, &args.input, &PLANAR_COLUMNS)?;
+            let file = io::parse_rows(&text, input, &PLANAR_COLUMNS)?;
             let edges = io::planar_edges(&file.edges);
             let (outcomes, elapsed) = timed(&edges, |(a, c)| clip(a, c, &window));
             let mut stats = ClipStats::default();
@@ -103,12 +127,13 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                 Algo::LiangBarsky => liang_barsky::clip_homogeneous,
                 Algo::CyrusBeck => cyrus_beck::clip_homogeneous,
                 Algo::SutherlandHodgman => sutherland_hodgman::clip_edge_homogeneous,
+                Algo::WeilerAtherton => unreachable!("polygons::run"),
                 Algo::NichollLeeNicholl => bail!(
                     "nicholl-lee-nicholl is a 2D algorithm (its regions come from the corners of a \
                      rectangle): give --window XMIN,YMIN,XMAX,YMAX and 2D edges"
                 ),
             };
-            let file = io::parse_rows(&text, &args.input, &HOMOGENEOUS_COLUMNS)?;
+            let file = io::parse_rows(&text, input, &HOMOGENEOUS_COLUMNS)?;
             let edges = io::homogeneous_edges(&file.edges);
             let batch = args.algo == Algo::BlinnBatch;
             let (outcomes, mut stats, elapsed) = if batch {
@@ -144,10 +169,6 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     };
     crate::fsio::write_atomic(&args.output, body.as_bytes())
         .with_context(|| format!("{}", args.output.display()))?;
-    let algo = args
-        .algo
-        .to_possible_value()
-        .map_or_else(String::new, |v| v.get_name().to_string());
     println!(
         "wrote {} ({n} edges, {algo}, {what})",
         crate::app::shown(&args.output)

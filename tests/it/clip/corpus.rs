@@ -26,18 +26,20 @@ fn run(target: &str, data: &[u8]) {
             fuzz_planar(data, &["sutherland-hodgman"]);
             fuzz_polygons(data);
         }
+        "weiler_atherton" => super::polygons::fuzz_check::fuzz(data),
         other => panic!("fuzz/corpus/{other}: no such target"),
     }
 }
 
 /// The fuzz targets, as named in `fuzz/Cargo.toml` and as folders of `fuzz/corpus/`.
-const TARGETS: [&str; 6] = [
+const TARGETS: [&str; 7] = [
     "blinn",
     "cohen_sutherland",
     "liang_barsky",
     "cyrus_beck",
     "nicholl_lee_nicholl",
     "sutherland_hodgman",
+    "weiler_atherton",
 ];
 
 #[test]
@@ -106,5 +108,6 @@ fn fuzz_checks_accept_hand_made_inputs() {
         fuzz_homogeneous(data, &HOMOGENEOUS);
         fuzz_planar(data, &PLANAR);
         fuzz_polygons(data);
+        super::polygons::fuzz_check::fuzz(data);
     }
 }

@@ -24,6 +24,7 @@
 //! | [`cyrus_beck`] | parametric, any convex region | any convex polygon | yes | convex polyhedron |
 //! | [`nicholl_lee_nicholl`] | regions from rays through the corners | yes | — | |
 //! | [`sutherland_hodgman`] | polygon against one plane at a time | polygons, lines | polygons, lines | |
+//! | [`weiler_atherton`] | polygon against polygon, both may be concave | polygons | — | pieces with holes |
 //!
 //! [`Clipper`] names those that can draw a frame; the projector
 //! ([`crate::pipeline::EdgeProjector`]) carries the choice. [`cull`] has the "other ways to

@@ -1,0 +1,397 @@
+//! `wireflight clip --algo weiler-atherton`: polygons against a polygon
+//! ([`crate::clip::weiler_atherton`]). Not pure: it reads and writes files.
+//!
+//! A polygon file has one `x,y` vertex a line and a blank line between polygons; `#` lines are
+//! comments (they do not separate polygons), a byte-order mark is skipped, and a closing copy of
+//! the first vertex is allowed. Every polygon of the subject file is clipped against the first
+//! polygon of the clip file. The output file has the same format: per piece of the result its
+//! outline (counter-clockwise), then each of its holes (clockwise), each as a polygon of its own.
+//! Every problem is reported as `FILE:LINE: problem` before anything is written; a polygon
+//! that is not simple is refused with the two edges (by the lines of their ends) and the point
+//! where they meet.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::{bail, Context};
+use glam::{DVec2, Vec2};
+
+use super::io;
+use crate::app::cli::{ClipArgs, PolygonOp};
+use crate::clip::weiler_atherton::{self, Piece, PolygonError, Which};
+use crate::render::{LineBatch, LineScene, Rgba, Segment2};
+
+/// A problem with a polygon file: the file and the line (none: the file as a whole).
+#[derive(Debug, thiserror::Error)]
+#[error("{}{}: {problem}", path.display(), line.map_or_else(String::new, |l| format!(":{l}")))]
+pub struct PolygonFileError {
+    /// The file.
+    pub path: PathBuf,
+    /// The line, from 1.
+    pub line: Option<usize>,
+    /// What is wrong.
+    pub problem: String,
+}
+
+/// One polygon of a file: its vertices and the line of each.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FilePolygon {
+    /// The vertices, as written.
+    pub vertices: Vec<DVec2>,
+    /// The line of each vertex, from 1.
+    pub lines: Vec<usize>,
+}
+
+/// Parse a polygon file's text (`path` for messages).
+///
+/// # Errors
+/// A line that is not two finite numbers `x,y`, a polygon of fewer than three vertices, a file
+/// without a polygon.
+pub fn parse(text: &str, path: &Path) -> Result<Vec<FilePolygon>, PolygonFileError> {
+    let err = |line: Option<usize>, problem: String| PolygonFileError {
+        path: path.to_path_buf(),
+        line,
+        problem,
+    };
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let mut polygons: Vec<FilePolygon> = Vec::new();
+    let mut current = FilePolygon::default();
+    for (k, raw) in text.lines().enumerate() {
+        let line = k + 1;
+        let row = raw.trim();
+        if row.starts_with('#') {
+            continue;
+        }
+        if row.is_empty() {
+            if !current.vertices.is_empty() {
+                polygons.push(std::mem::take(&mut current));
+            }
+            continue;
+        }
+        let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+        if fields.len() != 2 {
+            let hint = if row.contains(';') {
+                " (separate the values with commas, not `;`)"
+            } else {
+                ""
+            };
+            return Err(err(
+                Some(line),
+                format!("expected 2 values (x,y), found {}{hint}", fields.len()),
+            ));
+        }
+        let mut xy = [0f64; 2];
+        for (i, (slot, field)) in xy.iter_mut().zip(&fields).enumerate() {
+            let name = ["x", "y"][i];
+            let v: f64 = field.parse().map_err(|_| {
+                err(
+                    Some(line),
+                    format!("column {} ({name}): `{field}` is not a number", i + 1),
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(err(
+                    Some(line),
+                    format!(
+                        "column {} ({name}): `{field}` is not a finite number",
+                        i + 1
+                    ),
+                ));
+            }
+            *slot = v;
+        }
+        current.vertices.push(DVec2::from_array(xy));
+        current.lines.push(line);
+    }
+    if !current.vertices.is_empty() {
+        polygons.push(current);
+    }
+    if polygons.is_empty() {
+        return Err(err(
+            None,
+            "no polygon (one x,y vertex a line, a blank line between polygons)".to_string(),
+        ));
+    }
+    for (i, p) in polygons.iter().enumerate() {
+        if p.vertices.len() < 3 {
+            return Err(err(
+                Some(p.lines[0]),
+                format!(
+                    "polygon {} has {} vertices, a polygon needs at least 3",
+                    i + 1,
+                    p.vertices.len()
+                ),
+            ));
+        }
+    }
+    Ok(polygons)
+}
+
+/// Check one polygon as the clipper will ([`weiler_atherton::validate`]), naming lines.
+///
+/// # Errors
+/// Fewer than three distinct vertices, or two edges that meet (by the lines of their ends).
+pub fn validate(
+    polygon: &FilePolygon,
+    number: usize,
+    which: Which,
+    path: &Path,
+) -> Result<(), PolygonFileError> {
+    let Err(e) = weiler_atherton::validate(&polygon.vertices, which) else {
+        return Ok(());
+    };
+    // The clipper's vertex i, after merging repeats and a closing copy: the line of each.
+    let mut kept: Vec<(DVec2, usize)> = Vec::with_capacity(polygon.vertices.len());
+    for (&v, &line) in polygon.vertices.iter().zip(&polygon.lines) {
+        let v = v + DVec2::ZERO;
+        if kept.last().map(|k| k.0) != Some(v) {
+            kept.push((v, line));
+        }
+    }
+    while kept.len() > 1 && kept.last().map(|k| k.0) == kept.first().map(|k| k.0) {
+        kept.pop();
+    }
+    let line_of = |i: usize| kept.get(i % kept.len().max(1)).map_or(0, |k| k.1);
+    let (line, problem) = match e {
+        PolygonError::SelfIntersecting { a, b, at, .. } => (
+            line_of(a),
+            format!(
+                "polygon {number} is not simple: the edge from line {} to line {} meets the edge \
+                 from line {} to line {} at ({}, {})",
+                line_of(a),
+                line_of(a + 1),
+                line_of(b),
+                line_of(b + 1),
+                at.x,
+                at.y
+            ),
+        ),
+        PolygonError::TooFewVertices { distinct, .. } => (
+            polygon.lines[0],
+            format!(
+                "polygon {number} has {distinct} distinct vertices, a polygon needs at least 3"
+            ),
+        ),
+        PolygonError::NonFinite { vertex, .. } => (
+            polygon.lines.get(vertex).copied().unwrap_or(0),
+            format!("polygon {number}: vertex is not finite"),
+        ),
+    };
+    Err(PolygonFileError {
+        path: path.to_path_buf(),
+        line: Some(line),
+        problem,
+    })
+}
+
+/// The rings of pieces, each outline followed by its holes; and per piece the index of its
+/// outline and of its holes among them.
+fn rings(pieces: &[Piece]) -> (Vec<&[DVec2]>, Vec<(usize, Vec<usize>)>) {
+    let mut rings: Vec<&[DVec2]> = Vec::new();
+    let mut index = Vec::new();
+    for p in pieces {
+        let outer = rings.len();
+        rings.push(&p.outer);
+        let holes = p
+            .holes
+            .iter()
+            .map(|h| {
+                rings.push(h);
+                rings.len() - 1
+            })
+            .collect();
+        index.push((outer, holes));
+    }
+    (rings, index)
+}
+
+/// The output file's text: one `x,y` a line, a blank line between polygons.
+pub fn format_polygons(rings: &[&[DVec2]]) -> String {
+    let mut out = String::new();
+    for (i, ring) in rings.iter().enumerate() {
+        if i > 0 {
+            out.push('\n');
+        }
+        for v in *ring {
+            let _ = writeln!(out, "{},{}", v.x, v.y);
+        }
+    }
+    out
+}
+
+/// The `--json` text (one line).
+fn format_json(rings: &[&[DVec2]], index: &[(usize, Vec<usize>)], area: f64) -> String {
+    let join = |items: Vec<String>| items.join(", ");
+    let polygons = join(
+        rings
+            .iter()
+            .map(|r| {
+                format!(
+                    "[{}]",
+                    join(r.iter().map(|v| format!("[{}, {}]", v.x, v.y)).collect())
+                )
+            })
+            .collect(),
+    );
+    let pieces = join(
+        index
+            .iter()
+            .map(|(outer, holes)| {
+                format!(
+                    "{{\"outer\": {outer}, \"holes\": [{}]}}",
+                    join(holes.iter().map(usize::to_string).collect())
+                )
+            })
+            .collect(),
+    );
+    format!("{{\"polygons\": [{polygons}], \"pieces\": [{pieces}], \"area\": {area}}}")
+}
+
+/// Picture size, pixels.
+const PICTURE: (u32, u32) = (640, 480);
+/// Margin around the drawing, pixels.
+const MARGIN: f64 = 24.0;
+/// Colours: subject, clip polygon, result.
+const SUBJECT: Rgba = [90, 150, 255, 255];
+const CLIP: Rgba = [255, 160, 60, 255];
+const RESULT: Rgba = [80, 255, 120, 255];
+
+/// The picture: subject, clip polygon and result outlines, fitted with a margin (y up).
+fn picture(subjects: &[&[DVec2]], clip: &[DVec2], result: &[&[DVec2]]) -> LineScene {
+    let (w, h) = PICTURE;
+    let all = subjects
+        .iter()
+        .chain(std::iter::once(&clip))
+        .flat_map(|r| r.iter());
+    let (lo, hi) = all.fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &v| (lo.min(v), hi.max(v)),
+    );
+    let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
+    let scale =
+        ((f64::from(w) - 2.0 * MARGIN) / size.x).min((f64::from(h) - 2.0 * MARGIN) / size.y);
+    let centre = (lo + hi) * 0.5;
+    let to_pixels = |v: DVec2| {
+        let p = (v - centre) * scale;
+        Vec2::new(
+            (f64::from(w) * 0.5 + p.x) as f32,
+            (f64::from(h) * 0.5 - p.y) as f32,
+        )
+    };
+    let batch = |rings: &mut dyn Iterator<Item = &[DVec2]>, color: Rgba| LineBatch {
+        color,
+        segments: rings
+            .flat_map(|r| {
+                (0..r.len()).map(move |i| Segment2 {
+                    a: to_pixels(r[i]),
+                    b: to_pixels(r[(i + 1) % r.len()]),
+                })
+            })
+            .collect(),
+    };
+    LineScene {
+        width: w,
+        height: h,
+        background: crate::scene::palette::BACKGROUND,
+        batches: vec![
+            batch(&mut subjects.iter().copied(), SUBJECT),
+            batch(&mut std::iter::once(clip), CLIP),
+            batch(&mut result.iter().copied(), RESULT),
+        ],
+    }
+}
+
+/// Read and parse a polygon file.
+fn load(path: &Path, max_bytes: u64) -> anyhow::Result<Vec<FilePolygon>> {
+    let text = io::read_bounded(path, max_bytes)?;
+    Ok(parse(&text, path)?)
+}
+
+/// Run `wireflight clip --algo weiler-atherton`.
+///
+/// # Errors
+/// A missing or refused option, an unreadable or malformed polygon file (`FILE:LINE: problem`),
+/// an unwritable output. Nothing is written then.
+pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+    for (given, option) in [
+        (args.input.is_some(), "--input (give --subject and --clip)"),
+        (args.window.is_some(), "--window"),
+        (args.depth.is_some(), "--depth"),
+        (args.stats, "--stats"),
+    ] {
+        if given {
+            bail!("weiler-atherton clips polygons: leave out {option}");
+        }
+    }
+    let (Some(subject_path), Some(clip_path)) = (args.subject.as_deref(), args.clip.as_deref())
+    else {
+        bail!("weiler-atherton needs --subject FILE and --clip FILE (polygons: x,y a line)");
+    };
+    if let Some(p) = &args.picture {
+        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+            bail!(
+                "--picture {}: the picture is a PNG (name it .png)",
+                crate::app::shown(p)
+            );
+        }
+    }
+    let op = args.op.unwrap_or(PolygonOp::Intersection);
+    let subjects = load(subject_path, args.max_bytes)?;
+    let clips = load(clip_path, args.max_bytes)?;
+    for (i, s) in subjects.iter().enumerate() {
+        validate(s, i + 1, Which::Subject, subject_path)?;
+    }
+    let clip = &clips[0];
+    validate(clip, 1, Which::Clip, clip_path)?;
+
+    let mut pieces: Vec<Piece> = Vec::new();
+    for (i, s) in subjects.iter().enumerate() {
+        let clipped = weiler_atherton::clip(&s.vertices, &clip.vertices)
+            .with_context(|| format!("subject polygon {}", i + 1))?;
+        pieces.extend(match op {
+            PolygonOp::Intersection => clipped.intersection,
+            PolygonOp::Difference => clipped.difference,
+        });
+    }
+    // + 0.0: an empty result's −0 is 0.
+    let area = weiler_atherton::total_area(&pieces) + 0.0;
+    let (rings, index) = rings(&pieces);
+    let body = format_polygons(&rings);
+    let png = match &args.picture {
+        Some(_) => {
+            let subject_rings: Vec<&[DVec2]> =
+                subjects.iter().map(|s| s.vertices.as_slice()).collect();
+            let scene = picture(&subject_rings, &clip.vertices, &rings);
+            let image = crate::render::cpu::render(&scene);
+            Some(image.encode_png().context("encoding the picture")?)
+        }
+        None => None,
+    };
+    crate::fsio::write_atomic(&args.output, body.as_bytes())
+        .with_context(|| format!("{}", args.output.display()))?;
+    if let (Some(path), Some(png)) = (&args.picture, &png) {
+        crate::fsio::write_atomic(path, png).with_context(|| format!("{}", path.display()))?;
+    }
+    if args.json {
+        println!("{}", format_json(&rings, &index, area));
+        return Ok(());
+    }
+    let holes: usize = pieces.iter().map(|p| p.holes.len()).sum();
+    let op_name = match op {
+        PolygonOp::Intersection => "intersection",
+        PolygonOp::Difference => "difference",
+    };
+    let plural =
+        |n: usize, one: &str, many: &str| format!("{n} {}", if n == 1 { one } else { many });
+    println!(
+        "wrote {} ({op_name} of {} with the clip polygon: {}, {}, area {area})",
+        crate::app::shown(&args.output),
+        plural(subjects.len(), "subject polygon", "subject polygons"),
+        plural(pieces.len(), "piece", "pieces"),
+        plural(holes, "hole", "holes"),
+    );
+    if let Some(p) = &args.picture {
+        println!("wrote {}", crate::app::shown(p));
+    }
+    Ok(())
+}

@@ -1,0 +1,279 @@
+//! `wireflight clip --algo weiler-atherton` end to end: intersection and difference through the
+//! polygon files, several subject polygons, holes, `--json`, `--picture`; bad files
+//! (`FILE:LINE: problem`, exit status 2, nothing written) and options refused with other
+//! algorithms. `fuzz_check.rs` is the fuzz target's check, replayed by `corpus`.
+
+pub(crate) mod fuzz_check;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn wireflight(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_wireflight"))
+        .args(args)
+        .output()
+        .expect("run wireflight")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+const U: &str = "0,0\n3,0\n3,3\n2,3\n2,1\n1,1\n1,3\n0,3\n";
+const BAR: &str = "-1,2\n4,2\n4,2.5\n-1,2.5\n";
+
+/// Run weiler-atherton on two files' texts; return the run and the output file (None: absent).
+fn clip(dir: &Path, subject: &str, clip: &str, extra: &[&str]) -> (Output, Option<String>) {
+    let (s, c, out) = (dir.join("s.txt"), dir.join("c.txt"), dir.join("out.txt"));
+    std::fs::write(&s, subject).unwrap();
+    std::fs::write(&c, clip).unwrap();
+    let _ = std::fs::remove_file(&out);
+    let mut args = vec![
+        "clip",
+        "--algo",
+        "weiler-atherton",
+        "--subject",
+        s.to_str().unwrap(),
+        "--clip",
+        c.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    let o = wireflight(&args);
+    (o, std::fs::read_to_string(&out).ok())
+}
+
+/// The polygons of an output file.
+fn polygons(out: &str) -> Vec<Vec<(f64, f64)>> {
+    out.split("\n\n")
+        .filter(|p| !p.trim().is_empty())
+        .map(|p| {
+            p.lines()
+                .map(|l| {
+                    let (x, y) = l.split_once(',').unwrap();
+                    (x.parse().unwrap(), y.parse().unwrap())
+                })
+                .collect()
+        })
+        .collect()
+}
+
+fn area(p: &[(f64, f64)]) -> f64 {
+    let n = p.len();
+    (0..n)
+        .map(|i| p[i].0 * p[(i + 1) % n].1 - p[(i + 1) % n].0 * p[i].1)
+        .sum::<f64>()
+        / 2.0
+}
+
+#[test]
+fn intersection_and_difference_of_a_u_and_a_bar() {
+    let dir = tempfile::tempdir().unwrap();
+    let (o, out) = clip(dir.path(), U, BAR, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = out.expect("output written");
+    let p = polygons(&out);
+    assert_eq!(p.len(), 2, "{out}");
+    assert!(p.iter().all(|r| (area(r) - 0.5).abs() < 1e-12), "{out}");
+    let s = text(&o.stdout);
+    assert!(
+        s.contains("intersection of 1 subject polygon")
+            && s.contains("2 pieces")
+            && s.contains("area 1)"),
+        "{s}"
+    );
+    // Difference: the U's base and the tops of its arms; 7 − 1 = 6.
+    let (o, out) = clip(dir.path(), U, BAR, &["--op", "difference"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let p = polygons(&out.unwrap());
+    assert_eq!(p.len(), 3);
+    let total: f64 = p.iter().map(|r| area(r)).sum();
+    assert!((total - 6.0).abs() < 1e-12, "{total}");
+}
+
+#[test]
+fn several_subjects_holes_and_json() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two subject squares, one around the clip square (a hole), one beside it (untouched);
+    // the clip file's second polygon is not used.
+    let subjects = "# two squares\n0,0\n4,0\n4,4\n0,4\n\n\n10,0\n12,0\n12,2\n10,2\n";
+    let clip_file = "1,1\n3,1\n3,3\n1,3\n\n100,100\n101,100\n101,101\n";
+    let (o, out) = clip(
+        dir.path(),
+        subjects,
+        clip_file,
+        &["--op", "difference", "--json"],
+    );
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let p = polygons(&out.unwrap());
+    assert_eq!(p.len(), 3, "outline, hole, second square");
+    assert_eq!(area(&p[0]), 16.0);
+    assert_eq!(area(&p[1]), -4.0, "the hole is clockwise");
+    assert_eq!(area(&p[2]), 4.0);
+    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
+    assert_eq!(json["area"], 16.0);
+    assert_eq!(json["polygons"].as_array().unwrap().len(), 3);
+    assert_eq!(json["polygons"][1].as_array().unwrap().len(), 4);
+    assert_eq!(json["pieces"][0]["outer"], 0);
+    assert_eq!(json["pieces"][0]["holes"][0], 1);
+    assert_eq!(json["pieces"][1]["holes"].as_array().unwrap().len(), 0);
+    // The intersection: the clip square, once; nothing of the far square.
+    let (o, out) = clip(dir.path(), subjects, clip_file, &["--json"]);
+    assert!(o.status.success());
+    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).unwrap();
+    assert_eq!(json["area"], 4.0);
+    assert_eq!(polygons(&out.unwrap()).len(), 1);
+    // No overlap at all: an empty output file and area 0.
+    let (o, out) = clip(
+        dir.path(),
+        "0,0\n1,0\n1,1\n",
+        "5,5\n6,5\n6,6\n",
+        &["--json"],
+    );
+    assert!(o.status.success());
+    assert_eq!(out.as_deref(), Some(""));
+    assert_eq!(
+        text(&o.stdout).trim(),
+        r#"{"polygons": [], "pieces": [], "area": 0}"#
+    );
+}
+
+#[test]
+fn picture_is_written_and_not_blank() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("p.png");
+    let (o, out) = clip(dir.path(), U, BAR, &["--picture", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(out.is_some());
+    let image = wireflight::render::Image::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+    let background = image.pixel(0, 0);
+    let mut colours = std::collections::HashSet::new();
+    for y in 0..image.height {
+        for x in 0..image.width {
+            colours.insert(image.pixel(x, y));
+        }
+    }
+    assert!(
+        colours.len() >= 4,
+        "background and three outlines: {colours:?}"
+    );
+    assert!(colours.contains(&background));
+    // Not a PNG name: refused, nothing written.
+    let (o, out) = clip(dir.path(), U, BAR, &["--picture", "p.svg"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(out.is_none());
+}
+
+#[test]
+fn bad_files_name_the_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("p.png");
+    let cases: [(&str, &str, &str); 8] = [
+        (
+            "0,0\n2,2\n2,0\n0,2\n",
+            BAR,
+            "s.txt:1: polygon 1 is not simple: the edge from line 1 to line 2 meets the edge from line 3 to line 4 at (1, 1)",
+        ),
+        (
+            U,
+            "# a bow tie\n0,0\n2,0\n0,2\n2,2\n",
+            "c.txt:3: polygon 1 is not simple: the edge from line 3 to line 4 meets the edge from line 5 to line 2 at (1, 1)",
+        ),
+        (U, "0,0\n1,zero\n1,1\n", "c.txt:2: column 2 (y): `zero` is not a number"),
+        (U, "0,0,0\n1,0\n1,1\n", "c.txt:1: expected 2 values (x,y), found 3"),
+        ("", BAR, "s.txt: no polygon"),
+        ("# only a comment\n\n", BAR, "s.txt: no polygon"),
+        (U, "0,0\n1,1\n\n2,2\n3,3\n4,2\n", "c.txt:1: polygon 1 has 2 vertices"),
+        (U, "0,0\n0,0\n1,1\n0,0\n", "c.txt:1: polygon 1 has 2 distinct vertices"),
+    ];
+    for (subject, clip_text, want) in cases {
+        let (o, out) = clip(
+            dir.path(),
+            subject,
+            clip_text,
+            &["--picture", png.to_str().unwrap()],
+        );
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{want}: {err}");
+        assert!(
+            err.contains(want) && !err.contains("panicked"),
+            "want {want}\ngot {err}"
+        );
+        assert!(out.is_none(), "{want}: output written");
+        assert!(!png.exists(), "{want}: picture written");
+    }
+    // Non-finite values; a missing file.
+    let (o, _) = clip(dir.path(), U, "0,0\ninf,0\n1,1\n", &[]);
+    assert!(text(&o.stderr).contains("c.txt:2: column 1 (x): `inf` is not a finite number"));
+    let o = wireflight(&[
+        "clip",
+        "--algo",
+        "weiler-atherton",
+        "--subject",
+        "no/such.txt",
+        "--clip",
+        "no/such.txt",
+        "--output",
+        dir.path().join("o.txt").to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(!dir.path().join("o.txt").exists());
+}
+
+#[test]
+fn options_belong_to_their_algorithms() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o.txt");
+    let out = out.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--algo", "blinn", "--subject", "a", "--output", out],
+            "--subject is for --algo weiler-atherton",
+        ),
+        (
+            &[
+                "--algo",
+                "liang-barsky",
+                "--input",
+                "a",
+                "--op",
+                "difference",
+                "--output",
+                out,
+            ],
+            "--op is for --algo weiler-atherton",
+        ),
+        (
+            &["--algo", "blinn", "--output", out],
+            "--algo blinn clips edges: give --input",
+        ),
+        (
+            &["--algo", "weiler-atherton", "--input", "a", "--output", out],
+            "leave out --input",
+        ),
+        (
+            &[
+                "--algo",
+                "weiler-atherton",
+                "--subject",
+                "a",
+                "--output",
+                out,
+            ],
+            "needs --subject FILE and --clip FILE",
+        ),
+    ];
+    for (args, want) in cases {
+        let mut a = vec!["clip"];
+        a.extend_from_slice(args);
+        let o = wireflight(&a);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            text(&o.stderr).contains(want),
+            "{args:?}: {}",
+            text(&o.stderr)
+        );
+        assert!(!Path::new(out).exists());
+    }
+}
