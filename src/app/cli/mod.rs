@@ -378,16 +378,16 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "NAME[:K=V,...]")]
     pub hidden: Vec<String>,
     /// Position noise (standard deviation), m.
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
     pub noise_pos: f64,
     /// Attitude noise, degrees.
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
     pub noise_att: f64,
     /// Velocity and airspeed noise, m/s.
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
     pub noise_vel: f64,
     /// Body-rate noise, degrees/s.
-    #[arg(long, default_value_t = 0.0, value_parser = non_negative)]
+    #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
     pub noise_rate: f64,
     /// Output and autopilot rate, Hz.
     #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]

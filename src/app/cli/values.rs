@@ -21,6 +21,21 @@ pub(super) fn parse_vehicle(s: &str) -> Result<VehicleKind, String> {
         .map_err(|e: crate::flight::UnknownVehicle| e.to_string())
 }
 
+/// Largest noise `simulate` adds, in the option's unit (m, deg, m/s, deg/s): beyond it the
+/// "measurements" are not of a flight (and would leave the readers' ranges).
+const MAX_NOISE: f64 = 1e4;
+
+pub(super) fn noise_sigma(s: &str) -> Result<f64, String> {
+    let v = non_negative(s)?;
+    if v <= MAX_NOISE {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{v:.3e} is more noise than a flight's measurements carry (at most {MAX_NOISE:e})"
+        ))
+    }
+}
+
 pub(super) fn non_negative(s: &str) -> Result<f64, String> {
     let v = finite_f64(s)?;
     if v >= 0.0 {

@@ -456,7 +456,7 @@ fn read_rows<'t>(
                 * column.scale;
             let (lo, hi, range) = QUANTITIES[q].range();
             if !(lo..=hi).contains(&v) {
-                let value = cells[column.index].trim().to_string();
+                let value = shown_cell(cells[column.index].trim());
                 let kind = DataErrorKind::OutOfRange { value, range };
                 return Err(errors.at(n, Some(names[column.index]), kind));
             }
@@ -588,9 +588,30 @@ pub(super) fn flat_earth_ned(lat: &[f64], lon: &[f64], alt: &[f64]) -> Vec<DVec3
         .collect()
 }
 
+/// A cell as an error message quotes it: as written, unless it is too long to read (a
+/// 300-digit number), then as its value to four significant digits (`-2.348e299`).
+fn shown_cell(cell: &str) -> String {
+    const LONGEST: usize = 24;
+    if cell.chars().count() <= LONGEST {
+        return cell.to_string();
+    }
+    match cell.parse::<f64>() {
+        Ok(v) => format!("{v:.3e}"),
+        Err(_) => format!("{}…", cell.chars().take(LONGEST).collect::<String>()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn long_cells_are_quoted_short() {
+        assert_eq!(shown_cell("1e300"), "1e300");
+        let long = format!("-2{}", "3".repeat(299));
+        assert_eq!(shown_cell(&long), "-2.333e299");
+        assert_eq!(shown_cell(&"x".repeat(30)), format!("{}…", "x".repeat(24)));
+    }
 
     #[test]
     fn metadata_lines() {
