@@ -25,7 +25,7 @@
 use glam::Vec4;
 
 use super::blinn::clip_crossing;
-use super::{ClipOutcome, ClipStats, DepthRange};
+use super::{ClipOutcome, ClipStats, DepthRange, PLANE_COUNT, SETTLE_REL};
 
 /// Flag in a vertex code: a coordinate is NaN or infinite.
 pub const NON_FINITE: u8 = 1 << 6;
@@ -292,11 +292,6 @@ pub fn clip_soa(edges: &EdgesSoa, depth: DepthRange, out: &mut SegmentsSoa) -> C
 }
 
 fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSoa) -> ClipStats {
-    let depth = if ZERO_TO_ONE {
-        DepthRange::ZeroToOne
-    } else {
-        DepthRange::NegOneToOne
-    };
     let n = edges.len();
     // One reservation per call: the loop below never reallocates.
     out.reserve(n);
@@ -309,6 +304,13 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
         c: [[0.0; BLOCK]; 4],
         edge: [0; BLOCK],
     };
+    let mut crossing = Crossing {
+        idx: [0; BLOCK],
+        a: [[0.0; BLOCK]; 4],
+        c: [[0.0; BLOCK]; 4],
+        state: [0; BLOCK],
+    };
+    let avx2 = has_avx2();
     let (mut ca, mut cc) = ([0u8; BLOCK], [0u8; BLOCK]);
     // Whether to try the compare-only test first: after a block that was all inside (scenes
     // come in runs). After any other block the full codes are computed straight away, and
@@ -344,13 +346,14 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
         if all_rejected {
             stats.trivially_rejected += m as u64;
         } else {
-            compact_block(
+            compact_block::<ZERO_TO_ONE>(
                 &a,
                 &c,
                 &ca[..m],
                 &cc[..m],
                 start,
-                depth,
+                avx2,
+                &mut crossing,
                 &mut staging,
                 out,
                 &mut stats,
@@ -361,41 +364,100 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
     stats
 }
 
-/// One block with at least one edge not trivially accepted. Every edge is first written to
-/// the next staging slot and the slot kept only if the edge is accepted (no branch on the
-/// common outcomes, which are unpredictable in mixed data); the trivial drops are counted
-/// without branches too; only crossing edges, and NaN or `w ≤ 0` ones, take the scalar path
-/// ([`clip_coded`], the per-edge clipper's own code, so the results are bit-identical).
+/// One block with at least one edge not trivially accepted, in three passes:
+///
+/// 1. the crossing edges (finite, neither trivially accepted nor rejected) are gathered into
+///    lanes ([`Crossing`]);
+/// 2. all of them are clipped at once ([`crossing_lanes`]: the entry and exit parameters of
+///    every plane, `t_in`/`t_out`, the new ends, in `f64` lanes as [`clip_crossing`] computes
+///    them, so bit for bit its results); the few lanes it leaves to the scalar code get it;
+/// 3. every edge is written to the next staging slot (its own ends, or its lane's clipped
+///    ends) and the slot kept if the edge is drawn: no branch on the common outcomes, which
+///    are unpredictable in mixed data. NaN or `w ≤ 0` edges with no outcode bit take
+///    [`clip_coded`] (the per-edge clipper's own code).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn compact_block(
+fn compact_block<const ZERO_TO_ONE: bool>(
     a: &[&[f32]; 4],
     c: &[&[f32]; 4],
     ca: &[u8],
     cc: &[u8],
     start: usize,
-    depth: DepthRange,
+    avx2: bool,
+    x: &mut Crossing,
     staging: &mut Staging,
     out: &mut SegmentsSoa,
     stats: &mut ClipStats,
 ) {
+    let depth = if ZERO_TO_ONE {
+        DepthRange::ZeroToOne
+    } else {
+        DepthRange::NegOneToOne
+    };
     let m = ca.len().min(cc.len()).min(BLOCK);
+    let crosses = |p: u8, q: u8| {
+        let (either, both) = (p | q, p & q);
+        (either & NON_FINITE == 0) & (both & OUTCODE_BITS == 0) & (either & OUTCODE_BITS != 0)
+    };
+    // 1. Gather.
+    let mut n = 0usize;
+    for i in 0..m {
+        x.idx[n] = i as u8; // n ≤ i < BLOCK
+        n += usize::from(crosses(ca[i], cc[i]));
+    }
+    for j in 0..n {
+        let i = usize::from(x.idx[j]);
+        for k in 0..4 {
+            x.a[k][j] = a[k][i];
+            x.c[k][j] = c[k][i];
+        }
+    }
+    // 2. Clip the lanes.
+    if n > 0 {
+        crossing_lanes::<ZERO_TO_ONE>(x, n, avx2);
+    }
+    let mut clipped = 0u64;
+    for j in 0..n {
+        if x.state[j] == LANE_SCALAR {
+            let i = usize::from(x.idx[j]);
+            let p = Vec4::new(a[0][i], a[1][i], a[2][i], a[3][i]);
+            let q = Vec4::new(c[0][i], c[1][i], c[2][i], c[3][i]);
+            let outcome = clip_crossing(p, q, ca[i] & OUTCODE_BITS, cc[i] & OUTCODE_BITS, depth);
+            x.state[j] = LANE_AWAY;
+            if let Some((p, q)) = outcome.segment() {
+                for k in 0..4 {
+                    x.a[k][j] = p[k];
+                    x.c[k][j] = q[k];
+                }
+                x.state[j] = LANE_VISIBLE;
+            }
+        }
+        clipped += u64::from(x.state[j]);
+    }
+    stats.clipped += clipped;
+    stats.clipped_away += n as u64 - clipped;
+    // 3. Compact.
     let mut kept = 0usize;
+    let mut lane = 0usize;
     let (mut accepted, mut rejected) = (0u64, 0u64);
     for i in 0..m {
         let (either, both) = (ca[i] | cc[i], ca[i] & cc[i]);
+        let cross = crosses(ca[i], cc[i]);
+        let l = lane & (BLOCK - 1); // the lane of a crossing edge (< n ≤ BLOCK)
         for k in 0..4 {
-            staging.a[k][kept] = a[k][i];
-            staging.c[k][kept] = c[k][i];
+            staging.a[k][kept] = if cross { x.a[k][l] } else { a[k][i] };
+            staging.c[k][kept] = if cross { x.c[k][l] } else { c[k][i] };
         }
         staging.edge[kept] = (start + i) as u32;
         let accept = either == 0;
         // clip_coded's order: non-finite first, then both outside one plane.
         let reject = either & NON_FINITE == 0 && both & OUTCODE_BITS != 0;
-        kept += usize::from(accept);
+        kept += usize::from(accept | (cross & (x.state[l] == LANE_VISIBLE)));
+        lane += usize::from(cross);
         accepted += u64::from(accept);
         rejected += u64::from(reject);
-        if !(accept || reject) {
+        if !(accept || reject || cross) {
+            // A NaN or ∞, or the eye: the per-edge code.
             let p = Vec4::new(a[0][i], a[1][i], a[2][i], a[3][i]);
             let q = Vec4::new(c[0][i], c[1][i], c[2][i], c[3][i]);
             let outcome = clip_coded(p, q, ca[i], cc[i], depth);
@@ -418,4 +480,224 @@ fn compact_block(
         out.c[k].extend_from_slice(&staging.c[k][..kept]);
     }
     out.edge.extend_from_slice(&staging.edge[..kept]);
+}
+
+/// The crossing edges of one block, gathered into lanes (structure of arrays), and their
+/// results: [`crossing_lanes`] clips them all at once.
+struct Crossing {
+    /// Index in the block of each lane's edge.
+    idx: [u8; BLOCK],
+    /// The lanes' start and end points, x, y, z, w; after [`crossing_lanes`], the clipped
+    /// ends.
+    a: [[f32; BLOCK]; 4],
+    c: [[f32; BLOCK]; 4],
+    /// Per lane: [`LANE_AWAY`], [`LANE_VISIBLE`] or [`LANE_SCALAR`].
+    state: [u8; BLOCK],
+}
+
+/// Lane state: nothing visible (the per-edge clipper's `ClippedAway`).
+const LANE_AWAY: u8 = 0;
+/// Lane state: the clipped segment is in the lane (`Clipped`).
+const LANE_VISIBLE: u8 = 1;
+/// Lane state: a rare case the lanes leave to the per-edge code ([`clip_crossing`]): an exit
+/// parameter of zero (its sign would depend on the order of ties), or an end that `settle()`
+/// would recompute.
+const LANE_SCALAR: u8 = 2;
+
+/// Lanes per step of [`crossing_lanes`]: two AVX2 vectors of `f64`, four SSE2 ones.
+const LANES: usize = 8;
+
+/// The boundary coordinates of `[x, y, z, w]` in `f64`, in [`super::boundary_coords_of`]'s
+/// order and with its operations.
+#[inline(always)]
+fn bc64<const ZERO_TO_ONE: bool>([x, y, z, w]: [f64; 4]) -> [f64; PLANE_COUNT] {
+    let near = if ZERO_TO_ONE { z } else { w + z };
+    [w + x, w - x, w + y, w - y, near, w - z]
+}
+
+/// Whether `settle()` keeps the computed end `p` as it is: every boundary coordinate ≥
+/// −`SETTLE_REL`·max |pᵢ| (in `f64`, as `settle()` computes it), or `p.w ≤ 0`.
+#[inline(always)]
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(w > 0)`, as settle() has it
+fn settles_as_is<const ZERO_TO_ONE: bool>(p: [f32; 4]) -> bool {
+    // Finite, non-negative values: the maximum does not depend on the order.
+    let m = p[0].abs().max(p[1].abs()).max(p[2].abs()).max(p[3].abs());
+    let slack = SETTLE_REL * f64::from(m);
+    let bc = bc64::<ZERO_TO_ONE>(p.map(f64::from));
+    let mut within = true;
+    for b in bc {
+        within &= b >= -slack;
+    }
+    within | !(p[3] > 0.0)
+}
+
+/// One lane of [`crossing_lanes`]: [`clip_crossing`]'s arithmetic, operation for operation
+/// in `f64`, with selects instead of branches (so that the compiler can run lanes side by
+/// side). The outcode bits are recovered from the signs of the `f64` boundary coordinates
+/// (a rounded sum has the sign of the exact one, and is zero only when that is), every plane
+/// is visited and its parameter kept only where it crosses, and the early exit becomes one
+/// final test (`t_in` only rises and `t_out` only falls, so they cross at the end if they
+/// ever do). `max`/`min` become compares: the only ties where they could differ are exit
+/// parameters of ±0, which go to the scalar code.
+#[inline(always)]
+fn crossing_lane<const ZERO_TO_ONE: bool>(a: [f32; 4], c: [f32; 4]) -> ([f32; 4], [f32; 4], u8) {
+    let a64 = a.map(f64::from);
+    let c64 = c.map(f64::from);
+    let a_bc = bc64::<ZERO_TO_ONE>(a64);
+    let c_bc = bc64::<ZERO_TO_ONE>(c64);
+    let (mut t_in, mut t_out) = (0.0f64, 1.0f64);
+    let (mut enters, mut leaves) = (false, false);
+    for i in 0..PLANE_COUNT {
+        let t_hit = a_bc[i] / (a_bc[i] - c_bc[i]);
+        let (enter, leave) = (a_bc[i] < 0.0, c_bc[i] < 0.0);
+        t_in = if enter & (t_hit > t_in) { t_hit } else { t_in };
+        t_out = if leave & (t_hit < t_out) {
+            t_hit
+        } else {
+            t_out
+        };
+        enters |= enter;
+        leaves |= leave;
+    }
+    let visible = t_in <= t_out; // never NaN
+    let d: [f64; 4] = std::array::from_fn(|k| c64[k] - a64[k]);
+    let p: [f32; 4] = std::array::from_fn(|k| {
+        if enters {
+            (a64[k] + t_in * d[k]) as f32
+        } else {
+            a[k]
+        }
+    });
+    let q: [f32; 4] = std::array::from_fn(|k| {
+        if leaves {
+            (a64[k] + t_out * d[k]) as f32
+        } else {
+            c[k]
+        }
+    });
+    let scalar = (leaves & (t_out == 0.0))
+        | (enters & !settles_as_is::<ZERO_TO_ONE>(p))
+        | (leaves & !settles_as_is::<ZERO_TO_ONE>(q));
+    let drawn = (p[3] > 0.0) & (q[3] > 0.0);
+    let state = if !visible {
+        LANE_AWAY
+    } else if scalar {
+        LANE_SCALAR
+    } else {
+        u8::from(drawn) // LANE_VISIBLE or LANE_AWAY
+    };
+    (p, q, state)
+}
+
+/// [`crossing_lane`] over the first `n` lanes of `x` (rounded up to [`LANES`]; the lanes
+/// past `n` hold stale values, computed and ignored), in place.
+#[inline(always)]
+fn crossing_lanes_body<const ZERO_TO_ONE: bool>(x: &mut Crossing, n: usize) {
+    let steps = n.div_ceil(LANES).min(BLOCK / LANES);
+    for s in 0..steps {
+        let base = s * LANES;
+        let mut pa = [[0f32; LANES]; 4];
+        let mut pc = [[0f32; LANES]; 4];
+        let mut st = [0u8; LANES];
+        for l in 0..LANES {
+            let a = std::array::from_fn(|k| x.a[k][base + l]);
+            let c = std::array::from_fn(|k| x.c[k][base + l]);
+            let (p, q, state) = crossing_lane::<ZERO_TO_ONE>(a, c);
+            for k in 0..4 {
+                pa[k][l] = p[k];
+                pc[k][l] = q[k];
+            }
+            st[l] = state;
+        }
+        for k in 0..4 {
+            x.a[k][base..base + LANES].copy_from_slice(&pa[k]);
+            x.c[k][base..base + LANES].copy_from_slice(&pc[k]);
+        }
+        x.state[base..base + LANES].copy_from_slice(&st);
+    }
+}
+
+/// [`crossing_lanes_body`] compiled for AVX2 (four `f64` per instruction instead of two).
+///
+/// # Safety
+/// The CPU must have AVX2.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+unsafe fn crossing_lanes_avx2<const ZERO_TO_ONE: bool>(x: &mut Crossing, n: usize) {
+    crossing_lanes_body::<ZERO_TO_ONE>(x, n);
+}
+
+/// Whether [`crossing_lanes`] may take the AVX2 build (asked once per call of `clip_soa`).
+#[inline]
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
+/// Clip the first `n` lanes of `x` (see [`crossing_lane`]).
+#[inline]
+fn crossing_lanes<const ZERO_TO_ONE: bool>(x: &mut Crossing, n: usize, avx2: bool) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2 {
+        // SAFETY: `avx2` is `has_avx2()`, true only where the CPU has AVX2.
+        unsafe { crossing_lanes_avx2::<ZERO_TO_ONE>(x, n) };
+        return;
+    }
+    let _ = avx2;
+    crossing_lanes_body::<ZERO_TO_ONE>(x, n);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clip::clip_edge;
+
+    /// Edges on and around the planes, with signed zeros: where the lanes' ties and
+    /// `settle()` cases are; the batch must equal the per-edge clipper bit for bit.
+    #[test]
+    fn crossing_lanes_match_the_per_edge_clipper_on_ties_and_signed_zeros() {
+        let vals = [
+            0.0f32, -0.0, 1.0, -1.0, 0.5, -0.5, 2.0, -2.0, 3e38, -3e38, 1e-40, 0.25,
+        ];
+        let mut s = 0x1234_5678_9abc_def1u64;
+        let mut pick = || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            vals[(s % vals.len() as u64) as usize]
+        };
+        let pairs: Vec<(Vec4, Vec4)> = (0..200_000)
+            .map(|_| {
+                let a = Vec4::new(pick(), pick(), pick(), pick());
+                let c = Vec4::new(pick(), pick(), pick(), pick());
+                (a, c)
+            })
+            .collect();
+        for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
+            let mut expected = SegmentsSoa::default();
+            let mut tally = ClipStats::default();
+            for (i, &(a, c)) in pairs.iter().enumerate() {
+                let o = clip_edge(a, c, depth);
+                tally.record(&o);
+                if let Some((p, q)) = o.segment() {
+                    expected.push(i as u32, p, q);
+                }
+            }
+            let mut got = SegmentsSoa::default();
+            let stats = clip_soa(&EdgesSoa::from_pairs(&pairs), depth, &mut got);
+            assert_eq!(stats, tally, "{depth:?}");
+            assert_eq!(got.edge, expected.edge, "{depth:?}");
+            for k in 0..4 {
+                let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&got.a[k]), bits(&expected.a[k]), "{depth:?} a[{k}]");
+                assert_eq!(bits(&got.c[k]), bits(&expected.c[k]), "{depth:?} c[{k}]");
+            }
+        }
+    }
 }
