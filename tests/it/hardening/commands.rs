@@ -73,8 +73,14 @@ fn simulate_refusals_name_the_option_in_a_short_number() {
             &["--duration", "1.000e-300", "single sample"][..],
         ),
         (&["--rate", "1e300"][..], &["--rate", "1.000e300 Hz"][..]),
-        (&["--noise-pos", "1e300"][..], &["--noise-pos", "1.000e300"][..]),
-        (&["--noise-rate", "1e5"][..], &["--noise-rate", "1.000e5"][..]),
+        (
+            &["--noise-pos", "1e300"][..],
+            &["--noise-pos", "1.000e300"][..],
+        ),
+        (
+            &["--noise-rate", "1e5"][..],
+            &["--noise-rate", "1.000e5"][..],
+        ),
     ] {
         let mut all = vec!["simulate", "--out", "a.csv"];
         all.extend_from_slice(args);
