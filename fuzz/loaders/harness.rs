@@ -98,17 +98,7 @@ pub fn column_map(data: &[u8]) {
     if let Ok((d, report)) = parse_mapped(&text(csv), "fuzz.csv", &map) {
         assert!(!d.is_empty());
         d.validate().expect("column-mapped data validate");
-        assert!(d.time.iter().all(|t| t.abs() <= 1e9), "time out of range");
-        assert!(
-            d.pos_ned.iter().all(|p| p.abs().max_element() <= 2e8),
-            "position out of range"
-        );
-        if let Some(c) = &d.controls {
-            assert!(c.iter().all(|c| (0.0..=1.0).contains(&c.throttle)
-                && [c.elevator, c.aileron, c.rudder]
-                    .iter()
-                    .all(|s| s.abs() <= std::f64::consts::FRAC_PI_2)));
-        }
+        assert_within_ranges(&d);
         let _ = d.controls_at(d.duration() * 0.5);
         let _ = report.to_string();
     }
@@ -137,17 +127,7 @@ pub fn ulog(data: &[u8]) {
         d.len(),
         data.len()
     );
-    assert!(d.time.iter().all(|t| t.abs() <= 1e9), "time out of range");
-    assert!(
-        d.pos_ned.iter().all(|p| p.abs().max_element() <= 2e8),
-        "position out of range"
-    );
-    if let Some(c) = &d.controls {
-        assert!(c.iter().all(|c| (0.0..=1.0).contains(&c.throttle)
-            && [c.elevator, c.aileron, c.rudder]
-                .iter()
-                .all(|s| s.abs() <= std::f64::consts::FRAC_PI_2)));
-    }
+    assert_within_ranges(&d);
     let _ = d.controls_at(d.duration() * 0.5);
     // `import --out` writes what was read: the CSV reader takes it back.
     let csv = wireflight_flight::data::to_csv_string(&d);
@@ -397,4 +377,20 @@ pub fn ulog_from_bytes(data: &[u8]) -> Vec<u8> {
         }
     }
     out
+}
+
+/// What every reader promises of the data it lets through: times within ±1e9 s, positions
+/// within ±2e8 m, commands within their ranges (throttle 0..1, surfaces ±90°).
+fn assert_within_ranges(d: &wireflight_flight::data::FlightData) {
+    assert!(d.time.iter().all(|t| t.abs() <= 1e9), "time out of range");
+    assert!(
+        d.pos_ned.iter().all(|p| p.abs().max_element() <= 2e8),
+        "position out of range"
+    );
+    if let Some(c) = &d.controls {
+        assert!(c.iter().all(|c| (0.0..=1.0).contains(&c.throttle)
+            && [c.elevator, c.aileron, c.rudder]
+                .iter()
+                .all(|s| s.abs() <= std::f64::consts::FRAC_PI_2)));
+    }
 }
