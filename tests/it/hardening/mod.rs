@@ -152,7 +152,8 @@ fn simulate_never_writes_what_its_reader_rejects() {
         ],
         d,
     );
-    assert_refused(&o, &["would not read back", "north_m"]);
+    // Refused as an option now; the read-back check below it stays for what no option bounds.
+    assert_refused(&o, &["--noise-pos", "more noise"]);
     let o = run(
         &[
             "simulate",
@@ -165,7 +166,7 @@ fn simulate_never_writes_what_its_reader_rejects() {
         ],
         d,
     );
-    assert_refused(&o, &["would not read back"]);
+    assert_refused(&o, &["--noise-rate", "more noise"]);
     let o = run(
         &[
             "simulate",
