@@ -5,14 +5,14 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn wireflight(args: &[&str]) -> Output {
+pub(super) fn wireflight(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_wireflight"))
         .args(args)
         .output()
         .expect("run wireflight")
 }
 
-fn text(b: &[u8]) -> String {
+pub(super) fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()
 }
 

@@ -6,18 +6,9 @@
 pub(crate) mod fuzz_check;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use super::command::{text, wireflight};
 
 const U: &str = "0,0\n3,0\n3,3\n2,3\n2,1\n1,1\n1,3\n0,3\n";
 const BAR: &str = "-1,2\n4,2\n4,2.5\n-1,2.5\n";
