@@ -5,6 +5,7 @@
 
 pub mod cli;
 pub mod clip;
+pub mod commands;
 pub mod compare;
 pub mod data;
 pub mod diagnose;
@@ -65,8 +66,12 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
-    let matches = command().get_matches_from(args);
+    let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
+    let matches = command().get_matches_from(&args);
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
+    if let Some(name) = matches.subcommand_name() {
+        note_old_spellings(name, &args);
+    }
     crate::fsio::set_input_limits(crate::fsio::InputLimits {
         max_file_bytes: cli.max_input_mb.saturating_mul(1 << 20),
         allow_external_uris: cli.allow_external_uris,
@@ -83,6 +88,45 @@ where
         Command::Euler(args) => euler::run(&args),
         Command::Clip(args) => clip::run(&args),
         Command::Import(args) => import::run(&args),
+        Command::Keys(args) => commands::keys::run(&args),
+    }
+}
+
+/// Old spellings of options that still work, per command: `(command, old, new)`. One flag,
+/// one meaning: `--mesh` is a wireframe, `--model` a flight model, `--flight` flight data.
+/// (`render --model`, which is a mesh there, is handled by `render` itself: a TOML file there is
+/// refused instead.)
+pub const OLD_SPELLINGS: &[(&str, &str, &str)] = &[
+    ("compare", "--data", "--flight"),
+    ("diagnose", "--data", "--flight"),
+    ("identify", "--data", "--flight"),
+    ("view", "--flight-model", "--model"),
+];
+
+/// Say on stderr that `old` is an old spelling of `new`; it still works.
+pub(crate) fn deprecated(old: &str, new: &str) {
+    eprintln!("wireflight: note: {old} is an old spelling of {new}; it still works, but use {new}");
+}
+
+/// A note for each old spelling used on the command line of `command` (after the command's
+/// name, before any `--`).
+fn note_old_spellings(command: &str, args: &[OsString]) {
+    let Some(start) = args.iter().skip(1).position(|a| a == command) else {
+        return;
+    };
+    let given: Vec<&str> = args[start + 2..]
+        .iter()
+        .filter_map(|a| a.to_str())
+        .take_while(|a| *a != "--")
+        .collect();
+    for (_, old, new) in OLD_SPELLINGS.iter().filter(|(c, ..)| *c == command) {
+        let used = given.iter().any(|a| {
+            a.strip_prefix(old)
+                .is_some_and(|rest| rest.is_empty() || rest.starts_with('='))
+        });
+        if used {
+            deprecated(old, new);
+        }
     }
 }
 

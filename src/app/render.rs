@@ -7,7 +7,6 @@ use anyhow::{bail, Context};
 
 use crate::app::cli::{ProjectionArg, RenderArgs};
 use crate::clip::{DepthRange, PlaneSet};
-use crate::euler::EulerZyx;
 use crate::output::{write_frames, write_still, FrameOut};
 use crate::pipeline::Viewport;
 use crate::render::{OutputFormat, Rasterizer};
@@ -21,7 +20,8 @@ use glam::Vec4;
 /// # Errors
 /// Bad mesh files, unknown output format, GPU failures with `--backend gpu`, write errors.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let mesh = crate::mesh::load_named(&args.mesh)?;
+    let mesh_name = mesh_name(args)?;
+    let mesh = crate::mesh::load_named(&mesh_name)?;
     let viewport = Viewport {
         width: args.size.0,
         height: args.size.1,
@@ -85,11 +85,11 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     if args.hidden_line && mesh.faces().is_empty() {
         anyhow::bail!(
             "--hidden-line needs a mesh with faces (an OBJ or glTF model); `{}` has only edges",
-            args.mesh
+            mesh_name
         );
     }
     let spec = ViewSpec {
-        attitude: EulerZyx::from_degrees(args.yaw, args.pitch, args.roll),
+        attitude: crate::scene::attitude::from_aerospace_degrees(args.yaw, args.pitch, args.roll),
         camera: args.camera.into(),
         orthographic: args.projection == ProjectionArg::Ortho,
         fov_y_deg: args.fov,
@@ -128,6 +128,29 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The wireframe to draw: `--mesh`, or the old spelling `--model` with a note on stderr — but
+/// only for a mesh file: `--model` names a flight model (TOML) in every other command, and one
+/// given here is refused, saying what to use.
+///
+/// # Errors
+/// `--model FILE.toml`.
+fn mesh_name(args: &RenderArgs) -> anyhow::Result<String> {
+    let Some(old) = &args.old_model else {
+        return Ok(args.mesh.clone());
+    };
+    if Path::new(old)
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    {
+        bail!(
+            "--model {}: render draws a wireframe, not a flight model; give the mesh with --mesh              (plane, FILE.obj, FILE.gltf, FILE.glb), or fly a model with `simulate --model` and              replay it with `render --flight`",
+            crate::fsio::printable(old)
+        );
+    }
+    crate::app::deprecated("--model", "--mesh");
+    Ok(old.clone())
 }
 
 /// True for a `.gif` file name (any case).

@@ -3,10 +3,10 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::Image;
+use wireflight::scene::attitude::from_aerospace_degrees;
 use wireflight::scene::{frame, ViewSpec};
 
 pub(crate) fn wireflight(args: &[&str]) -> Output {
@@ -100,7 +100,7 @@ fn svg_lists_exactly_the_clipped_segments() {
     let lines = svg_lines(&svg);
 
     let spec = ViewSpec {
-        attitude: EulerZyx::from_degrees(20.0, -10.0, 35.0),
+        attitude: from_aerospace_degrees(20.0, -10.0, 35.0),
         viewport: Viewport {
             width: 640,
             height: 480,
@@ -123,6 +123,176 @@ fn svg_lists_exactly_the_clipped_segments() {
         "{}",
         stdout(&o)
     );
+}
+
+/// The nose tip of `render --camera side` (seen from the right, the nose to the right of the
+/// picture): the rightmost point drawn, in pixels from the SVG.
+fn side_view_nose(pitch: &str, dir: &Path) -> [f32; 2] {
+    let out = dir.join(format!("side{pitch}.svg"));
+    let o = wireflight(&[
+        "render",
+        "--camera",
+        "side",
+        "--pitch",
+        pitch,
+        "--world",
+        "none",
+        "--size",
+        "400x400",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    svg_lines(&svg)
+        .iter()
+        .flat_map(|l| [[l[0], l[1]], [l[2], l[3]]])
+        .max_by(|a, b| a[0].total_cmp(&b[0]))
+        .unwrap()
+}
+
+/// Angles on the command line are aerospace: `--pitch 20` raises the nose (pixel y grows
+/// downward), `--pitch -20` lowers it, as the HUD and flight data read them.
+#[test]
+fn render_pitch_up_draws_the_nose_up() {
+    let dir = tempfile::tempdir().unwrap();
+    let level = side_view_nose("0", dir.path());
+    let up = side_view_nose("20", dir.path());
+    let down = side_view_nose("-20", dir.path());
+    assert!(
+        up[1] < level[1] - 20.0,
+        "nose up: {up:?} vs level {level:?}"
+    );
+    assert!(
+        down[1] > level[1] + 20.0,
+        "nose down: {down:?} vs level {level:?}"
+    );
+    // And the library's crossing says the same: the nose vertex goes up (+Z) in the world.
+    let nose = from_aerospace_degrees(0.0, 20.0, 0.0).to_matrix() * glam::DVec3::X;
+    assert!(
+        (nose.z - 20f64.to_radians().sin()).abs() < 1e-12,
+        "{nose:?}"
+    );
+}
+
+/// One flag, one meaning: `--mesh` a wireframe, `--model` a flight model, `--flight` data.
+/// The old spellings still work, with a note on stderr; `render --model` takes a mesh file
+/// only, and a flight model (TOML) there is refused, saying what to use.
+#[test]
+fn old_spellings_work_with_a_note_and_render_model_is_a_mesh_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cube.svg");
+    let cube = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/examples/cube.obj");
+    let o = wireflight(&[
+        "render",
+        "--model",
+        cube,
+        "--world",
+        "none",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--model is an old spelling of --mesh"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stdout(&o).contains("12 segments drawn"), "{}", stdout(&o));
+    let o = wireflight(&["render", "--mesh", cube, "--out", out.to_str().unwrap()]);
+    assert!(
+        o.status.success() && stderr(&o).is_empty(),
+        "{}",
+        stderr(&o)
+    );
+
+    let model = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/examples/model.toml");
+    let o = wireflight(&["render", "--model", model, "--out", out.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("not a flight model") && stderr(&o).contains("--mesh"),
+        "{}",
+        stderr(&o)
+    );
+
+    let missing = dir.path().join("missing.csv");
+    for (args, note) in [
+        (
+            vec!["compare", "--data", missing.to_str().unwrap()],
+            "--data is an old spelling of --flight",
+        ),
+        (
+            vec!["diagnose", "--quiet", "--data=nothing.csv"],
+            "--data is an old spelling of --flight",
+        ),
+        (
+            vec![
+                "view",
+                "--flight",
+                missing.to_str().unwrap(),
+                "--flight-model",
+                model,
+            ],
+            "--flight-model is an old spelling of --model",
+        ),
+    ] {
+        let o = wireflight(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(stderr(&o).contains(note), "{args:?}: {}", stderr(&o));
+    }
+    // The new spellings get no note.
+    let o = wireflight(&["compare", "--flight", missing.to_str().unwrap()]);
+    assert!(!stderr(&o).contains("old spelling"), "{}", stderr(&o));
+}
+
+/// Every command's help puts the global options under their own heading, and the replays of
+/// `render` and `compare` share one --fps default.
+#[test]
+fn global_options_have_their_heading_and_fps_one_default() {
+    for command in [
+        "render", "simulate", "compare", "diagnose", "identify", "view", "euler", "clip", "import",
+        "keys",
+    ] {
+        let o = wireflight(&[command, "--help"]);
+        let text = stdout(&o);
+        let heading = text
+            .find("Global options (every command):")
+            .unwrap_or_else(|| panic!("{command}: no heading\n{text}"));
+        for option in ["--max-input-mb", "--allow-external-uris", "--quiet"] {
+            let at = text.find(option).unwrap();
+            assert!(at > heading, "{command}: {option} outside the heading");
+        }
+    }
+    for command in ["render", "compare"] {
+        let text = stdout(&wireflight(&[command, "--help"]));
+        let fps = &text[text.find("--fps").unwrap()..];
+        let fps = &fps[..fps.find("\n\n").unwrap_or(fps.len())];
+        assert!(fps.contains("[default: 25]"), "{command}: {fps}");
+    }
+}
+
+/// `wireflight keys` lists every aircraft key with its unit and range and the set's value.
+#[test]
+fn keys_lists_every_aircraft_key() {
+    let o = wireflight(&["keys"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = stdout(&o);
+    for k in wireflight::flight::params::keys::KEYS {
+        let line = text
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(k.name))
+            .unwrap_or_else(|| panic!("{} missing:\n{text}", k.name));
+        assert!(line.contains(k.unit) && line.contains(k.term), "{line}");
+    }
+    assert!(
+        text.contains("-1000..1000") && text.contains("aerosonde"),
+        "{text}"
+    );
+    let c172 = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/aircraft/c172p.toml");
+    let o = wireflight(&["keys", "--aircraft", c172]);
+    assert!(stdout(&o).contains("c172p"), "{}", stdout(&o));
+    let o = wireflight(&["keys", "--aircraft", "cesna"]);
+    assert_eq!(o.status.code(), Some(2));
 }
 
 #[test]
@@ -308,6 +478,23 @@ fn simulate_rejects_bad_requests_clearly() {
             "no parameter `speed`",
         ),
         (vec!["simulate", "--airspeed", "3", "--out", out], "trim"),
+        // Slips get the nearest name, in every command that resolves the names.
+        (
+            vec!["simulate", "--hidden", "wnd:north_mps=3", "--out", out],
+            "unknown effect `wnd`: did you mean `wind`?",
+        ),
+        (
+            vec!["simulate", "--add", "wind:nort_mps=3", "--out", out],
+            "no parameter `nort_mps`: did you mean `north_mps`?",
+        ),
+        (
+            vec!["simulate", "--hidden", "aircraft:c_m_alfa=-3", "--out", out],
+            "is not an aircraft parameter: did you mean `c_m_alpha`?",
+        ),
+        (
+            vec!["simulate", "--effects", "drga", "--out", out],
+            "did you mean `drag`?",
+        ),
     ] {
         let o = wireflight(&args);
         assert_eq!(o.status.code(), Some(2), "{args:?}");

@@ -1,6 +1,7 @@
 //! Golden images of the CPU backend: exact, byte for byte.
 //!
-//! Each case names its parameters. To re-bless after an intended change, run
+//! Each case names its parameters: aerospace yaw, pitch and roll (+ nose right, + nose up, +
+//! right wing down), as `render` takes them. To re-bless after an intended change, run
 //! `WIREFLIGHT_BLESS=1 cargo test --test it golden::` and look at every image in
 //! `tests/images/golden/` before committing.
 
@@ -8,16 +9,17 @@ use std::path::PathBuf;
 
 use wireflight::camera::CameraPreset;
 use wireflight::clip::{ClipStats, DepthRange};
-use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::{cpu, Image};
+use wireflight::scene::attitude::from_aerospace_degrees;
 use wireflight::scene::palette;
 use wireflight::scene::{frame, ViewSpec};
 
+/// A view of the built-in aircraft at aerospace yaw, pitch and roll (degrees).
 fn spec(yaw: f64, pitch: f64, roll: f64, camera: CameraPreset) -> ViewSpec {
     ViewSpec {
-        attitude: EulerZyx::from_degrees(yaw, pitch, roll),
+        attitude: from_aerospace_degrees(yaw, pitch, roll),
         camera,
         viewport: Viewport {
             width: 480,
@@ -89,26 +91,26 @@ fn level_chase_yaw0_pitch0_roll0() {
 }
 
 #[test]
-fn banked_climbing_turn_chase_yaw30_pitchm15_roll40() {
+fn banked_climbing_turn_chase_yawm30_pitch15_roll40() {
     check(
-        "banked_chase_yaw30_pitch-15_roll40",
-        spec(30.0, -15.0, 40.0, CameraPreset::Chase),
+        "banked_chase_yaw-30_pitch15_roll40",
+        spec(-30.0, 15.0, 40.0, CameraPreset::Chase),
     );
 }
 
 #[test]
-fn top_view_yaw45() {
+fn top_view_yawm45() {
     check(
-        "top_yaw45_pitch0_roll0",
-        spec(45.0, 0.0, 0.0, CameraPreset::Top),
+        "top_yaw-45_pitch0_roll0",
+        spec(-45.0, 0.0, 0.0, CameraPreset::Top),
     );
 }
 
 #[test]
-fn side_view_nose_up_pitchm20() {
+fn side_view_nose_up_pitch20() {
     check(
-        "side_yaw0_pitch-20_roll0",
-        spec(0.0, -20.0, 0.0, CameraPreset::Side),
+        "side_yaw0_pitch20_roll0",
+        spec(0.0, 20.0, 0.0, CameraPreset::Side),
     );
 }
 
@@ -121,10 +123,10 @@ fn front_view_roll30() {
 }
 
 #[test]
-fn gimbal_lock_pitch90_roll30_side() {
+fn gimbal_lock_pitchm90_roll30_side() {
     check(
-        "side_yaw0_pitch90_roll30",
-        spec(0.0, 90.0, 30.0, CameraPreset::Side),
+        "side_yaw0_pitch-90_roll30",
+        spec(0.0, -90.0, 30.0, CameraPreset::Side),
     );
 }
 
@@ -150,9 +152,9 @@ fn camera_inside_the_plane_cockpit_near_plane_cuts() {
 
 #[test]
 fn orthographic_top() {
-    let mut s = spec(-20.0, 0.0, 0.0, CameraPreset::Top);
+    let mut s = spec(20.0, 0.0, 0.0, CameraPreset::Top);
     s.orthographic = true;
-    check("top_ortho_yaw-20", s);
+    check("top_ortho_yaw20", s);
 }
 
 #[test]

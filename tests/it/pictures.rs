@@ -7,10 +7,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use wireflight::camera::CameraPreset;
-use wireflight::euler::EulerZyx;
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::cpu;
+use wireflight::scene::attitude::from_aerospace_degrees;
 use wireflight::scene::still::{still, StillWorld};
 use wireflight::scene::ViewSpec;
 
@@ -77,7 +77,7 @@ fn gif_frames(path: &Path) -> (usize, u16, (u16, u16)) {
 #[test]
 fn still_with_horizon_and_ground() {
     let spec = ViewSpec {
-        attitude: EulerZyx::from_degrees(0.0, 0.0, 30.0),
+        attitude: from_aerospace_degrees(0.0, 0.0, 30.0),
         camera: CameraPreset::Cockpit,
         viewport: Viewport {
             width: 480,

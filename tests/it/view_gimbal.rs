@@ -6,7 +6,7 @@
 
 use std::time::Duration;
 
-use glam::DMat3;
+use glam::{DMat3, DVec3};
 use wireflight::app::view::cameras::CameraMode;
 use wireflight::app::view::flight::Start;
 use wireflight::app::view::gimbal::EulerPanel;
@@ -15,6 +15,7 @@ use wireflight::euler::{Convention, EulerAngles, Gimbal, Lock};
 use wireflight::mesh::plane::builtin_plane;
 use wireflight::pipeline::Viewport;
 use wireflight::render::{cpu, Image, Rgba};
+use wireflight::scene::attitude::{aerospace_degrees, viewer_from_aerospace};
 use wireflight::scene::palette::{EULER_FIRST, EULER_SECOND, EULER_THIRD};
 
 use crate::view::{display, run_with_timeout, WINDOW_TIMEOUT};
@@ -55,10 +56,14 @@ fn sliders_set_the_attitude_and_the_rings_are_drawn() {
     assert!(s.paused);
     s.advance(1.0 / 60.0, &Held::default());
     s.build(VIEW);
-    let expected = EulerAngles::from_degrees(Convention::VIEWER, [60.0, 90.0, 0.0]).to_matrix();
+    // The panel's angles are aerospace: pitch +90° is nose straight up.
+    let expected = viewer_from_aerospace(
+        EulerAngles::from_degrees(Convention::VIEWER, [60.0, 90.0, 0.0]).to_matrix(),
+    );
     assert!(s.attitude_matrix().abs_diff_eq(expected, 1e-9));
+    assert!((s.attitude_matrix() * DVec3::X).z > 0.999_999, "nose up");
     let r = s.readout();
-    assert_eq!(r.gimbal, Gimbal::LockedNoseDown);
+    assert_eq!(r.gimbal, Gimbal::LockedNoseUp);
     assert_eq!(s.euler.lock(), Lock::Upper);
     let image = cpu::render(s.scene());
     let rings = ring_pixels(&image);
@@ -78,6 +83,36 @@ fn sliders_set_the_attitude_and_the_rings_are_drawn() {
     s.toggle_euler();
     s.build(VIEW);
     assert_eq!(ring_pixels(&cpu::render(s.scene())), [0, 0, 0]);
+}
+
+/// `--gimbal zyx --gimbal-angles A,B,C` are the aerospace yaw, pitch and roll that the HUD
+/// reads back (also at gimbal lock, where the HUD puts the heading in yaw), and the sliders
+/// following the flight show the HUD's numbers.
+#[test]
+fn gimbal_angles_round_trip_to_what_the_hud_shows() {
+    for angles in [
+        [60.0, 90.0, 0.0],
+        [30.0, 20.0, 10.0],
+        [-120.0, -45.0, 170.0],
+    ] {
+        let mut s = session();
+        s.set_euler_degrees(angles);
+        s.advance(1.0 / 60.0, &Held::default());
+        let hud = aerospace_degrees(s.readout().angles);
+        for (a, b) in hud.iter().zip(angles) {
+            assert!((a - b).abs() < 1e-6, "{angles:?}: the HUD shows {hud:?}");
+        }
+        // Let go: the sliders follow the attitude and show the same numbers.
+        s.set_euler_drive(false);
+        s.advance(1.0 / 60.0, &Held::default());
+        for (a, b) in s.euler.degrees().iter().zip(angles) {
+            assert!(
+                (a - b).abs() < 1e-6,
+                "{angles:?}: the sliders show {:?}",
+                s.euler.degrees()
+            );
+        }
+    }
 }
 
 /// Following: the sliders show the attitude's angles in the chosen convention (its principal
@@ -101,7 +136,8 @@ fn the_panel_follows_the_flight_in_any_convention() {
         s.advance(1.0 / 60.0, &Held::default());
         assert_eq!(s.euler.convention(), c);
         assert!(!s.euler.drive);
-        let shown = EulerAngles::from_degrees(c, s.euler.degrees()).to_matrix();
+        let shown =
+            viewer_from_aerospace(EulerAngles::from_degrees(c, s.euler.degrees()).to_matrix());
         assert!(
             shown.abs_diff_eq(s.attitude_matrix(), 1e-9),
             "{c}: {:?}",

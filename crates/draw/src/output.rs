@@ -94,6 +94,10 @@ pub fn write_still(
 /// Default most frames of one replay (`--max-frames`).
 pub const DEFAULT_MAX_FRAMES: u64 = 100_000;
 
+/// Frames per second of flight time of every replay and comparison (`render --flight`,
+/// `compare --frames-dir/--out`) unless `--fps` says otherwise.
+pub const DEFAULT_FPS: f64 = 25.0;
+
 /// Whether a file name is one of [`write_frames`]' frames (`frame_NNNNN.png`).
 pub fn is_frame_name(name: &str) -> bool {
     name.strip_prefix("frame_")

@@ -33,15 +33,24 @@ use super::{UnknownVehicle, VehicleKind};
 pub enum SpecError {
     /// `--add`/`--effects` or a model file names an effect not in the catalogue.
     #[error(
-        "unknown effect `{0}` (known: {known}, or aircraft:KEY for the aircraft's own numbers)",
+        "unknown effect `{0}`{hint} (known: {known}, or aircraft:KEY for the aircraft's own \
+         numbers)",
+        hint = effect_hint(.0, true),
         known = catalogue_names().join(", ")
     )]
     UnknownEffect(String),
     /// An [`EffectSpec`] built whose name is not in the catalogue.
-    #[error("unknown effect `{0}` (known: {known})", known = catalogue_names().join(", "))]
+    #[error(
+        "unknown effect `{0}`{hint} (known: {known})",
+        hint = effect_hint(.0, false),
+        known = catalogue_names().join(", ")
+    )]
     NotInCatalogue(String),
     /// A key of `aircraft:KEY…` that is not a key of a parameter set.
-    #[error("`{key}` in `{spec}` is not an aircraft parameter")]
+    #[error(
+        "`{key}` in `{spec}` is not an aircraft parameter{hint} (`wireflight keys` lists them)",
+        hint = crate::params::keys::did_you_mean(key)
+    )]
     NotAircraftParameter {
         /// The key.
         key: String,
@@ -165,6 +174,14 @@ pub enum SpecError {
     /// Building the model of a [`ModelChoice`] failed.
     #[error("building the model")]
     Building(#[source] Box<SpecError>),
+}
+
+/// `: did you mean `NAME`?` for the catalogue effect (or, with `aircraft`, that name too)
+/// nearest to a mistyped one.
+fn effect_hint(given: &str, aircraft: bool) -> String {
+    let names = catalogue_names();
+    let extra = aircraft.then_some(AIRCRAFT);
+    crate::params::suggest::hint(given, names.into_iter().chain(extra))
 }
 
 /// One effect with the parameters given explicitly (the rest keep their defaults) — or, under

@@ -10,7 +10,7 @@ Examples:
   wireflight compare --flight windy.csv --add wind --plots plots/
   wireflight compare --flight windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
   wireflight compare --flight windy.csv --add wind --out compare.gif --fps 5 --size 480x360
-  wireflight compare --flight test.csv --model my-model.toml --json
+  wireflight compare --flight test.csv --model docs/examples/model.toml --json
 
 The model is restarted from the data every --window seconds (multiple shooting) from a
 least-squares estimate of the state, and its prediction compared with the measurements.
@@ -43,8 +43,8 @@ pub struct CompareArgs {
     /// Write the replay (as --frames-dir draws it) as one animated GIF (atomically).
     #[arg(long, value_name = "FILE.gif")]
     pub out: Option<std::path::PathBuf>,
-    /// Frames per second of flight time for --frames-dir and --out.
-    #[arg(long, default_value_t = 10.0, value_parser = positive)]
+    /// Frames per second of flight time for --frames-dir and --out (25, as `render`'s).
+    #[arg(long, default_value_t = crate::output::DEFAULT_FPS, value_parser = positive)]
     pub fps: f64,
     /// Frame size for --frames-dir and --out, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]

@@ -24,7 +24,10 @@ Examples:
   wireflight euler --seq zyx --interpolate --from-angles 0,0,0 --to-angles 90,60,90 \\
       --frames 5 --out interp/
 
-Conventions: the sequence names the axes in the order the angles are given (zyx: yaw about
+Pure-math conventions: unlike render, view and flight data (aerospace angles: + nose right,
++ nose up, + right wing down), the lab takes right-hand rotations about the axes it names,
+in the pictures nose +X, left wing +Y, up +Z, so zyx pitch +20 lowers the nose there.
+The sequence names the axes in the order the angles are given (zyx: yaw about
 Z, pitch about Y, roll about X). Intrinsic (default): each rotation about the axes as the
 earlier ones turned them, R = Ra(A)·Rb(B)·Rc(C). Extrinsic: about the fixed axes, A first,
 R = Rc(C)·Rb(B)·Ra(A); intrinsic a-b-c equals extrinsic c-b-a with the angles reversed.

@@ -23,6 +23,9 @@ pub use euler::*;
 mod values;
 pub use values::*;
 
+/// The heading of the options every command takes.
+const GLOBAL: &str = "Global options (every command)";
+
 /// wireflight: a wireframe flight viewer with a CPU homogeneous clipper.
 #[derive(Debug, Parser)]
 #[command(name = "wireflight", version, about, long_about = None)]
@@ -32,16 +35,16 @@ pub struct Cli {
     pub command: Command,
     /// Largest input file read (flight data, meshes and their buffers, model, parameter and
     /// script files), MiB.
-    #[arg(long, global = true, value_name = "MIB", default_value_t = crate::fsio::DEFAULT_MAX_INPUT_MB,
+    #[arg(long, global = true, help_heading = GLOBAL, value_name = "MIB", default_value_t = crate::fsio::DEFAULT_MAX_INPUT_MB,
           value_parser = clap::value_parser!(u64).range(1..=1 << 24))]
     pub max_input_mb: u64,
     /// Let a glTF file read buffers outside its own directory (absolute paths, `file://`
     /// URIs, `..`); by default they are refused.
-    #[arg(long, global = true)]
+    #[arg(long, global = true, help_heading = GLOBAL)]
     pub allow_external_uris: bool,
     /// No progress bars and no report of what a log held (errors and results still print).
     /// Progress is drawn only when stderr is a terminal, and never with --json.
-    #[arg(long, short = 'q', global = true)]
+    #[arg(long, short = 'q', global = true, help_heading = GLOBAL)]
     pub quiet: bool,
 }
 
@@ -60,14 +63,31 @@ pub enum Command {
     Identify(IdentifyArgs),
     /// Fly through a wireframe world in a window (winit + wgpu, egui HUD).
     View(ViewArgs),
-    /// Euler angles in any of the 24 conventions: matrices, quaternions, conversions, and
-    /// pictures of the rotations, gimbal lock and interpolation.
+    /// Euler angles in any of the 24 conventions (pure math, unlike the aerospace angles of
+    /// render and view): matrices, quaternions, conversions, and pictures of the rotations,
+    /// gimbal lock and interpolation.
     Euler(EulerArgs),
     /// The clipping lab: clip edges from a CSV file with a chosen line clipper, or polygons
     /// against a polygon with Weiler-Atherton.
     Clip(ClipArgs),
     /// Read a PX4 log or any CSV through a column map, say what was found, write flight data.
     Import(ImportArgs),
+    /// List every `aircraft:KEY` of a fixed-wing parameter set: unit, range, meaning, value.
+    Keys(KeysArgs),
+}
+
+/// `wireflight keys` options.
+#[derive(Debug, Args)]
+#[command(after_help = "\
+Examples:
+  wireflight keys
+  wireflight keys --aircraft assets/aircraft/c172p.toml
+  wireflight simulate --hidden aircraft:c_m_alpha=-3.3 --out a.csv   # a key set in the truth
+  wireflight diagnose --flight a.csv --add aircraft:c_m_alpha          # a key fitted")]
+pub struct KeysArgs {
+    /// Parameter set whose values are listed: `aerosonde` or a .toml file.
+    #[arg(long, default_value = "aerosonde", value_name = "NAME|FILE.toml")]
+    pub aircraft: String,
 }
 
 /// Which model to run against data (shared by compare and diagnose).
@@ -190,41 +210,44 @@ fn positive(s: &str) -> Result<f64, String> {
 const RENDER_EXAMPLES: &str = "\
 Examples:
   wireflight render --out plane.png
-  wireflight render --yaw 30 --pitch -15 --roll 40 --camera chase --out banked.png
+  wireflight render --yaw -30 --pitch 15 --roll 40 --camera chase --out banked.png
   wireflight render --camera cockpit --size 1280x720 --backend cpu --out cockpit.png
   wireflight render --camera cockpit --roll 30 --world grid --out banked.png  # horizon tilts
   wireflight render --mesh assets/plane.gltf --camera top --out top.svg
-  wireflight render --pitch 90 --roll 30 --out gimbal.png     # the angles at gimbal lock
+  wireflight render --pitch -90 --roll 30 --out gimbal.png    # the angles at gimbal lock
   wireflight render --pan 1,0 --out half.png                   # half out of the frame
   wireflight render --flight test.csv --frames-dir frames --fps 10   # replay a flight
   wireflight render --clip-plane 0,1,0,0 --out left-half.png   # cut-away: keep y >= 0 (body axes)
-  wireflight render --mesh cube.obj --hidden-line --out cube.png    # back faces culled
-  wireflight render --flight log.ulg --out flight.gif --fps 10 --size 480x360  # animated
+  wireflight render --mesh docs/examples/cube.obj --hidden-line --out cube.png  # back faces culled
+  wireflight render --flight tests/data/px4-sitl-hop.ulg --out hop.gif --size 480x360  # animated
 
-Angles are z-y-x Tait-Bryan in degrees, R = Rz(yaw)·Ry(pitch)·Rx(roll), about the body axes
-nose +X, left wing +Y, rudder +Z (Z up): positive yaw turns the nose left, positive pitch
-lowers it, positive roll drops the right wing. The clipper's counts are printed after drawing.";
+Angles are aerospace yaw, pitch and roll in degrees, as in flight data and the window's HUD:
++yaw turns the nose right, +pitch raises it, +roll lowers the right wing (applied roll first,
+then pitch, then yaw). The clipper's counts are printed after drawing.";
 
 /// `wireflight render` options.
 #[derive(Debug, Args)]
 #[command(after_help = RENDER_EXAMPLES)]
 pub struct RenderArgs {
     /// The wireframe: `plane` for the built-in aircraft, or a mesh file (.obj, .gltf, .glb).
-    /// (`--model` is an old spelling of this option.)
-    #[arg(
-        long,
-        alias = "model",
-        default_value = "plane",
-        value_name = "plane|FILE"
-    )]
+    #[arg(long, default_value = "plane", value_name = "plane|FILE")]
     pub mesh: String,
-    /// Yaw ψ, degrees: rotation about Z (up).
+    /// The old spelling of --mesh (a mesh file works, with a note; everywhere else --model is a
+    /// flight model, which render has none of).
+    #[arg(
+        long = "model",
+        value_name = "FILE",
+        hide = true,
+        conflicts_with = "mesh"
+    )]
+    pub old_model: Option<String>,
+    /// Yaw ψ, degrees (aerospace): + turns the nose right.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub yaw: f64,
-    /// Pitch θ, degrees: rotation about Y (left wing).
+    /// Pitch θ, degrees (aerospace): + raises the nose.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub pitch: f64,
-    /// Roll φ, degrees: rotation about X (nose).
+    /// Roll φ, degrees (aerospace): + lowers the right wing.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true, value_parser = angle_deg)]
     pub roll: f64,
     /// Where the eye is.
@@ -261,9 +284,9 @@ pub struct RenderArgs {
     /// Directory for the replay's frames (`frame_00000.png`, ...).
     #[arg(long, value_name = "DIR", requires = "flight", conflicts_with = "out")]
     pub frames_dir: Option<PathBuf>,
-    /// Frames per second of flight time for the replay (a GIF rounds the frame time to whole
-    /// hundredths of a second).
-    #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
+    /// Frames per second of flight time for the replay (25, as `compare`'s; a GIF rounds the
+    /// frame time to whole hundredths of a second).
+    #[arg(long, default_value_t = crate::output::DEFAULT_FPS, value_parser = finite_f64)]
     pub fps: f64,
     /// Most frames the replay writes (a flight with a long time gap would need more).
     #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
@@ -299,6 +322,20 @@ pub enum WorldArg {
     Grid,
     /// The fly-through world.
     Full,
+}
+
+impl ViewArgs {
+    /// Whether the window compares a flight model with the recording: --compare, or any of the
+    /// options that choose the model.
+    pub fn compares(&self) -> bool {
+        self.flight.is_some()
+            && (self.compare
+                || self.model.is_some()
+                || self.vehicle.is_some()
+                || self.aircraft.is_some()
+                || self.effects.is_some()
+                || !self.add.is_empty())
+    }
 }
 
 impl From<WorldArg> for crate::scene::still::StillWorld {
@@ -341,7 +378,7 @@ Examples:
   wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
   wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \\
       --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --flight long-shot.csv
-  wireflight simulate --model my-model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
+  wireflight simulate --model docs/examples/model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
 
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
 figure-eight, flight-test (fixed-wing); ballistic (point-mass).
@@ -428,10 +465,11 @@ Examples:
   wireflight view --mesh assets/plane.gltf --camera orbit
   wireflight view --flight test.csv                       # replay a recorded flight
   wireflight view --flight windy.csv --compare            # and the model beside it
-  wireflight view --flight windy.csv --compare --add wind  # wind ticked from the start
+  wireflight view --flight windy.csv --add wind           # compare, wind ticked from the start
+  wireflight view --flight windy.csv --model docs/examples/model.toml  # compare that model
   wireflight view --script assets/scripts/loop.txt --frames 600 --screenshot loop.png
   xvfb-run -a wireflight view --script assets/scripts/climb-turn.txt --frames 120 --screenshot s.png
-  wireflight view --gimbal zyx --gimbal-angles 60,90,0      # the rings at gimbal lock
+  wireflight view --gimbal zyx --gimbal-angles 60,90,0      # the rings at gimbal lock (nose up)
 
 Keys (flying):
   Up / Down        nose down / nose up (stick forward / back), 45°/s
@@ -441,7 +479,8 @@ Keys (flying):
 Keys (replay, --flight):
   Space            play / pause
   Left / Right     seek back / forward 5 s
-Compare (--flight F --compare):
+Compare (--flight F --compare, or --flight F with any of --model, --vehicle, --aircraft,
+--effects, --add):
   The model is restarted from the data every 8 s (point mass: 60 s) and flown beside the
   recording: the measured aircraft in green, the model's in magenta with its trail (broken
   at restarts).
@@ -537,33 +576,32 @@ pub struct ViewArgs {
     /// over time, and tick catalogue effects on and off to see the error fall.
     #[arg(long, requires = "flight")]
     pub compare: bool,
-    /// With --compare: the flight model (TOML); default: the baseline of the data's vehicle.
-    /// (`--flight-model` is an old spelling of this option; the wireframe is --mesh.)
-    #[arg(
-        long,
-        alias = "flight-model",
-        value_name = "FILE",
-        requires = "compare"
-    )]
+    /// With --flight: the flight model (TOML) flown beside the recording (implies --compare);
+    /// default: the baseline of the data's vehicle. The flight without --flight is flown by
+    /// the keys, not by a flight model. (`--flight-model` is an old spelling; the wireframe
+    /// is --mesh.)
+    #[arg(long, alias = "flight-model", value_name = "FILE", requires = "flight")]
     pub model: Option<PathBuf>,
-    /// With --compare: the vehicle family, for data without `# vehicle:` (e.g. a PX4 log).
-    #[arg(long, value_parser = parse_vehicle, requires = "compare", conflicts_with = "model")]
+    /// With --flight: the vehicle family of the model, for data without `# vehicle:` (e.g. a
+    /// PX4 log); implies --compare.
+    #[arg(long, value_parser = parse_vehicle, requires = "flight", conflicts_with = "model")]
     pub vehicle: Option<VehicleKind>,
-    /// With --compare: the parameter set of a fixed wing (`aerosonde` or a .toml file).
+    /// With --flight: the model's parameter set of a fixed wing (`aerosonde` or a .toml
+    /// file); implies --compare.
     #[arg(
         long,
         value_name = "NAME|FILE.toml",
-        requires = "compare",
+        requires = "flight",
         conflicts_with = "model"
     )]
     pub aircraft: Option<String>,
-    /// With --compare: effects in the base model, comma-separated (parameters at their
-    /// defaults; always on).
-    #[arg(long, value_name = "A,B", requires = "compare")]
+    /// With --flight: effects in the model, comma-separated (parameters at their defaults;
+    /// always on); implies --compare.
+    #[arg(long, value_name = "A,B", requires = "flight")]
     pub effects: Option<String>,
-    /// With --compare: start with this effect ticked, `name[:k=v,...]` (repeatable); the
-    /// parameters not given come from the fit.
-    #[arg(long, value_name = "NAME[:K=V,...]", requires = "compare")]
+    /// With --flight: start the comparison with this effect ticked, `name[:k=v,...]`
+    /// (repeatable; the parameters not given come from the fit); implies --compare.
+    #[arg(long, value_name = "NAME[:K=V,...]", requires = "flight")]
     pub add: Vec<String>,
     /// The line clipper to start with (a key cycles them).
     #[arg(long, default_value = "blinn", value_name = "NAME")]
@@ -573,7 +611,9 @@ pub struct ViewArgs {
     #[arg(long, value_name = "SEQ[,extrinsic]", num_args = 0..=1, default_missing_value = "zyx", value_parser = parse_convention)]
     pub gimbal: Option<Convention>,
     /// With --gimbal: start with the sliders at these angles (degrees), setting the attitude
-    /// (the flight starts paused there).
+    /// (the flight starts paused there). Like the HUD's, they are angles of the aerospace axes
+    /// (x nose, y right wing, z down; world north-east-down): for zyx, yaw + nose right, pitch
+    /// + nose up, roll + right wing down.
     #[arg(long, value_name = "A,B,C", allow_hyphen_values = true, value_parser = parse_angles, requires = "gimbal")]
     pub gimbal_angles: Option<[f64; 3]>,
 }

@@ -35,3 +35,31 @@ fn negative_angles_parse() {
     };
     assert_eq!((r.yaw, r.pitch), (-90.0, -15.0));
 }
+
+#[test]
+fn view_takes_a_flight_model_with_any_flight_and_compares() {
+    let parse = |args: &[&str]| Cli::try_parse_from(["wireflight", "view"].iter().chain(args));
+    let view = |args: &[&str]| match parse(args).unwrap().command {
+        Command::View(v) => v,
+        _ => panic!(),
+    };
+    assert!(view(&["--flight", "a.csv", "--model", "m.toml"]).compares());
+    assert!(view(&["--flight", "a.csv", "--add", "wind"]).compares());
+    assert!(view(&["--flight", "a.csv", "--compare"]).compares());
+    assert!(!view(&["--flight", "a.csv"]).compares());
+    // Without a recorded flight the keys fly the aircraft: no flight model to choose.
+    assert!(parse(&["--model", "m.toml"]).is_err());
+}
+
+#[test]
+fn render_model_is_the_old_spelling_of_mesh_and_not_both() {
+    let parse = |args: &[&str]| Cli::try_parse_from(["wireflight", "render"].iter().chain(args));
+    let Command::Render(r) = parse(&["--model", "cube.obj", "--out", "x.png"])
+        .unwrap()
+        .command
+    else {
+        panic!()
+    };
+    assert_eq!(r.old_model.as_deref(), Some("cube.obj"));
+    assert!(parse(&["--model", "a.obj", "--mesh", "b.obj", "--out", "x.png"]).is_err());
+}

@@ -103,8 +103,7 @@ pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
     use egui::{Color32, RichText};
     let r = hud.session.readout();
     // `+ 0.0` shows −0.0 as 0.00.
-    let [yaw, pitch, roll] = r.angles.to_degrees().map(|a| a + 0.0);
-    let aero = r.angles.to_aerospace().to_degrees().map(|a| a + 0.0);
+    let [yaw, pitch, roll] = crate::scene::attitude::aerospace_degrees(r.angles);
     let frame = egui::Frame::NONE
         .fill(Color32::from_black_alpha(170))
         .inner_margin(8.0)
@@ -127,11 +126,7 @@ pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
                 };
                 ui.label(format!("camera {mode}  ·  {state}  ·  H: help"));
                 ui.label(format!(
-                    "yaw {yaw:8.2}°  pitch {pitch:7.2}°  roll {roll:8.2}°  (z-y-x, Z up, +pitch = nose down)"
-                ));
-                ui.label(format!(
-                    "     {:8.2}°        {:7.2}°       {:8.2}°  (aerospace NED/FRD, +pitch = nose up)",
-                    aero[0], aero[1], aero[2]
+                    "yaw {yaw:8.2}°  pitch {pitch:7.2}°  roll {roll:8.2}°  (+ nose right, nose up, right wing down)"
                 ));
                 match r.gimbal {
                     Gimbal::LockedNoseUp | Gimbal::LockedNoseDown => {
@@ -544,6 +539,7 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
                 Frame::Extrinsic => format!("R = R{c}(C)·R{b}(B)·R{a}(A), fixed axes, A first"),
             };
             ui.monospace(product);
+            ui.monospace("aerospace axes: x nose, y right wing, z down (north-east-down world)");
             let euler = panel.euler();
             let mut degrees = panel.degrees();
             let mut moved = false;
@@ -601,7 +597,7 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
     };
     let h = text_height(viewport);
     let r = session.readout();
-    let aero = r.angles.to_aerospace().to_degrees().map(|a| a + 0.0);
+    let aero = crate::scene::attitude::aerospace_degrees(r.angles);
     let state = match (r.replay, session.paused) {
         (Some(_), true) => "replay paused",
         (Some(_), false) => "replay",

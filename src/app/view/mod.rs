@@ -89,7 +89,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let fov_y = (args.fov as f32).to_radians();
     let camera = CameraMode::from(args.camera);
     let mut session = match &args.flight {
-        Some(path) if args.compare => {
+        Some(path) if args.compares() => {
             let choice = ModelChoice {
                 model_file: args.model.clone(),
                 vehicle: args.vehicle,

@@ -3,11 +3,18 @@
 //! gimbal rings drawn around the aircraft ([`crate::scene::euler::gimbal_rings`]: three rings
 //! nested in the order of the sequence, each in its angle's colour).
 //!
+//! The angles are those people read everywhere else (the HUD, `render`, flight data): of the
+//! attitude in the aerospace frames, world north-east-down and body forward-right-down, so
+//! z-y-x is yaw (+ nose right), pitch (+ nose up), roll (+ right wing down). The crossing to
+//! the viewer's Z-up frame is [`crate::scene::attitude::viewer_from_aerospace`], here and for
+//! the rings.
+//!
 //! Pure: no I/O, no egui (the sliders are in `hud.rs` and hand their values here).
 
 use glam::{DMat3, DVec3, Mat4, Vec3};
 
 use crate::render::{LineBatch, LineScene};
+use crate::scene::attitude::{viewer_from_aerospace, D};
 use crate::scene::euler::gimbal_rings;
 use wireflight_geometry::camera::Camera;
 use wireflight_geometry::clip::{ClipStats, Clipper, DepthRange};
@@ -78,18 +85,18 @@ impl EulerPanel {
         ]
     }
 
-    /// The rotation the sliders describe (body → world).
+    /// The rotation the sliders describe (body → world), in the viewer's frames.
     pub fn attitude(&self) -> DMat3 {
-        self.euler().to_matrix()
+        viewer_from_aerospace(self.euler().to_matrix())
     }
 
-    /// Show the angles of `attitude` (when not driving): its principal decomposition, with the
-    /// lock rule at gimbal lock.
+    /// Show the angles of `attitude` (viewer frames; when not driving): the principal
+    /// decomposition of its aerospace rotation, with the lock rule at gimbal lock.
     pub fn follow(&mut self, attitude: DMat3) {
         if self.drive {
             return;
         }
-        let s = EulerAngles::from_matrix(self.convention, attitude);
+        let s = EulerAngles::from_matrix(self.convention, viewer_from_aerospace(attitude));
         if s.euler.is_finite() {
             self.degrees = s.euler.to_degrees();
             self.lock = s.lock;
@@ -108,14 +115,14 @@ impl EulerPanel {
         self.lock = self.euler().lock();
     }
 
-    /// Change the convention, keeping the attitude `current`: the angles become its
-    /// decomposition in the new convention.
+    /// Change the convention, keeping the attitude `current` (viewer frames): the angles become
+    /// its decomposition in the new convention.
     pub fn set_convention(&mut self, convention: Convention, current: DMat3) {
         if convention == self.convention {
             return;
         }
         self.convention = convention;
-        let s = EulerAngles::from_matrix(convention, current);
+        let s = EulerAngles::from_matrix(convention, viewer_from_aerospace(current));
         if s.euler.is_finite() {
             self.degrees = s.euler.to_degrees();
             self.lock = s.lock;
@@ -134,7 +141,10 @@ impl EulerPanel {
     ) -> ClipStats {
         let clip_from_world = camera.clip_from_world(viewport.aspect(), self.projector.depth())
             * Mat4::from_translation(position.as_vec3())
-            * Mat4::from_scale(Vec3::splat(radius));
+            * Mat4::from_scale(Vec3::splat(radius))
+            // The rings are of the aerospace angles: drawn in the NED axes, turned into the
+            // viewer's by the half-turn D.
+            * Mat4::from_mat3(D.as_mat3());
         let mut stats = ClipStats::default();
         for ring in gimbal_rings(&self.euler()) {
             let mut segments = Vec::new();
@@ -164,7 +174,9 @@ mod tests {
     #[test]
     fn following_decomposes_and_driving_sets() {
         let mut p = EulerPanel::new("zxz".parse().unwrap());
-        let r = EulerAngles::from_degrees(p.convention(), [30.0, 45.0, -60.0]).to_matrix();
+        let r = viewer_from_aerospace(
+            EulerAngles::from_degrees(p.convention(), [30.0, 45.0, -60.0]).to_matrix(),
+        );
         p.follow(r);
         let d = p.degrees();
         assert!(

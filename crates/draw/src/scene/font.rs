@@ -3,8 +3,10 @@
 //! stay bit-exact.
 //!
 //! Glyphs sit on a grid 4 units wide and 6 tall (capital height), y up from the baseline, and
-//! advance [`ADVANCE`] units. Lower-case letters are drawn as capitals; a space is empty and a
-//! character without a glyph is a small box, so a missing glyph shows. Pure: no I/O.
+//! advance [`ADVANCE`] units. Lower-case letters have their own glyphs, 4 units tall (the
+//! x-height), with ascenders to 6 and descenders to [`DESCENDER`] below the baseline, so that
+//! units read as they are written (m, s, m/s). A space is empty and a character without a
+//! glyph is a small box, so a missing glyph shows. Pure: no I/O.
 
 use glam::Vec2;
 
@@ -15,11 +17,18 @@ pub const ADVANCE: f32 = 6.0;
 /// Capital height, grid units.
 pub const CAP_HEIGHT: f32 = 6.0;
 
+/// How far descenders (g, j, p, q, y) reach below the baseline, grid units.
+pub const DESCENDER: f32 = 2.0;
+
 /// Drawn for a character without a glyph.
 const MISSING: &[&str] = &["1131351511"];
 
-/// The strokes of a glyph: polylines, each a string of points as digit pairs `xy` on the grid.
+/// The strokes of a glyph: polylines, each a string of points as digit pairs `xy` on the grid
+/// (`/` is y = −1 and `.` is y = −2, for descenders).
 fn glyph(c: char) -> &'static [&'static str] {
+    if let Some(g) = lower_case(c) {
+        return g;
+    }
     match c.to_ascii_uppercase() {
         'A' => &["002640", "1333"],
         'B' => &["00063645443303", "3342413000"],
@@ -80,8 +89,43 @@ fn glyph(c: char) -> &'static [&'static str] {
     }
 }
 
+/// The lower-case letters: x-height 4, ascenders 6, descenders −2.
+fn lower_case(c: char) -> Option<&'static [&'static str]> {
+    Some(match c {
+        'a' => &["4440", "4334140301103041"],
+        'b' => &["0600", "0314344341301001"],
+        'c' => &["4334140301103041"],
+        'd' => &["4640", "4334140301103041"],
+        'e' => &["02424334140301103041"],
+        'f' => &["4536261510", "0434"],
+        'g' => &["4334140301103041", "444/3.1.0/"],
+        'h' => &["0600", "0314344340"],
+        'i' => &["142420", "1030", "2526"],
+        'j' => &["343/2.1.0/", "3536"],
+        'k' => &["0600", "3401", "1240"],
+        'l' => &["16262130"],
+        'm' => &["0400", "03142320", "23344340"],
+        'n' => &["0400", "0314344340"],
+        'o' => &["010314344341301001"],
+        'p' => &["040.", "0314344341301001"],
+        'q' => &["444.", "4334140301103041"],
+        'r' => &["0400", "02243443"],
+        's' => &["43341403123241301001"],
+        't' => &["1611203041", "0434"],
+        'u' => &["0401103041", "4440"],
+        'v' => &["042044"],
+        'w' => &["0410223044"],
+        'x' => &["0044", "0440"],
+        'y' => &["0420", "441."],
+        'z' => &["04440040"],
+        _ => return None,
+    })
+}
+
+/// A grid coordinate from its character: `0`..`9`, and `/` (−1) and `.` (−2) below the
+/// baseline.
 fn digit(b: u8) -> f32 {
-    f32::from(b.wrapping_sub(b'0'))
+    f32::from(b) - f32::from(b'0')
 }
 
 /// Width of `text` in pixels at `unit` pixels per grid unit (the last glyph's spacing left
@@ -149,7 +193,23 @@ mod tests {
                 }
             }
         }
-        assert_eq!(glyph('q'), glyph('Q'));
+        for c in 'a'..='z' {
+            let strokes = glyph(c);
+            assert!(!strokes.is_empty() && strokes != MISSING, "{c}");
+            assert_ne!(
+                strokes,
+                glyph(c.to_ascii_uppercase()),
+                "{c} has its own glyph"
+            );
+            for s in strokes {
+                assert!(s.len() >= 4 && s.len() % 2 == 0, "{c}: {s}");
+                for p in s.as_bytes().chunks_exact(2) {
+                    let (x, y) = (digit(p[0]), digit(p[1]));
+                    assert!((0.0..=4.0).contains(&x), "{c}: {s}");
+                    assert!((-DESCENDER..=6.0).contains(&y), "{c}: {s}");
+                }
+            }
+        }
         assert_eq!(glyph('#'), MISSING);
         assert!(glyph(' ').is_empty());
     }
@@ -182,10 +242,18 @@ mod tests {
                 assert!(p.y >= 20.0 && p.y <= 32.0 + 1e-3, "{p}");
             }
         }
-        // Lower case is drawn as capitals.
+        // Lower case has its own glyphs: units read m and s, not M and S; descenders reach
+        // below the baseline by at most DESCENDER units.
         let (mut a, mut b) = (Vec::new(), Vec::new());
         draw_label("t = 1.5 s", Vec2::ZERO, 6.0, &mut a);
         draw_label("T = 1.5 S", Vec2::ZERO, 6.0, &mut b);
-        assert_eq!(a, b);
+        assert_ne!(a, b);
+        let mut out = Vec::new();
+        draw_label("gjpqy m/s", Vec2::new(0.0, 20.0), 12.0, &mut out);
+        let lowest = out.iter().flat_map(|s| [s.a.y, s.b.y]).fold(0.0, f32::max);
+        assert!(
+            lowest > 32.0 && lowest <= 32.0 + DESCENDER * 2.0 + 1e-3,
+            "{lowest}"
+        );
     }
 }

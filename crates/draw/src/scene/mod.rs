@@ -1,6 +1,8 @@
 //! Scenes: what a frame shows, built from meshes, poses and cameras into a [`LineScene`] of
 //! clipped pixel segments. One room for every picture the program draws:
 //!
+//! * [`attitude`]: the one crossing between the aerospace angles people type and read and
+//!   the viewer's z-y-x math;
 //! * [`frame`]: a still of one model in a given attitude ([`ViewSpec`]), for `render`, the
 //!   golden images and the benchmarks;
 //! * [`builder::SceneBuilder`]: a frame of a flight over layers of world — the window's 10 km
@@ -17,6 +19,7 @@
 //! Pure: no I/O. Drawing the scenes is [`crate::render`]'s job, writing them
 //! [`crate::output`]'s.
 
+pub mod attitude;
 pub mod builder;
 pub mod euler;
 pub mod font;

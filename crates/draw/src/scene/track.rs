@@ -28,8 +28,9 @@ pub struct ModelTrack {
     pub window_starts: Vec<usize>,
     /// Position error |predicted − measured| per sample, m.
     pub error_m: Vec<f64>,
-    /// Error at the top of the error strip, m (default: the largest error). Give two tracks
-    /// the same scale to see the error fall between them.
+    /// The largest error of the model this one corrects (the base model before `--add`), m;
+    /// default: this track's own largest error. The strip is always scaled to this track's own
+    /// errors; when this is larger, the strip's title line gives it (`before: peak 18.2 m`).
     pub strip_scale_m: f64,
 }
 

@@ -198,7 +198,11 @@ pub enum ParamError {
         given: String,
     },
     /// A name that is not one of the effect's parameters.
-    #[error("effect `{effect}` has no parameter `{given}` (it has {})", .known.join(", "))]
+    #[error(
+        "effect `{effect}` has no parameter `{given}`{hint} (it has {})",
+        .known.join(", "),
+        hint = crate::params::suggest::hint(given, known.iter().copied())
+    )]
     Unknown {
         /// The effect.
         effect: &'static str,

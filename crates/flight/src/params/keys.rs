@@ -109,6 +109,11 @@ pub fn find(name: &str) -> Option<&'static AircraftKey> {
     KEYS.iter().find(|k| k.name == name)
 }
 
+/// `: did you mean `KEY`?` for the key nearest to a mistyped one, or nothing.
+pub fn did_you_mean(given: &str) -> String {
+    super::suggest::hint(given, KEYS.iter().map(|k| k.name))
+}
+
 /// The keys matching a pattern: a name, or a prefix ending in `*` (`c_m_*`).
 pub fn matching(pattern: &str) -> Vec<&'static AircraftKey> {
     match pattern.strip_suffix('*') {
@@ -123,8 +128,9 @@ pub fn matching(pattern: &str) -> Vec<&'static AircraftKey> {
 pub enum AircraftKeyError {
     /// Not a key of [`KEYS`].
     #[error(
-        "unknown aircraft parameter `{0}` (the keys of a parameter set, e.g. c_m_alpha, \
-         c_ell_p, mass_kg, jx; see assets/aircraft/aerosonde.toml)"
+        "unknown aircraft parameter `{0}`{hint} (`wireflight keys` lists the keys of a \
+         parameter set: c_m_alpha, c_ell_p, mass_kg, jx, …)",
+        hint = did_you_mean(.0)
     )]
     Unknown(String),
     /// A value outside the key's range, or not finite.
@@ -245,7 +251,11 @@ mod tests {
         assert!(message(set(&mut p, "mass_kg", -1.0).unwrap_err()).contains("range"));
         assert!(set(&mut p, "c_m_alpha", f64::NAN).is_err());
         assert!(message(set(&mut p, "jxz", 10.0).unwrap_err()).contains("singular"));
-        assert!(message(set(&mut p, "c_m_alfa", 1.0).unwrap_err()).contains("unknown"));
+        let typo = message(set(&mut p, "c_m_alfa", 1.0).unwrap_err());
+        assert!(
+            typo.contains("unknown") && typo.contains("did you mean `c_m_alpha`?"),
+            "{typo}"
+        );
         assert_eq!(p, before);
         assert_eq!(matching("c_m_*").len(), 4);
         assert_eq!(matching("c_ell_p").len(), 1);

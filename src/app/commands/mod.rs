@@ -1,0 +1,3 @@
+//! Small commands that only print what wireflight knows: `keys`.
+
+pub mod keys;
