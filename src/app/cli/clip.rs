@@ -16,6 +16,7 @@ Examples:
   wireflight clip --algo cohen-sutherland --depth minus-one-to-one --input e.csv --output o.csv
   wireflight clip --algo nicholl-lee-nicholl --window 2,2,4,4 --input 2d.csv --output o.csv
   wireflight clip --algo weiler-atherton --subject s.txt --clip c.txt --output o.txt --json
+  wireflight clip --algo weiler-atherton --demo --output wa-pictures/
 
 Input: one edge per line, x0,y0,z0,w0,x1,y1,z1,w1 (homogeneous clip space, visible where
 -w <= x,y <= w and 0 <= z <= w, or -w <= z <= w with --depth minus-one-to-one), or x0,y0,x1,y1
@@ -31,7 +32,8 @@ Every polygon of the subject file is clipped against the first polygon of the cl
 other polygons are not used). --op intersection (default) or difference. The output has the
 same format: each piece of the result as its outline (counter-clockwise), then each of its
 holes (clockwise) as a polygon of its own; --json prints the same polygons, which of them are
-holes, and the area. --picture draws subject, clip polygon and result (PNG).";
+holes, and the area. --picture draws subject, clip polygon and result (PNG). --demo writes
+the clipping lab's pictures of the degenerate cases into --output DIR instead.";
 
 /// Line clipping algorithms of the `clip` command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -102,6 +104,12 @@ pub struct ClipArgs {
     /// PNG, written atomically.
     #[arg(long, value_name = "FILE.png")]
     pub picture: Option<PathBuf>,
+    /// weiler-atherton: instead of clipping files, write the clipping lab's pictures
+    /// (concave pieces, a difference, a hole, a shared vertex, collinear edges, a vertex on an
+    /// edge) and a list of them into --output DIR, as a whole (a DIR from an earlier run is
+    /// replaced).
+    #[arg(long, conflicts_with_all = ["input", "subject", "clip", "op", "json", "picture", "window", "depth", "stats"])]
+    pub demo: bool,
     /// Clip 2D edges (x0,y0,x1,y1) against this window.
     #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", allow_hyphen_values = true, value_parser = parse_window, conflicts_with = "depth")]
     pub window: Option<Window2>,

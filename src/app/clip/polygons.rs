@@ -8,7 +8,9 @@
 //! outline (counter-clockwise), then each of its holes (clockwise), each as a polygon of its own.
 //! Every problem is reported as `FILE:LINE: problem` before anything is written; a polygon
 //! that is not simple is refused with the two edges (by the lines of their ends) and the point
-//! where they meet.
+//! where they meet. `--demo` writes the clipping lab's pictures instead ([`demo`]).
+
+mod demo;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -184,9 +186,12 @@ pub fn validate(
     })
 }
 
+/// Which rings are one piece's: the index of its outline and of each of its holes.
+type PieceRings = (usize, Vec<usize>);
+
 /// The rings of pieces, each outline followed by its holes; and per piece the index of its
 /// outline and of its holes among them.
-fn rings(pieces: &[Piece]) -> (Vec<&[DVec2]>, Vec<(usize, Vec<usize>)>) {
+fn rings(pieces: &[Piece]) -> (Vec<&[DVec2]>, Vec<PieceRings>) {
     let mut rings: Vec<&[DVec2]> = Vec::new();
     let mut index = Vec::new();
     for p in pieces {
@@ -220,7 +225,7 @@ pub fn format_polygons(rings: &[&[DVec2]]) -> String {
 }
 
 /// The `--json` text (one line).
-fn format_json(rings: &[&[DVec2]], index: &[(usize, Vec<usize>)], area: f64) -> String {
+fn format_json(rings: &[&[DVec2]], index: &[PieceRings], area: f64) -> String {
     let join = |items: Vec<String>| items.join(", ");
     let polygons = join(
         rings
@@ -256,6 +261,53 @@ const SUBJECT: Rgba = [90, 150, 255, 255];
 const CLIP: Rgba = [255, 160, 60, 255];
 const RESULT: Rgba = [80, 255, 120, 255];
 
+/// A drawing in its own units (y up) fitted into a rectangle of pixels (y down), keeping
+/// its aspect, centred.
+struct Fit {
+    scale: f64,
+    centre: DVec2,
+    middle: DVec2,
+}
+
+impl Fit {
+    /// Fit the bounding box of `points` into the pixel rectangle `lo`..`hi`.
+    fn new<'a>(points: impl Iterator<Item = &'a DVec2>, lo: DVec2, hi: DVec2) -> Fit {
+        let (min, max) = points.fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(min, max), &v| (min.min(v), max.max(v)),
+        );
+        // A single point (or none) still gets a finite scale.
+        let size = (max - min).max(DVec2::splat(f64::MIN_POSITIVE));
+        let room = hi - lo;
+        Fit {
+            scale: (room.x / size.x).min(room.y / size.y),
+            centre: (min + max) * 0.5,
+            middle: (lo + hi) * 0.5,
+        }
+    }
+
+    /// Where a point lands, pixels.
+    fn px(&self, v: DVec2) -> Vec2 {
+        let p = (v - self.centre) * self.scale;
+        Vec2::new((self.middle.x + p.x) as f32, (self.middle.y - p.y) as f32)
+    }
+
+    /// The outlines of closed rings, one colour.
+    fn outlines<'a>(&self, rings: impl Iterator<Item = &'a [DVec2]>, color: Rgba) -> LineBatch {
+        LineBatch {
+            color,
+            segments: rings
+                .flat_map(|r| {
+                    (0..r.len()).map(move |i| Segment2 {
+                        a: self.px(r[i]),
+                        b: self.px(r[(i + 1) % r.len()]),
+                    })
+                })
+                .collect(),
+        }
+    }
+}
+
 /// The picture: subject, clip polygon and result outlines, fitted with a margin (y up).
 fn picture(subjects: &[&[DVec2]], clip: &[DVec2], result: &[&[DVec2]]) -> LineScene {
     let (w, h) = PICTURE;
@@ -263,40 +315,19 @@ fn picture(subjects: &[&[DVec2]], clip: &[DVec2], result: &[&[DVec2]]) -> LineSc
         .iter()
         .chain(std::iter::once(&clip))
         .flat_map(|r| r.iter());
-    let (lo, hi) = all.fold(
-        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
-        |(lo, hi), &v| (lo.min(v), hi.max(v)),
+    let fit = Fit::new(
+        all,
+        DVec2::splat(MARGIN),
+        DVec2::new(f64::from(w) - MARGIN, f64::from(h) - MARGIN),
     );
-    let size = (hi - lo).max(DVec2::splat(f64::MIN_POSITIVE));
-    let scale =
-        ((f64::from(w) - 2.0 * MARGIN) / size.x).min((f64::from(h) - 2.0 * MARGIN) / size.y);
-    let centre = (lo + hi) * 0.5;
-    let to_pixels = |v: DVec2| {
-        let p = (v - centre) * scale;
-        Vec2::new(
-            (f64::from(w) * 0.5 + p.x) as f32,
-            (f64::from(h) * 0.5 - p.y) as f32,
-        )
-    };
-    let batch = |rings: &mut dyn Iterator<Item = &[DVec2]>, color: Rgba| LineBatch {
-        color,
-        segments: rings
-            .flat_map(|r| {
-                (0..r.len()).map(move |i| Segment2 {
-                    a: to_pixels(r[i]),
-                    b: to_pixels(r[(i + 1) % r.len()]),
-                })
-            })
-            .collect(),
-    };
     LineScene {
         width: w,
         height: h,
         background: crate::scene::palette::BACKGROUND,
         batches: vec![
-            batch(&mut subjects.iter().copied(), SUBJECT),
-            batch(&mut std::iter::once(clip), CLIP),
-            batch(&mut result.iter().copied(), RESULT),
+            fit.outlines(subjects.iter().copied(), SUBJECT),
+            fit.outlines(std::iter::once(clip), CLIP),
+            fit.outlines(result.iter().copied(), RESULT),
         ],
     }
 }
@@ -313,6 +344,10 @@ fn load(path: &Path, max_bytes: u64) -> anyhow::Result<Vec<FilePolygon>> {
 /// A missing or refused option, an unreadable or malformed polygon file (`FILE:LINE: problem`),
 /// an unwritable output. Nothing is written then.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+    if args.demo {
+        // The demo's options are kept apart from the files' by clap (`conflicts_with_all`).
+        return demo::run(args);
+    }
     for (given, option) in [
         (args.input.is_some(), "--input (give --subject and --clip)"),
         (args.window.is_some(), "--window"),

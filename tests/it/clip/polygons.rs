@@ -1,7 +1,8 @@
 //! `wireflight clip --algo weiler-atherton` end to end: intersection and difference through the
 //! polygon files, several subject polygons, holes, `--json`, `--picture`; bad files
 //! (`FILE:LINE: problem`, exit status 2, nothing written) and options refused with other
-//! algorithms. `fuzz_check.rs` is the fuzz target's check, replayed by `corpus`.
+//! algorithms; `--demo`'s pictures. `fuzz_check.rs` is the fuzz target's check, replayed by
+//! `corpus`.
 
 pub(crate) mod fuzz_check;
 
@@ -267,4 +268,143 @@ fn options_belong_to_their_algorithms() {
         );
         assert!(!Path::new(out).exists());
     }
+}
+
+/// The demo's pictures, by file name.
+const DEMO: [&str; 6] = [
+    "concave-pieces.png",
+    "difference.png",
+    "hole.png",
+    "shared-vertex.png",
+    "collinear-overlap.png",
+    "vertex-on-edge.png",
+];
+
+fn demo(out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "clip",
+        "--algo",
+        "weiler-atherton",
+        "--demo",
+        "--output",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    wireflight(&args)
+}
+
+#[test]
+fn demo_writes_every_picture_in_its_colours() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("wa");
+    let o = demo(&out, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let said = text(&o.stdout);
+    assert!(
+        said.starts_with("wrote 6 pictures (concave-pieces.png, difference.png")
+            && said.contains("and wireflight-clip-demo.txt to"),
+        "{said}"
+    );
+    let manifest = std::fs::read_to_string(out.join("wireflight-clip-demo.txt")).unwrap();
+    // The results, counted by the clipper: the cases' points.
+    for line in [
+        "concave-pieces.png\t640x480\tconcave comb and concave c; result: 8 pieces, 0 holes, area 8",
+        "difference.png\t640x480\tconcave comb minus concave c; result: 9 pieces, 0 holes, area 15",
+        "hole.png\t640x480\tone inside the other; result: 1 piece, 1 hole,",
+        "shared-vertex.png\t640x480\tshared vertex; result: 1 piece, 0 holes, area 12.625",
+        "collinear-overlap.png\t640x480\tcollinear overlapping edges; result: 1 piece, 0 holes, area 4",
+        "vertex-on-edge.png\t640x480\tvertex on an edge; result: 2 pieces, 0 holes, area 6",
+    ] {
+        assert!(manifest.contains(line), "{line}\n{manifest}");
+    }
+    // Subject, clip polygon, result outline and hatching each drawn, in their own colours.
+    let colours: [(&str, [u8; 4]); 4] = [
+        ("subject", [90, 150, 255, 255]),
+        ("clip polygon", [255, 160, 60, 255]),
+        ("result", [80, 255, 120, 255]),
+        ("hatching", [30, 110, 55, 255]),
+    ];
+    for name in DEMO {
+        let image =
+            wireflight::render::Image::decode_png(&std::fs::read(out.join(name)).unwrap()).unwrap();
+        assert_eq!((image.width, image.height), (640, 480), "{name}");
+        let mut count = std::collections::HashMap::new();
+        for y in 0..image.height {
+            for x in 0..image.width {
+                *count.entry(image.pixel(x, y)).or_insert(0usize) += 1;
+            }
+        }
+        for (what, colour) in colours {
+            // A few hundred pixels at least: an outline, not a stray dot.
+            let n = count.get(&colour).copied().unwrap_or(0);
+            assert!(n >= 200, "{name}: {what} has {n} pixels");
+        }
+    }
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), DEMO.len() + 1);
+    // Run again into the same directory: replaced as a whole.
+    let o = demo(&out, &[]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(std::fs::read_dir(&out).unwrap().count(), DEMO.len() + 1);
+}
+
+#[test]
+fn demo_refuses_what_it_would_overwrite_and_foreign_options() {
+    let dir = tempfile::tempdir().unwrap();
+    // Not a directory; a directory of someone else's files: refused, left as they were.
+    let file = dir.path().join("notes.txt");
+    std::fs::write(&file, "mine").unwrap();
+    let theirs = dir.path().join("theirs");
+    std::fs::create_dir(&theirs).unwrap();
+    std::fs::write(theirs.join("a.png"), "theirs").unwrap();
+    for (out, want) in [
+        (&file, "exists and is not a directory"),
+        (&theirs, "was not written by this command"),
+    ] {
+        let o = demo(out, &[]);
+        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains(want) && err.contains("--output") && !err.contains("panicked"),
+            "{err}"
+        );
+    }
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), "mine");
+    assert_eq!(
+        std::fs::read_to_string(theirs.join("a.png")).unwrap(),
+        "theirs"
+    );
+    assert_eq!(std::fs::read_dir(&theirs).unwrap().count(), 1);
+    // The files' options do not mix with it, and other algorithms have no demo.
+    let out = dir.path().join("wa");
+    for (extra, want) in [
+        (&["--subject", "s.txt"][..], "cannot be used with"),
+        (&["--json"][..], "cannot be used with"),
+        (&["--picture", "p.png"][..], "cannot be used with"),
+    ] {
+        let o = demo(&out, extra);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}");
+        assert!(text(&o.stderr).contains(want), "{}", text(&o.stderr));
+    }
+    let o = wireflight(&[
+        "clip",
+        "--algo",
+        "blinn",
+        "--demo",
+        "--output",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        text(&o.stderr).contains("--algo blinn clips edges: give --input"),
+        "{}",
+        text(&o.stderr)
+    );
+    assert!(!out.exists());
+    // Nothing was left beside them (no staging directory).
+    let mut left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["notes.txt", "theirs"]);
 }

@@ -14,15 +14,20 @@
 //!    later, a spike doubling back are all refused, with the two edges and the point named).
 //!    Both polygons are then turned counter-clockwise (interior on the left of every edge).
 //! 2. **Split** every edge at every point where it meets an edge of the other polygon. A vertex
-//!    of one polygon lying on an edge of the other is the *same* point (the input vertex,
+//!    of one polygon lying on an edge of the other is the *same* node (the input vertex,
 //!    exactly, no computed crossing), and collinear overlapping edges are split at each other's
-//!    ends, so an overlap becomes the same pair of vertices in both polygons. Proper crossings
-//!    are computed once per pair from orientation tests and shared by both edges. Points are
-//!    identified by their exact coordinates: the graph's vertices.
+//!    ends, so an overlap becomes the same pair of nodes in both polygons. A proper crossing is
+//!    a node of its own, named by its pair of edges (no other edge of two simple polygons
+//!    passes through it), shared by both edges; its rounded coordinates are only for the
+//!    output. Input vertices are identified by their exact coordinates. The split points of an
+//!    edge are ordered along it exactly.
 //! 3. **Classify** each piece of edge ("sub-edge"): *shared* when the other polygon has the
 //!    same sub-edge, in the same or the opposite direction; otherwise *inside* or *outside*
-//!    the other polygon by its midpoint (which cannot lie on the other boundary: the sub-edge
-//!    meets it only at its ends).
+//!    the other polygon as a whole (its open interior meets the other boundary nowhere),
+//!    decided where it starts, from the input coordinates alone: at a vertex of the other
+//!    polygon, whether the edge points into its angle there; inside an edge of the other
+//!    polygon (a crossing, a vertex on that edge), whether it points to that edge's left; off
+//!    the other boundary (a vertex of its own polygon), whether that vertex is inside.
 //! 4. **Select** the boundary of the result: for the intersection A ∩ B, the sub-edges of A
 //!    inside B, of B inside A, and shared edges running the same way (once); for the
 //!    difference A − B, those of A outside B, of B inside A *reversed*, and shared edges of A
@@ -30,10 +35,11 @@
 //! 5. **Trace** the selected edges into closed loops. Where several selected edges leave a
 //!    vertex (pieces touching at a point), the loop takes the one turning most sharply left
 //!    of the way it came, the first clockwise from the reversed incoming direction: the
-//!    smallest face. That is the "change links at vertices" of the seed.
-//! 6. **Assemble**: counter-clockwise loops are pieces, clockwise loops (only the difference
-//!    has them: the clip polygon strictly inside the subject) are holes of the smallest piece
-//!    that contains them.
+//!    smallest face. That is the "change links at vertices" of the seed. Directions are those
+//!    of the input edges, compared exactly.
+//! 6. **Assemble**: loops are pieces, counter-clockwise, except a loop made only of reversed
+//!    clip edges: only a difference has them (the clip polygon strictly inside the subject),
+//!    and they are holes of the smallest piece that contains them.
 //!
 //! # The boundary rule
 //!
@@ -67,17 +73,33 @@
 //!
 //! # Numbers
 //!
-//! `f64` throughout. Orientation tests are the plain determinant, exact when the coordinates
-//! are integers (or multiples of one power of two) below about 2²⁵, which is where the
-//! degenerate cases live: a vertex on an edge, collinear overlaps and shared vertices are then
-//! found exactly and handled by identity, not by tolerance. With general floating-point
-//! coordinates an exact degeneracy is rare, and a near one is decided by the rounded sign,
-//! consistently for each pair of edges because each test is computed once.
+//! Every decision is exact for any finite `f64` input, however near-degenerate: the tests are
+//! orientations and turns of input points and directions, and the order of split points along
+//! an edge, all computed in `f64` with an error bound and recomputed in exact arithmetic when
+//! the rounded value is within it (`weiler_atherton/predicates.rs`: Shewchuk's filter;
+//! `weiler_atherton/exact.rs`: dyadic numbers). A vertex 10⁻²⁰ from an edge 10⁶ long is off it, and on the side it is on, in
+//! every test; an exact touch is a touch. Rounding enters only where a crossing's coordinates
+//! are written out (to within a few units in the last place of the coordinates, inside both
+//! edges' bounding boxes); the topology of the result never depends on them. A piece thinner
+//! than that rounding may come out with an area of 0 or of the wrong sign, and one whose
+//! rounded vertices collapse below 3 distinct points is dropped.
+//!
+//! Before the exact predicates, near-degenerate input (found by the fuzz target, e.g. the
+//! vertex (7.8·10⁻²⁰, 0) of an edge ending at (0, 4·10⁵) beside a triangle with a vertex at the
+//! origin) was decided by rounded signs that contradicted each other, and whole pieces were
+//! lost, or B ∩ A came out empty while A ∩ B did not.
 
+mod exact;
+mod predicates;
+
+use std::cmp::Ordering;
 use std::collections::HashMap;
-use std::f64::consts::TAU;
 
 use glam::DVec2;
+
+use predicates::{
+    compare_along, cross, crossing_parameter, orient, point_at, same_direction, within, Split,
+};
 
 /// Which of the two polygons an error is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -266,36 +288,46 @@ fn prepare(polygon: &[DVec2], which: Which) -> Result<Vec<DVec2>, PolygonError> 
         });
     }
     check_simple(&ring, which)?;
-    if signed_area(&ring) < 0.0 {
+    if clockwise_ring(&ring) {
         ring.reverse();
     }
     Ok(ring)
 }
 
-/// Orientation of c relative to the line a→b: > 0 left, < 0 right, 0 on it.
-#[inline]
-fn orient(a: DVec2, b: DVec2, c: DVec2) -> f64 {
-    (b - a).perp_dot(c - a)
-}
-
-/// Whether `p`, known collinear with segment a–b, lies on the closed segment.
-#[inline]
-fn within(a: DVec2, b: DVec2, p: DVec2) -> bool {
-    p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+/// Whether a simple ring runs clockwise, by the exact turn at its lowest (then leftmost)
+/// vertex: a simple polygon is convex there, and the turn is never straight (a neighbour
+/// in line would be lower or further left). The sign of the shoelace sum would do in exact
+/// arithmetic; rounded, it is 0 or wrong for slivers.
+fn clockwise_ring(ring: &[DVec2]) -> bool {
+    let n = ring.len();
+    let lowest = (0..n)
+        .min_by(|&i, &j| {
+            let (a, b) = (ring[i], ring[j]);
+            a.y.total_cmp(&b.y).then(a.x.total_cmp(&b.x))
+        })
+        .unwrap_or(0);
+    let (u, v, w) = (
+        ring[(lowest + n - 1) % n],
+        ring[lowest],
+        ring[(lowest + 1) % n],
+    );
+    orient(u, v, w) == Ordering::Less
 }
 
 /// How two segments p0–p1 and q0–q1 meet.
 enum Meet {
     None,
     /// Cross at one point interior to both.
-    Cross(DVec2),
+    Cross,
     /// Touch or overlap: the endpoints of each lying on the other, as
     /// `[q0 on p, q1 on p, p0 on q, p1 on q]`.
     Touch([bool; 4]),
 }
 
+/// How two segments meet, from exact orientations: a touch is a touch however close the
+/// numbers, and a crossing is interior to both segments.
 fn meet(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Meet {
-    // Bounding boxes first: cheap, and makes `within` below a containment test.
+    // Bounding boxes first: cheap, exact, and makes `within` below a containment test.
     if p0.x.max(p1.x) < q0.x.min(q1.x)
         || q0.x.max(q1.x) < p0.x.min(p1.x)
         || p0.y.max(p1.y) < q0.y.min(q1.y)
@@ -307,24 +339,29 @@ fn meet(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> Meet {
     let o2 = orient(p0, p1, q1);
     let o3 = orient(q0, q1, p0);
     let o4 = orient(q0, q1, p1);
-    if o1 != 0.0 && o2 != 0.0 && o3 != 0.0 && o4 != 0.0 {
-        if (o1 > 0.0) != (o2 > 0.0) && (o3 > 0.0) != (o4 > 0.0) {
-            let t = o3 / (o3 - o4);
-            return Meet::Cross(p0 + t * (p1 - p0));
+    let zero = Ordering::Equal;
+    if o1 != zero && o2 != zero && o3 != zero && o4 != zero {
+        if o1 != o2 && o3 != o4 {
+            return Meet::Cross;
         }
         return Meet::None;
     }
     let on = [
-        o1 == 0.0 && within(p0, p1, q0),
-        o2 == 0.0 && within(p0, p1, q1),
-        o3 == 0.0 && within(q0, q1, p0),
-        o4 == 0.0 && within(q0, q1, p1),
+        o1 == zero && within(p0, p1, q0),
+        o2 == zero && within(p0, p1, q1),
+        o3 == zero && within(q0, q1, p0),
+        o4 == zero && within(q0, q1, p1),
     ];
     if on.iter().any(|&b| b) {
         Meet::Touch(on)
     } else {
         Meet::None
     }
+}
+
+/// Where p0–p1 crosses q0–q1 (they do), rounded.
+fn crossing_point(p0: DVec2, p1: DVec2, q0: DVec2, q1: DVec2) -> DVec2 {
+    point_at(p0, p1, crossing_parameter(p0, p1, q0, q1)).clamp(q0.min(q1), q0.max(q1))
 }
 
 fn check_simple(ring: &[DVec2], which: Which) -> Result<(), PolygonError> {
@@ -340,7 +377,7 @@ fn check_simple(ring: &[DVec2], which: Which) -> Result<(), PolygonError> {
         // The neighbour i+1 shares ring[i+1]: it may only turn, not double back.
         let (a, b) = edge(i);
         let c = ring[(i + 2) % n];
-        if orient(a, b, c) == 0.0 && (c - b).dot(a - b) > 0.0 {
+        if orient(a, b, c) == Ordering::Equal && same_direction(b, c, b, a) {
             // c lies back along b→a, or a lies along b→c: the nearer one is on both.
             let at = if (c - b).length_squared() <= (a - b).length_squared() {
                 c
@@ -356,7 +393,7 @@ fn check_simple(ring: &[DVec2], which: Which) -> Result<(), PolygonError> {
             let (c, d) = edge(j);
             match meet(a, b, c, d) {
                 Meet::None => {}
-                Meet::Cross(at) => return Err(err(i, j, at)),
+                Meet::Cross => return Err(err(i, j, crossing_point(a, b, c, d))),
                 Meet::Touch(on) => {
                     let at = [c, d, a, b][on.iter().position(|&x| x).unwrap_or(0)];
                     return Err(err(i, j, at));
@@ -385,51 +422,77 @@ enum Class {
     SharedOpposite,
 }
 
-/// A piece of an input edge between consecutive graph vertices.
+/// A point of the graph: an input vertex (of one polygon or both) or a crossing, with where
+/// it lies on each polygon's boundary. Index 0 is the subject, 1 the clip polygon.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    /// Its coordinates: exact for a vertex, rounded for a crossing (which is identified by
+    /// its pair of edges, never by its coordinates).
+    at: DVec2,
+    /// Which vertex of each polygon it is.
+    vertex: [Option<usize>; 2],
+    /// Which edge of each polygon it lies inside of (strictly between the edge's ends).
+    edge: [Option<usize>; 2],
+}
+
+/// A piece of an input edge between consecutive graph nodes; it runs the way its edge does.
 #[derive(Clone, Copy, Debug)]
 struct SubEdge {
     from: usize,
     to: usize,
     /// 0: subject, 1: clip.
-    owner: u8,
+    owner: usize,
+    /// The input edge it is part of.
+    edge: usize,
     class: Class,
 }
 
+/// A selected edge of a result's boundary, directed as the result runs.
+#[derive(Clone, Copy, Debug)]
+struct Directed {
+    from: usize,
+    to: usize,
+    /// Two input points whose difference is its direction (exact, unlike the rounded ends
+    /// of a piece between crossings).
+    dir: (DVec2, DVec2),
+    /// Whether it runs against its input edge (the clip polygon's, in a difference).
+    reversed: bool,
+}
+
 /// The split polygons: the seed's "crossing points replaced with vertices".
-struct Graph {
-    points: Vec<DVec2>,
+struct Graph<'a> {
+    rings: [&'a [DVec2]; 2],
+    nodes: Vec<Node>,
     edges: Vec<SubEdge>,
 }
 
-/// Graph vertices by exact coordinates.
-struct Points {
-    points: Vec<DVec2>,
-    ids: HashMap<(u64, u64), usize>,
-}
-
-impl Points {
-    fn id(&mut self, p: DVec2) -> usize {
-        let p = p + DVec2::ZERO; // -0.0 → 0.0
-        let key = (p.x.to_bits(), p.y.to_bits());
-        let next = self.points.len();
-        *self.ids.entry(key).or_insert_with(|| {
-            self.points.push(p);
-            next
-        })
-    }
-}
-
-impl Graph {
-    fn build(a: &[DVec2], b: &[DVec2]) -> Graph {
-        let mut pts = Points {
-            points: Vec::with_capacity(a.len() + b.len()),
-            ids: HashMap::new(),
-        };
-        let ida: Vec<usize> = a.iter().map(|&p| pts.id(p)).collect();
-        let idb: Vec<usize> = b.iter().map(|&p| pts.id(p)).collect();
-        // Split points of every edge (besides its ends).
-        let mut split_a: Vec<Vec<usize>> = vec![Vec::new(); a.len()];
-        let mut split_b: Vec<Vec<usize>> = vec![Vec::new(); b.len()];
+impl<'a> Graph<'a> {
+    fn build(a: &'a [DVec2], b: &'a [DVec2]) -> Graph<'a> {
+        let rings = [a, b];
+        let mut nodes: Vec<Node> = Vec::with_capacity(a.len() + b.len());
+        // Input vertices by exact coordinates: a vertex of both polygons is one node.
+        let mut by_point: HashMap<(u64, u64), usize> = HashMap::new();
+        let mut ids: [Vec<usize>; 2] = [Vec::new(), Vec::new()];
+        for (k, ring) in rings.iter().enumerate() {
+            for (i, &p) in ring.iter().enumerate() {
+                let next = nodes.len();
+                let id = *by_point
+                    .entry((p.x.to_bits(), p.y.to_bits()))
+                    .or_insert(next);
+                if id == next {
+                    nodes.push(Node {
+                        at: p,
+                        vertex: [None, None],
+                        edge: [None, None],
+                    });
+                }
+                nodes[id].vertex[k] = Some(i);
+                ids[k].push(id);
+            }
+        }
+        // Split points of every edge (besides its ends), with where they lie along it.
+        let mut splits: [Vec<Vec<(usize, Split, f64)>>; 2] =
+            [vec![Vec::new(); a.len()], vec![Vec::new(); b.len()]];
         let (na, nb) = (a.len(), b.len());
         for i in 0..na {
             let (p0, p1) = (a[i], a[(i + 1) % na]);
@@ -437,73 +500,142 @@ impl Graph {
                 let (q0, q1) = (b[j], b[(j + 1) % nb]);
                 match meet(p0, p1, q0, q1) {
                     Meet::None => {}
-                    Meet::Cross(x) => {
-                        let id = pts.id(x);
-                        split_a[i].push(id);
-                        split_b[j].push(id);
+                    Meet::Cross => {
+                        // A crossing is interior to both edges, so no other pair of edges
+                        // (of simple polygons) passes through it: a node of its own.
+                        let (ta, tb) = (
+                            crossing_parameter(p0, p1, q0, q1),
+                            crossing_parameter(q0, q1, p0, p1),
+                        );
+                        let id = nodes.len();
+                        nodes.push(Node {
+                            at: point_at(p0, p1, ta).clamp(q0.min(q1), q0.max(q1)),
+                            vertex: [None, None],
+                            edge: [Some(i), Some(j)],
+                        });
+                        splits[0][i].push((id, Split::Crossing(q0, q1), ta));
+                        splits[1][j].push((id, Split::Crossing(p0, p1), tb));
                     }
                     Meet::Touch(on) => {
-                        if on[0] {
-                            split_a[i].push(idb[j]);
-                        }
-                        if on[1] {
-                            split_a[i].push(idb[(j + 1) % nb]);
-                        }
-                        if on[2] {
-                            split_b[j].push(ida[i]);
-                        }
-                        if on[3] {
-                            split_b[j].push(ida[(i + 1) % na]);
+                        // A vertex of one polygon on an edge of the other: the same node in
+                        // both, splitting that edge unless it is one of the edge's ends.
+                        let touching = [
+                            (on[0], 1, j, 0, i),
+                            (on[1], 1, (j + 1) % nb, 0, i),
+                            (on[2], 0, i, 1, j),
+                            (on[3], 0, (i + 1) % na, 1, j),
+                        ];
+                        for (is_on, kv, v, ke, e) in touching {
+                            if !is_on {
+                                continue;
+                            }
+                            let id = ids[kv][v];
+                            let ring = rings[ke];
+                            let (e0, e1) = (ring[e], ring[(e + 1) % ring.len()]);
+                            if id == ids[ke][e] || id == ids[ke][(e + 1) % ring.len()] {
+                                continue;
+                            }
+                            nodes[id].edge[ke] = Some(e);
+                            let at = Split::Vertex(rings[kv][v]);
+                            splits[ke][e].push((id, at, at.approximate(e0, e1)));
                         }
                     }
                 }
             }
         }
         let mut edges = Vec::new();
-        sub_edges(&pts.points, &ida, &mut split_a, 0, &mut edges);
-        sub_edges(&pts.points, &idb, &mut split_b, 1, &mut edges);
-        // Shared sub-edges: the same pair of vertices in both polygons.
+        for (k, ring) in rings.iter().enumerate() {
+            sub_edges(ring, &ids[k], &mut splits[k], k, &mut edges);
+        }
+        let mut graph = Graph {
+            rings,
+            nodes,
+            edges,
+        };
+        graph.classify();
+        graph
+    }
+
+    /// Classify every sub-edge: shared when the other polygon has the same pair of nodes;
+    /// otherwise by where it starts ([`Graph::leaves_into`]).
+    fn classify(&mut self) {
         let mut of_b: HashMap<(usize, usize), usize> = HashMap::new();
-        for (k, e) in edges.iter().enumerate() {
+        for (k, e) in self.edges.iter().enumerate() {
             if e.owner == 1 {
                 of_b.insert((e.from, e.to), k);
             }
         }
-        let mut shared = vec![None; edges.len()];
-        for (k, e) in edges.iter().enumerate() {
+        let mut classes: Vec<Option<Class>> = vec![None; self.edges.len()];
+        for (k, e) in self.edges.iter().enumerate() {
             if e.owner != 0 {
                 continue;
             }
             if let Some(&m) = of_b.get(&(e.from, e.to)) {
-                shared[k] = Some(Class::SharedSame);
-                shared[m] = Some(Class::SharedSame);
+                classes[k] = Some(Class::SharedSame);
+                classes[m] = Some(Class::SharedSame);
             } else if let Some(&m) = of_b.get(&(e.to, e.from)) {
-                shared[k] = Some(Class::SharedOpposite);
-                shared[m] = Some(Class::SharedOpposite);
+                classes[k] = Some(Class::SharedOpposite);
+                classes[m] = Some(Class::SharedOpposite);
             }
         }
-        for (e, s) in edges.iter_mut().zip(shared) {
-            e.class = s.unwrap_or_else(|| {
-                let mid = 0.5 * (pts.points[e.from] + pts.points[e.to]);
-                let other = if e.owner == 0 { b } else { a };
-                if contains(other, mid) {
+        for (k, class) in classes.into_iter().enumerate() {
+            let e = self.edges[k];
+            self.edges[k].class = class.unwrap_or_else(|| {
+                if self.leaves_into(&e) {
                     Class::Inside
                 } else {
                     Class::Outside
                 }
             });
         }
-        Graph {
-            points: pts.points,
-            edges,
+    }
+
+    /// The ends of edge `e` of polygon `k`.
+    fn ends(&self, k: usize, e: usize) -> (DVec2, DVec2) {
+        let ring = self.rings[k];
+        (ring[e], ring[(e + 1) % ring.len()])
+    }
+
+    /// Whether a sub-edge (not shared) runs inside the other polygon. Its open interior meets
+    /// the other boundary nowhere (every meeting is a node), so it is inside or outside as a
+    /// whole, as just after its start. Decided there, from input coordinates only:
+    ///
+    /// * the start is a vertex of the other polygon: whether the edge's direction points into
+    ///   the angle of the other polygon at that vertex;
+    /// * it lies inside an edge of the other polygon (a crossing, or a vertex on that edge):
+    ///   whether the direction points to the left of that edge (both run counter-clockwise);
+    /// * it is off the other boundary (a vertex of this polygon): whether it is inside.
+    fn leaves_into(&self, e: &SubEdge) -> bool {
+        let other = 1 - e.owner;
+        let (d0, d1) = self.ends(e.owner, e.edge);
+        let start = &self.nodes[e.from];
+        if let Some(v) = start.vertex[other] {
+            let ring = self.rings[other];
+            let n = ring.len();
+            let (u, v, w) = (ring[(v + n - 1) % n], ring[v], ring[(v + 1) % n]);
+            // The angle runs counter-clockwise from v→w round to v→u.
+            let left_of_out = cross(v, w, d0, d1) == Ordering::Greater;
+            let right_of_in = cross(d0, d1, v, u) == Ordering::Greater;
+            match orient(u, v, w) {
+                // Convex: inside both half-planes. Reflex: inside either.
+                Ordering::Greater => left_of_out && right_of_in,
+                Ordering::Less => left_of_out || right_of_in,
+                // Straight through: the half-plane left of the line.
+                Ordering::Equal => left_of_out,
+            }
+        } else if let Some(g) = start.edge[other] {
+            let (g0, g1) = self.ends(other, g);
+            cross(g0, g1, d0, d1) == Ordering::Greater
+        } else {
+            contains(self.rings[other], start.at)
         }
     }
 
-    /// The selected boundary of `op`, as directed (from, to) pairs.
-    fn select(&self, op: Op) -> Vec<(usize, usize)> {
+    /// The selected boundary of `op`, directed.
+    fn select(&self, op: Op) -> Vec<Directed> {
         let mut out = Vec::new();
         for e in &self.edges {
-            let keep = match (op, e.owner, e.class) {
+            let reverse = match (op, e.owner, e.class) {
                 (Op::Intersection, _, Class::Inside) => Some(false),
                 (Op::Intersection, 0, Class::SharedSame) => Some(false),
                 (Op::Difference, 0, Class::Outside) => Some(false),
@@ -511,9 +643,20 @@ impl Graph {
                 (Op::Difference, 1, Class::Inside) => Some(true),
                 _ => None,
             };
-            match keep {
-                Some(false) => out.push((e.from, e.to)),
-                Some(true) => out.push((e.to, e.from)),
+            let (d0, d1) = self.ends(e.owner, e.edge);
+            match reverse {
+                Some(false) => out.push(Directed {
+                    from: e.from,
+                    to: e.to,
+                    dir: (d0, d1),
+                    reversed: false,
+                }),
+                Some(true) => out.push(Directed {
+                    from: e.to,
+                    to: e.from,
+                    dir: (d1, d0),
+                    reversed: true,
+                }),
                 None => {}
             }
         }
@@ -521,37 +664,41 @@ impl Graph {
     }
 
     fn result(&self, op: Op) -> Vec<Piece> {
-        let loops = trace(&self.points, &self.select(op));
-        assemble(loops)
+        let loops = trace(&self.select(op));
+        let points =
+            |ring: &[usize]| -> Vec<DVec2> { ring.iter().map(|&v| self.nodes[v].at).collect() };
+        assemble(
+            loops
+                .iter()
+                .map(|(ring, forward)| (points(ring), *forward))
+                .collect(),
+        )
     }
 }
 
 /// Cut each edge of a ring at its split points (sorted along it) into sub-edges.
 fn sub_edges(
-    points: &[DVec2],
+    ring: &[DVec2],
     ids: &[usize],
-    splits: &mut [Vec<usize>],
-    owner: u8,
+    splits: &mut [Vec<(usize, Split, f64)>],
+    owner: usize,
     out: &mut Vec<SubEdge>,
 ) {
     let n = ids.len();
     for i in 0..n {
         let (s, t) = (ids[i], ids[(i + 1) % n]);
-        let (p0, p1) = (points[s], points[t]);
-        let dir = p1 - p0;
+        let (e0, e1) = (ring[i], ring[(i + 1) % n]);
         let list = &mut splits[i];
-        list.retain(|&v| v != s && v != t);
-        list.sort_by(|&u, &v| {
-            let (du, dv) = ((points[u] - p0).dot(dir), (points[v] - p0).dot(dir));
-            du.total_cmp(&dv).then(u.cmp(&v))
-        });
-        list.dedup();
+        list.sort_by(|x, y| compare_along(e0, e1, (x.1, x.2), (y.1, y.2)).then(x.0.cmp(&y.0)));
+        // A vertex on two edges of the other polygon (their shared end) is listed twice.
+        list.dedup_by_key(|x| x.0);
         let mut from = s;
-        for &v in list.iter().chain(std::iter::once(&t)) {
+        for v in list.iter().map(|x| x.0).chain(std::iter::once(t)) {
             out.push(SubEdge {
                 from,
                 to: v,
                 owner,
+                edge: i,
                 class: Class::Outside,
             });
             from = v;
@@ -559,7 +706,8 @@ fn sub_edges(
     }
 }
 
-/// Whether `p` lies inside a ring (crossing number; `p` is assumed off its boundary).
+/// Whether `p` lies inside a ring (crossing number with exact orientations; `p` is assumed
+/// off its boundary).
 fn contains(ring: &[DVec2], p: DVec2) -> bool {
     let n = ring.len();
     let mut inside = false;
@@ -567,9 +715,10 @@ fn contains(ring: &[DVec2], p: DVec2) -> bool {
     for i in 0..n {
         let (a, b) = (ring[j], ring[i]);
         if (a.y > p.y) != (b.y > p.y) {
-            // Which side of a→b, by the sign of an orientation test (no division).
-            let o = orient(a, b, p);
-            if (o > 0.0) == (b.y > a.y) {
+            // The ray to the right of p crosses a→b when p is on the side of it that faces
+            // the ray: left of an upward edge, right of a downward one.
+            let left = orient(a, b, p) == Ordering::Greater;
+            if left == (b.y > a.y) {
                 inside = !inside;
             }
         }
@@ -578,23 +727,35 @@ fn contains(ring: &[DVec2], p: DVec2) -> bool {
     inside
 }
 
-/// Clockwise angle from direction `d` to direction `w`, in (0, 2π].
-fn clockwise(d: DVec2, w: DVec2) -> f64 {
-    let a = d.y.atan2(d.x) - w.y.atan2(w.x);
-    let a = a.rem_euclid(TAU);
-    if a <= 0.0 {
-        TAU
-    } else {
-        a
+/// Where direction `w` lies going clockwise from `back`, coarsely: in (0, π), at π, in
+/// (π, 2π), or at 2π (the same direction as `back`).
+fn clockwise_quarter(back: (DVec2, DVec2), w: (DVec2, DVec2)) -> u8 {
+    match cross(back.0, back.1, w.0, w.1) {
+        Ordering::Less => 0,
+        Ordering::Equal if !same_direction(back.0, back.1, w.0, w.1) => 1,
+        Ordering::Greater => 2,
+        Ordering::Equal => 3,
     }
 }
 
-/// Link the selected directed edges into closed loops, taking at each vertex the edge first
-/// clockwise from the way back (the smallest face).
-fn trace(points: &[DVec2], edges: &[(usize, usize)]) -> Vec<Vec<DVec2>> {
+/// The order of directions `x` and `y` going clockwise from `back` (from just past it, round
+/// to itself), with exact turn tests.
+fn clockwise_order(back: (DVec2, DVec2), x: (DVec2, DVec2), y: (DVec2, DVec2)) -> Ordering {
+    clockwise_quarter(back, x)
+        .cmp(&clockwise_quarter(back, y))
+        .then_with(|| {
+            // Within one half-turn, y comes later when it is clockwise from x (x × y < 0).
+            cross(x.0, x.1, y.0, y.1)
+        })
+}
+
+/// Link the selected directed edges into closed loops, taking at each node the edge first
+/// clockwise from the way back (the smallest face). Each loop comes with whether it has an
+/// edge running the way of its input edge.
+fn trace(edges: &[Directed]) -> Vec<(Vec<usize>, bool)> {
     let mut out_of: HashMap<usize, Vec<usize>> = HashMap::new();
-    for (k, &(from, _)) in edges.iter().enumerate() {
-        out_of.entry(from).or_default().push(k);
+    for (k, e) in edges.iter().enumerate() {
+        out_of.entry(e.from).or_default().push(k);
     }
     let mut used = vec![false; edges.len()];
     let mut loops = Vec::new();
@@ -603,49 +764,58 @@ fn trace(points: &[DVec2], edges: &[(usize, usize)]) -> Vec<Vec<DVec2>> {
             continue;
         }
         used[start] = true;
-        let mut ring = vec![edges[start].0];
+        let mut ring = vec![edges[start].from];
+        let mut forward = !edges[start].reversed;
         let mut cur = start;
         let mut closed = false;
         for _ in 0..=edges.len() {
-            let (from, v) = edges[cur];
-            let back = points[from] - points[v];
-            let mut best: Option<(f64, usize)> = None;
-            for &k in out_of.get(&v).map(Vec::as_slice).unwrap_or(&[]) {
-                if used[k] && k != start {
-                    continue;
-                }
-                let ang = clockwise(back, points[edges[k].1] - points[v]);
-                if best.is_none_or(|(b, _)| ang < b) {
-                    best = Some((ang, k));
-                }
-            }
-            let Some((_, next)) = best else { break };
+            let here = edges[cur];
+            let back = (here.dir.1, here.dir.0);
+            let next = out_of
+                .get(&here.to)
+                .map(Vec::as_slice)
+                .unwrap_or(&[])
+                .iter()
+                .copied()
+                .filter(|&k| !used[k] || k == start)
+                .min_by(|&x, &y| clockwise_order(back, edges[x].dir, edges[y].dir).then(x.cmp(&y)));
+            let Some(next) = next else { break };
             if next == start {
                 closed = true;
                 break;
             }
             used[next] = true;
-            ring.push(v);
+            forward |= !edges[next].reversed;
+            ring.push(here.to);
             cur = next;
         }
         if closed {
-            loops.push(ring);
+            loops.push((ring, forward));
         }
     }
     loops
-        .into_iter()
-        .map(|ring| ring.into_iter().map(|v| points[v]).collect())
-        .collect()
 }
 
-/// Counter-clockwise loops become pieces; clockwise loops the holes of the smallest piece
-/// containing them. Loops of zero area are dropped.
-fn assemble(loops: Vec<Vec<DVec2>>) -> Vec<Piece> {
+/// Loops with an edge running its input edge's way become pieces (counter-clockwise: both
+/// inputs are, and the regions lie on the left). A loop of reversed edges alone is made of
+/// the clip polygon's edges in a difference: its whole boundary, clockwise, strictly inside
+/// the subject (touching it, the tracing joins it to the outline): a hole, of the smallest
+/// piece containing it. Decided by the graph, not by the sign of a rounded area.
+/// A ring whose rounded crossings collapse it below 3 distinct points (a piece far thinner
+/// than the coordinates' last bit) is dropped.
+fn assemble(loops: Vec<(Vec<DVec2>, bool)>) -> Vec<Piece> {
     let mut pieces: Vec<(f64, Piece)> = Vec::new();
     let mut holes: Vec<Vec<DVec2>> = Vec::new();
-    for ring in loops {
-        let area = signed_area(&ring);
-        if area > 0.0 {
+    for (mut ring, forward) in loops {
+        ring.dedup();
+        while ring.len() > 1 && ring.first() == ring.last() {
+            ring.pop();
+        }
+        if ring.len() < 3 {
+            continue;
+        }
+        if forward {
+            let area = signed_area(&ring);
             pieces.push((
                 area,
                 Piece {
@@ -653,14 +823,13 @@ fn assemble(loops: Vec<Vec<DVec2>>) -> Vec<Piece> {
                     holes: Vec::new(),
                 },
             ));
-        } else if area < 0.0 {
+        } else {
             holes.push(ring);
         }
     }
     for hole in holes {
-        // A point strictly inside the hole's outline's neighbourhood: the midpoint of an edge
-        // (the hole meets no outline: it would have been linked into it).
-        let probe = 0.5 * (hole[0] + hole[1]);
+        // Its vertices are the clip polygon's, none on the subject's boundary.
+        let probe = hole[0];
         let owner = pieces
             .iter_mut()
             .filter(|(_, p)| contains(&p.outer, probe))

@@ -4,9 +4,10 @@
 //!
 //! The bytes decode into two small polygons (3 to 10 vertices each), each either on the
 //! integer grid −128..127 (`i8` coordinates: vertices on edges, collinear overlaps, shared
-//! vertices and self-intersections are frequent and decided exactly) or in `f64` (raw bit
-//! patterns, so NaN and ∞ too, finite values reduced modulo 10⁶, magnitudes below [`TINY`] read
-//! as 0). Then [`weiler_atherton::clip`]:
+//! vertices and self-intersections are frequent) or in `f64` (raw bit patterns, so NaN and ∞
+//! too, subnormals, and finite values reduced modulo 10⁶: a vertex 10⁻²⁰ or 10⁻³⁰⁰ from the
+//! other polygon's edge beside coordinates of 10⁵, which rounded orientation tests got wrong).
+//! Then [`weiler_atherton::clip`]:
 //! it must not panic; an error must be one that [`weiler_atherton::validate`] gives for one of
 //! the polygons (and a non-finite coordinate must be an error); on success every output
 //! coordinate is finite, every ring has at least 3 vertices, and
@@ -19,12 +20,6 @@
 
 use glam::DVec2;
 use wireflight_geometry::clip::weiler_atherton::{self, signed_area, total_area, Piece, Which};
-
-/// Float coordinates of smaller magnitude are read as 0. Mixed with ordinary ones they make
-/// the orientation products underflow, and `clip` then loses whole pieces (|A ∩ B| + |A − B|
-/// = 0 for |A| = 1.25: found by this target on its first run, reported, not yet fixed); the
-/// flush keeps the fuzzer from finding only that again.
-pub const TINY: f64 = 1e-20;
 
 /// Decode two polygons from fuzz bytes (missing bytes read as 0).
 ///
@@ -46,12 +41,10 @@ pub fn decode(data: &[u8]) -> (Vec<DVec2>, Vec<DVec2>) {
                     *r = byte();
                 }
                 let v = f64::from_le_bytes(raw);
-                if !v.is_finite() {
-                    v
-                } else if v.abs() < TINY {
-                    0.0
-                } else {
+                if v.is_finite() {
                     v % 1e6
+                } else {
+                    v
                 }
             } else {
                 f64::from(byte() as i8)
