@@ -14,7 +14,8 @@
 //!
 //! `copy` is a streaming copy of the same bytes (the eight coordinate arrays, 32 B per edge,
 //! into eight others): the bandwidth reference. `blinn-batch` is the structure-of-arrays
-//! path ([`wireflight::clip::batch::clip_soa`]); every other line is the straightforward
+//! path ([`wireflight::clip::batch::clip_soa`]: its AVX-512 build where the CPU has one, the
+//! portable build elsewhere, chosen at run time); every other line is the straightforward
 //! per-edge loop (clip, tally, push the segment). 2D algorithms run on 2D sets of the same
 //! kinds. `scene_1m` transforms, clips and projects a 1 M-edge mesh through
 //! [`EdgeProjector`] (rayon on all cores, and on one thread for comparison).

@@ -2,18 +2,25 @@
 //! edge, faster.
 //!
 //! Two shapes of input, one principle: **the trivial cases are decided from outcodes computed
-//! without branches, many at a time, and only the crossing edges take the scalar path** (the
-//! very function the per-edge clipper uses, [`super::blinn::clip_crossing`], so a crossing
-//! edge gives bit-identical results either way).
+//! without branches, many at a time, and only the crossing edges are clipped**, with the
+//! arithmetic of the function the per-edge clipper uses ([`super::blinn::clip_crossing`]):
+//! the same operations in the same order, in lanes, or that very function for an edge alone
+//! and for the rare lanes whose result could depend on the order of ties or that `settle()`
+//! would recompute. So a crossing edge gives bit-identical results either way.
 //!
 //! * Indexed meshes (the projector): [`vertex_code`] once per *vertex* (glam's SIMD compare of
 //!   `(x, y, z)` against `±w`, two movemasks), then per edge two byte loads, an OR and an AND
 //!   ([`clip_coded`]). A vertex shared by four edges is classified once instead of four times.
 //! * Flat edge lists in structure-of-arrays form ([`EdgesSoa`] → [`SegmentsSoa`]): blocks of
-//!   [`BLOCK`] edges; the codes of a block's endpoints come from one pass of straight-line
-//!   compares over the coordinate arrays, which the compiler turns into SIMD; a block that is
-//!   all inside is copied out whole (nine bulk copies), any other block is compacted through
-//!   a small staging area with no branch on the trivial outcomes.
+//!   [`BLOCK`] edges; a block that is all inside is copied out whole (nine bulk copies). Any
+//!   other block, where the CPU has AVX-512 (`batch/avx512.rs`): classified with masks, its
+//!   crossing edges packed into lanes and clipped eight at a time in `f64` (all six planes at
+//!   once, [`clip_crossing`]'s arithmetic operation for operation), and compacted straight
+//!   into the output. Elsewhere (the portable build, and its crossing lanes compiled for AVX2 where
+//!   the CPU has it): the codes of the block's endpoints from straight-line compares, the
+//!   crossing edges gathered into lanes and clipped there, and the block compacted through a
+//!   small staging area with no branch on the trivial outcomes. Both builds give the same
+//!   bits; the tests run every build the CPU has.
 //!
 //! Why the outcodes can skip the boundary coordinates: `w + x < 0` (rounded in `f32`) holds
 //! exactly when `x < −w` (rounding keeps the sign of a sum, and a sum of two floats is zero
@@ -26,6 +33,9 @@ use glam::Vec4;
 
 use super::blinn::clip_crossing;
 use super::{ClipOutcome, ClipStats, DepthRange, PLANE_COUNT, SETTLE_REL};
+
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 
 /// Flag in a vertex code: a coordinate is NaN or infinite.
 pub const NON_FINITE: u8 = 1 << 6;
@@ -285,13 +295,90 @@ struct Staging {
 /// assert_eq!(out.edge, [0, 2]);
 /// ```
 pub fn clip_soa(edges: &EdgesSoa, depth: DepthRange, out: &mut SegmentsSoa) -> ClipStats {
-    match depth {
-        DepthRange::ZeroToOne => clip_soa_impl::<true>(edges, out),
-        DepthRange::NegOneToOne => clip_soa_impl::<false>(edges, out),
+    clip_soa_on(Path::best(), edges, depth, out)
+}
+
+/// The builds of [`clip_soa`], best first where the CPU has them (the tests run each one
+/// this machine can).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Path {
+    /// Three masked passes per block (`batch/avx512.rs`): classify and pack the crossing
+    /// edges, clip them eight at a time in `f64`, compact by permutes. AVX-512F, BMI2, POPCNT.
+    #[cfg(target_arch = "x86_64")]
+    Avx512,
+    /// The portable code with its crossing lanes compiled for AVX2.
+    Avx2,
+    /// The portable code as the target allows (SSE2 on x86-64).
+    Portable,
+}
+
+impl Path {
+    /// The best build this CPU runs (asked once per call; the standard library caches it).
+    fn best() -> Path {
+        #[cfg(target_arch = "x86_64")]
+        if avx512::available() {
+            return Path::Avx512;
+        }
+        if has_avx2() {
+            Path::Avx2
+        } else {
+            Path::Portable
+        }
+    }
+
+    /// Every build this CPU runs.
+    #[cfg(test)]
+    fn all_available() -> Vec<Path> {
+        let mut paths = vec![Path::Portable];
+        if has_avx2() {
+            paths.push(Path::Avx2);
+        }
+        #[cfg(target_arch = "x86_64")]
+        if avx512::available() {
+            paths.push(Path::Avx512);
+        }
+        paths
     }
 }
 
-fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSoa) -> ClipStats {
+/// [`clip_soa`] on the build `path`, which must be one this CPU runs ([`Path::best`] or
+/// below).
+fn clip_soa_on(
+    path: Path,
+    edges: &EdgesSoa,
+    depth: DepthRange,
+    out: &mut SegmentsSoa,
+) -> ClipStats {
+    let zero_to_one = depth == DepthRange::ZeroToOne;
+    match path {
+        #[cfg(target_arch = "x86_64")]
+        Path::Avx512 => {
+            assert!(avx512::available(), "AVX-512 path on a CPU without it");
+            // SAFETY: checked just above.
+            unsafe {
+                if zero_to_one {
+                    avx512::clip_soa::<true>(edges, out)
+                } else {
+                    avx512::clip_soa::<false>(edges, out)
+                }
+            }
+        }
+        Path::Avx2 | Path::Portable => {
+            let avx2 = path == Path::Avx2 && has_avx2();
+            if zero_to_one {
+                clip_soa_impl::<true>(edges, out, avx2)
+            } else {
+                clip_soa_impl::<false>(edges, out, avx2)
+            }
+        }
+    }
+}
+
+fn clip_soa_impl<const ZERO_TO_ONE: bool>(
+    edges: &EdgesSoa,
+    out: &mut SegmentsSoa,
+    avx2: bool,
+) -> ClipStats {
     let n = edges.len();
     // One reservation per call: the loop below never reallocates.
     out.reserve(n);
@@ -310,7 +397,6 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(edges: &EdgesSoa, out: &mut SegmentsSo
         c: [[0.0; BLOCK]; 4],
         state: [0; BLOCK],
     };
-    let avx2 = has_avx2();
     let (mut ca, mut cc) = ([0u8; BLOCK], [0u8; BLOCK]);
     // Whether to try the compare-only test first: after a block that was all inside (scenes
     // come in runs). After any other block the full codes are computed straight away, and
@@ -658,6 +744,359 @@ mod tests {
     use super::*;
     use crate::clip::clip_edge;
 
+    /// The per-edge clipper's segments (appended to `prefix`) and tally for `pairs`.
+    fn per_edge(
+        pairs: &[(Vec4, Vec4)],
+        depth: DepthRange,
+        prefix: &SegmentsSoa,
+    ) -> (SegmentsSoa, ClipStats) {
+        let mut expected = prefix.clone();
+        let mut tally = ClipStats::default();
+        for (i, &(a, c)) in pairs.iter().enumerate() {
+            let o = clip_edge(a, c, depth);
+            tally.record(&o);
+            if let Some((p, q)) = o.segment() {
+                expected.push(i as u32, p, q);
+            }
+        }
+        (expected, tally)
+    }
+
+    fn bits(v: &[f32]) -> Vec<u32> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+
+    /// Every build this CPU runs gives the per-edge clipper's segments, bit for bit, and its
+    /// tally, appended after what `out` already holds.
+    fn check_paths_after(
+        pairs: &[(Vec4, Vec4)],
+        depth: DepthRange,
+        prefix: &SegmentsSoa,
+        what: &str,
+    ) {
+        let (expected, tally) = per_edge(pairs, depth, prefix);
+        let edges = EdgesSoa::from_pairs(pairs);
+        for path in Path::all_available() {
+            let mut got = prefix.clone();
+            let stats = clip_soa_on(path, &edges, depth, &mut got);
+            assert_eq!(stats, tally, "{what} {path:?} {depth:?}");
+            assert_eq!(got.edge, expected.edge, "{what} {path:?} {depth:?}");
+            for k in 0..4 {
+                assert_eq!(
+                    bits(&got.a[k]),
+                    bits(&expected.a[k]),
+                    "{what} {path:?} {depth:?} a[{k}]"
+                );
+                assert_eq!(
+                    bits(&got.c[k]),
+                    bits(&expected.c[k]),
+                    "{what} {path:?} {depth:?} c[{k}]"
+                );
+            }
+        }
+    }
+
+    fn check_paths(pairs: &[(Vec4, Vec4)], what: &str) {
+        for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
+            check_paths_after(pairs, depth, &SegmentsSoa::default(), what);
+        }
+    }
+
+    /// xorshift64: deterministic, no dependency.
+    struct Rng(u64);
+
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        fn below(&mut self, n: usize) -> usize {
+            (self.next() % n as u64) as usize
+        }
+        fn unit(&mut self) -> f32 {
+            (self.next() >> 40) as f32 / (1u64 << 24) as f32
+        }
+        fn range(&mut self, lo: f32, hi: f32) -> f32 {
+            lo + (hi - lo) * self.unit()
+        }
+        fn pick<T: Copy>(&mut self, v: &[T]) -> T {
+            v[self.below(v.len())]
+        }
+    }
+
+    const SPECIALS: [f32; 16] = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.5,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::MIN_POSITIVE,
+        1e-40,
+        -1e-45,
+        3e38,
+        -3e38,
+        f32::MAX,
+        1e-30,
+        1e30,
+    ];
+
+    /// A point of one of many kinds: inside, outside by a little or a lot, behind the eye,
+    /// near w = 0, on a plane, huge, tiny, or with special values in any coordinate.
+    fn point(rng: &mut Rng) -> Vec4 {
+        let w = match rng.below(8) {
+            0 => rng.range(-1e-6, 1e-6), // w ≈ 0
+            1 => -rng.range(0.01, 50.0), // behind the eye
+            2 => rng.pick(&SPECIALS),
+            3 => rng.range(1e3, 1e6),
+            _ => rng.range(0.01, 50.0),
+        };
+        let mut p = match rng.below(6) {
+            // Inside (for w > 0).
+            0 | 1 => Vec4::new(rng.range(-w, w), rng.range(-w, w), rng.range(0.0, w), w),
+            // Outside by a factor.
+            2 => {
+                let k = rng.range(1.0, 4.0);
+                Vec4::new(
+                    w * k * rng.range(-1.0, 1.0).signum(),
+                    rng.range(-w, w) * k,
+                    rng.range(-w, w) * k,
+                    w,
+                )
+            }
+            // On a plane exactly.
+            3 => Vec4::new(
+                rng.pick(&[w, -w, 0.0]),
+                rng.pick(&[w, -w, 0.5 * w]),
+                rng.pick(&[w, -w, 0.0]),
+                w,
+            ),
+            // Anywhere.
+            _ => Vec4::new(
+                rng.range(-60.0, 60.0),
+                rng.range(-60.0, 60.0),
+                rng.range(-60.0, 60.0),
+                w,
+            ),
+        };
+        if rng.below(20) == 0 {
+            p[rng.below(4)] = rng.pick(&SPECIALS);
+        }
+        p
+    }
+
+    /// `n` random edges: runs of one kind (so whole blocks are inside, outside or crossing)
+    /// mixed with random edges, some degenerate (A = C) or reversed.
+    fn random_edges(rng: &mut Rng, n: usize) -> Vec<(Vec4, Vec4)> {
+        let inside = |rng: &mut Rng| {
+            let w = rng.range(0.5, 50.0);
+            Vec4::new(rng.range(-w, w), rng.range(-w, w), rng.range(0.0, w), w)
+        };
+        let mut edges = Vec::with_capacity(n);
+        while edges.len() < n {
+            let run = 1 + rng.below(150);
+            let kind = rng.below(5);
+            for _ in 0..run {
+                let e = match kind {
+                    0 => (inside(rng), inside(rng)),
+                    1 => {
+                        // Crossing: inside to beyond one to three planes.
+                        let a = inside(rng);
+                        let mut c = inside(rng);
+                        let k = rng.range(1.01, 3.0);
+                        c.x = c.w * k;
+                        if rng.below(2) == 0 {
+                            c.y = -c.w * k;
+                        }
+                        if rng.below(3) == 0 {
+                            c.z = c.w * k;
+                        }
+                        if rng.below(2) == 0 {
+                            (c, a)
+                        } else {
+                            (a, c)
+                        }
+                    }
+                    2 => {
+                        // Inside to behind the eye.
+                        let b = Vec4::new(
+                            rng.range(-20.0, 20.0),
+                            rng.range(-20.0, 20.0),
+                            rng.range(-20.0, 20.0),
+                            -rng.range(0.0, 20.0),
+                        );
+                        (inside(rng), b)
+                    }
+                    _ => {
+                        let a = point(rng);
+                        let c = if rng.below(20) == 0 { a } else { point(rng) };
+                        (a, c)
+                    }
+                };
+                edges.push(e);
+            }
+        }
+        edges.truncate(n);
+        edges
+    }
+
+    /// The batch-vs-per-edge property on random edges of every kind, every build this CPU
+    /// runs, both depth ranges. `WIREFLIGHT_BATCH_CASES` sets the number of batches (default
+    /// 300; each 1 to 700 edges, so every tail length of a block comes up).
+    #[test]
+    fn every_build_matches_the_per_edge_clipper_on_random_batches() {
+        let cases: usize = std::env::var("WIREFLIGHT_BATCH_CASES")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(300);
+        let mut rng = Rng(0x0005_EED0_FBA7_C4E5);
+        for case in 0..cases {
+            let n = 1 + rng.below(700);
+            let edges = random_edges(&mut rng, n);
+            check_paths(&edges, &format!("case {case}, n = {n}"));
+        }
+    }
+
+    /// Every block length, and every tail: 1 to 3 blocks plus 0 to 63 edges, of all-crossing
+    /// edges (every lane of pass 2 full, and partial in the tail), and of crossing edges
+    /// alternating with inside ones.
+    #[test]
+    fn block_tails_and_all_crossing_blocks() {
+        let mut rng = Rng(0x7A11);
+        let crossing: Vec<(Vec4, Vec4)> = random_edges(&mut Rng(3), 4000)
+            .into_iter()
+            .filter(|&(a, c)| {
+                let (p, q) = (
+                    vertex_code(a, DepthRange::ZeroToOne),
+                    vertex_code(c, DepthRange::ZeroToOne),
+                );
+                (p | q) & NON_FINITE == 0
+                    && p & q & OUTCODE_BITS == 0
+                    && (p | q) & OUTCODE_BITS != 0
+            })
+            .collect();
+        assert!(crossing.len() > 4 * BLOCK, "{}", crossing.len());
+        for n in 1..=3 * BLOCK + BLOCK / 2 {
+            let start = rng.below(crossing.len() - n);
+            check_paths(
+                &crossing[start..start + n],
+                &format!("all crossing, n = {n}"),
+            );
+            let alternating: Vec<_> = (0..n)
+                .map(|i| {
+                    if i % 2 == 0 {
+                        crossing[(start + i) % crossing.len()]
+                    } else {
+                        (
+                            Vec4::new(0.1, 0.2, 0.3, 1.0),
+                            Vec4::new(-0.5, 0.5, 0.9, 1.0),
+                        )
+                    }
+                })
+                .collect();
+            check_paths(&alternating, &format!("alternating, n = {n}"));
+        }
+    }
+
+    /// w ≈ 0 and w ≤ 0 (the eye, behind it), NaN and ±∞ in every coordinate, huge and
+    /// subnormal values: each alone in a block of inside edges and in runs.
+    #[test]
+    fn eye_behind_the_eye_and_non_finite_edges() {
+        let mut specials = vec![
+            (Vec4::ZERO, Vec4::ZERO),
+            (Vec4::ZERO, Vec4::new(0.1, 0.1, 0.5, 1.0)),
+            (
+                Vec4::new(-0.0, 0.0, -0.0, -0.0),
+                Vec4::new(0.0, -0.0, 0.0, 0.0),
+            ),
+            (
+                Vec4::new(0.0, 0.0, 0.0, 1e-45),
+                Vec4::new(0.5, 0.0, 0.5, 1.0),
+            ),
+            (
+                Vec4::new(1e-45, 0.0, 0.0, 1e-45),
+                Vec4::new(2.0, 0.0, 0.5, 1.0),
+            ),
+            (
+                Vec4::new(0.0, 0.0, 0.5, 1.0),
+                Vec4::new(0.0, 0.0, 0.5, -1.0),
+            ),
+            (
+                Vec4::new(0.3, -0.2, 0.5, 1.0),
+                Vec4::new(0.5, 0.5, -0.5, -1e-7),
+            ),
+            (
+                Vec4::new(0.3, -0.2, 0.5, 1e-7),
+                Vec4::new(5.0, 5.0, 5.0, -1e-7),
+            ),
+            (
+                Vec4::new(0.3, -0.2, 0.5, 1.0),
+                Vec4::new(3e38, -3e38, 3e38, -1e37),
+            ),
+            (
+                Vec4::new(0.5, 0.5, 0.5, 1.5),
+                Vec4::new(-1e37, 1e37, 1e37, -1e37),
+            ),
+            (
+                Vec4::new(0.0, 0.0, 0.5, 1.0),
+                Vec4::new(0.0, 0.0, -f32::MAX, f32::MAX),
+            ),
+            (
+                Vec4::new(1e-40, -1e-40, 1e-40, 1e-40),
+                Vec4::new(1.0, 1.0, 1.0, 1e-40),
+            ),
+        ];
+        for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+            for k in 0..8 {
+                let mut a = Vec4::new(0.1, 0.2, 0.3, 1.0);
+                let mut c = Vec4::new(2.0, 0.2, 0.3, 1.0); // crossing x = w
+                if k < 4 {
+                    a[k] = bad;
+                } else {
+                    c[k - 4] = bad;
+                }
+                specials.push((a, c));
+                specials.push((Vec4::new(0.1, 0.2, 0.3, 1.0), a)); // otherwise inside
+            }
+        }
+        let inside = (
+            Vec4::new(0.1, 0.2, 0.3, 1.0),
+            Vec4::new(-0.5, 0.5, 0.9, 1.0),
+        );
+        for (i, &e) in specials.iter().enumerate() {
+            for at in [0, 1, 15, 16, 17, 63] {
+                let mut edges = vec![inside; BLOCK + 5];
+                edges[at] = e;
+                check_paths(&edges, &format!("special {i} at {at}"));
+            }
+            check_paths(&vec![e; 2 * BLOCK + 3], &format!("run of special {i}"));
+            check_paths(&[e], &format!("special {i} alone"));
+        }
+        check_paths(&specials, "all specials");
+    }
+
+    /// Segments are appended after what `out` holds (the vectors' lengths may differ, and
+    /// their capacity may be exactly their length).
+    #[test]
+    fn segments_are_appended_after_existing_ones() {
+        let edges = random_edges(&mut Rng(99), 1000);
+        let mut prefix = SegmentsSoa::default();
+        prefix.push(7, Vec4::ONE, Vec4::NEG_ONE);
+        prefix.a[2].push(5.0);
+        prefix.edge.push(3);
+        for v in prefix.a.iter_mut().chain(prefix.c.iter_mut()) {
+            v.shrink_to_fit();
+        }
+        prefix.edge.shrink_to_fit();
+        for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
+            check_paths_after(&edges, depth, &prefix, "appended");
+        }
+    }
+
     /// Edges on and around the planes, with signed zeros: where the lanes' ties and
     /// `settle()` cases are; the batch must equal the per-edge clipper bit for bit.
     #[test]
@@ -679,25 +1118,6 @@ mod tests {
                 (a, c)
             })
             .collect();
-        for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
-            let mut expected = SegmentsSoa::default();
-            let mut tally = ClipStats::default();
-            for (i, &(a, c)) in pairs.iter().enumerate() {
-                let o = clip_edge(a, c, depth);
-                tally.record(&o);
-                if let Some((p, q)) = o.segment() {
-                    expected.push(i as u32, p, q);
-                }
-            }
-            let mut got = SegmentsSoa::default();
-            let stats = clip_soa(&EdgesSoa::from_pairs(&pairs), depth, &mut got);
-            assert_eq!(stats, tally, "{depth:?}");
-            assert_eq!(got.edge, expected.edge, "{depth:?}");
-            for k in 0..4 {
-                let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-                assert_eq!(bits(&got.a[k]), bits(&expected.a[k]), "{depth:?} a[{k}]");
-                assert_eq!(bits(&got.c[k]), bits(&expected.c[k]), "{depth:?} c[{k}]");
-            }
-        }
+        check_paths(&pairs, "ties and signed zeros");
     }
 }

@@ -1,0 +1,497 @@
+//! [`super::clip_soa`] with AVX-512: every block that is not trivially accepted is clipped
+//! with masks, in three passes and no branch per edge.
+//!
+//! 1. **Classify** (16 edges per step, `f32`): the twelve boundary coordinates of both ends;
+//!    the least of them (< 0: outside some plane), the least over the planes of the greater
+//!    of each pair (< 0: both ends outside one plane), a finiteness test, and from them four
+//!    lane masks: trivially accepted and drawn, trivially rejected, non-finite, crossing
+//!    (finite, neither trivial). The crossing edges are packed into lanes (one compress of
+//!    the lane numbers, then one permute per coordinate: no gather).
+//! 2. **Clip the lanes** (8 edges per step, `f64`): [`super::super::blinn::clip_crossing`]'s
+//!    arithmetic in the same operations and order, all six planes at once with masks (a plane
+//!    no lane crosses is skipped), `t_in`/`t_out` by masked max/min, the new ends, and
+//!    `settle()`'s test. The rare lanes whose result could depend on the order of ties (an
+//!    exit parameter of ±0) or that `settle()` would recompute take the scalar code.
+//! 3. **Compact** (16 edges per step): each drawn edge's own ends, or for a crossing edge its
+//!    lane's clipped ends, picked by one two-table permute per coordinate and stored straight
+//!    into the output's spare capacity.
+//!
+//! Every arithmetic instruction here is exact and deterministic (IEEE add, subtract, multiply,
+//! divide, min/max without ties that matter, conversions with round-to-nearest, compares),
+//! so the lanes give bit for bit what the per-edge clipper gives; the tests hold this path
+//! and the portable one to it.
+//!
+//! `unsafe` here: the intrinsics (each function is compiled for AVX-512F, BMI2 and POPCNT and
+//! entered only after [`available`] said yes), their loads and stores (masked to the live
+//! lanes of a slice, or within the fixed-size lane arrays), and the stores into `out`'s spare
+//! capacity followed by `set_len` (room reserved for every edge plus one step up front).
+
+use std::arch::x86_64::*;
+
+use glam::Vec4;
+
+use super::super::blinn::clip_crossing;
+use super::super::{boundary_coords, outcode, ClipOutcome, ClipStats, DepthRange, SETTLE_REL};
+use super::{all_inside, EdgesSoa, SegmentsSoa, BLOCK};
+
+/// Edges per step of passes 1 and 3 (one `zmm` of `f32`).
+const STEP: usize = 16;
+/// Steps per block.
+const STEPS: usize = BLOCK / STEP;
+/// Room in a lane array: a block, plus one step of slack for full-width stores and loads
+/// past the last lane.
+const ROOM: usize = BLOCK + STEP;
+
+/// One block's crossing edges in lanes, and per step of pass 1 its masks.
+struct Lanes {
+    /// The crossing edges, packed: A's x, y, z, w, then C's.
+    edge: [[f32; ROOM]; 8],
+    /// Their clipped ends, lane for lane (pass 2).
+    clipped: [[f32; ROOM]; 8],
+    /// Per step: which edges cross (bit i: edge `16·step + i` of the block).
+    crossing: [u16; STEPS],
+    /// Per step: which edges are trivially accepted and drawn.
+    accepted: [u16; STEPS],
+}
+
+/// Whether this CPU can run [`clip_soa`] (checked at run time, cached by the standard
+/// library).
+pub(super) fn available() -> bool {
+    std::is_x86_feature_detected!("avx512f")
+        && std::is_x86_feature_detected!("bmi2")
+        && std::is_x86_feature_detected!("popcnt")
+}
+
+/// [`super::clip_soa`] on this path: the same segments, order and tally.
+///
+/// # Safety
+/// The CPU must have AVX-512F, BMI2 and POPCNT ([`available`]).
+#[target_feature(enable = "avx512f,bmi2,popcnt")]
+pub(super) unsafe fn clip_soa<const ZERO_TO_ONE: bool>(
+    edges: &EdgesSoa,
+    out: &mut SegmentsSoa,
+) -> ClipStats {
+    let n = edges.len();
+    // Every vector of `out` gets room for all the edges plus one step: pass 3 stores whole
+    // steps of 16 at the current end, past the segments it keeps.
+    for v in out.a.iter_mut().chain(out.c.iter_mut()) {
+        v.reserve(n + STEP);
+    }
+    out.edge.reserve(n + STEP);
+    let mut stats = ClipStats {
+        edges_in: n as u64,
+        ..ClipStats::default()
+    };
+    let mut lanes = Lanes {
+        edge: [[0.0; ROOM]; 8],
+        clipped: [[0.0; ROOM]; 8],
+        crossing: [0; STEPS],
+        accepted: [0; STEPS],
+    };
+    // As in the portable path: after an all-inside block, try the compare-only test first.
+    let mut expect_inside = true;
+    let mut start = 0;
+    while start < n {
+        let end = n.min(start + BLOCK);
+        let [ax, ay, az, aw] = &edges.a;
+        let [cx, cy, cz, cw] = &edges.c;
+        let r = start..end;
+        let a = [
+            &ax[r.clone()],
+            &ay[r.clone()],
+            &az[r.clone()],
+            &aw[r.clone()],
+        ];
+        let c = [&cx[r.clone()], &cy[r.clone()], &cz[r.clone()], &cw[r]];
+        if expect_inside && all_inside::<ZERO_TO_ONE>(a) && all_inside::<ZERO_TO_ONE>(c) {
+            copy_out(&a, &c, start, out);
+            stats.trivially_accepted += (end - start) as u64;
+        } else {
+            // SAFETY: the features are the caller's promise; `out` has room for every edge
+            // left plus one step (reserved above, never shrunk).
+            expect_inside =
+                unsafe { block::<ZERO_TO_ONE>(&a, &c, start, &mut lanes, out, &mut stats) };
+        }
+        start = end;
+    }
+    stats
+}
+
+/// Append a block that is wholly accepted (nine bulk copies).
+#[inline(always)]
+fn copy_out(a: &[&[f32]; 4], c: &[&[f32]; 4], start: usize, out: &mut SegmentsSoa) {
+    for k in 0..4 {
+        out.a[k].extend_from_slice(a[k]);
+        out.c[k].extend_from_slice(c[k]);
+    }
+    out.edge.extend(start as u32..(start + a[0].len()) as u32);
+}
+
+/// `x` with its sign flipped (exactly `-x`).
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn neg_pd(x: __m512d) -> __m512d {
+    _mm512_castsi512_pd(_mm512_xor_si512(
+        _mm512_castpd_si512(x),
+        _mm512_set1_epi64(i64::MIN),
+    ))
+}
+
+/// The six boundary coordinates of 16 points in `f32` (`[w+x, w−x, w+y, w−y, near, w−z]`).
+/// For finite coordinates each is < 0 exactly when the point is outside that plane, as
+/// [`super::vertex_code`]'s compares say: a rounded sum has the sign of the exact one and is
+/// zero only when that is (an overflow to ±∞ keeps the sign).
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn bc_ps<const ZERO_TO_ONE: bool>([x, y, z, w]: [__m512; 4]) -> [__m512; 6] {
+    let near = if ZERO_TO_ONE { z } else { _mm512_add_ps(w, z) };
+    [
+        _mm512_add_ps(w, x),
+        _mm512_sub_ps(w, x),
+        _mm512_add_ps(w, y),
+        _mm512_sub_ps(w, y),
+        near,
+        _mm512_sub_ps(w, z),
+    ]
+}
+
+/// 0, 1, …, 15.
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn iota() -> __m512i {
+    _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)
+}
+
+/// Lanes (of 16) whose eight coordinates are all finite: `v − v` is 0 for a finite `v` and
+/// NaN for ±∞ and NaN, and a sum of them is NaN when any is.
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn finite_mask(a: [__m512; 4], c: [__m512; 4]) -> u16 {
+    let mut z = _mm512_setzero_ps();
+    for v in a.into_iter().chain(c) {
+        z = _mm512_add_ps(z, _mm512_sub_ps(v, v));
+    }
+    _mm512_cmp_ps_mask::<_CMP_ORD_Q>(z, z)
+}
+
+/// One block (`1..=BLOCK` edges) that the compare-only test did not accept whole; returns
+/// whether every edge was trivially accepted and drawn (then the block was copied whole).
+///
+/// # Safety
+/// AVX-512F, BMI2 and POPCNT; every vector of `out` has spare capacity for the block's
+/// edges plus [`STEP`].
+#[target_feature(enable = "avx512f,bmi2,popcnt")]
+unsafe fn block<const ZERO_TO_ONE: bool>(
+    a: &[&[f32]; 4],
+    c: &[&[f32]; 4],
+    start: usize,
+    lanes: &mut Lanes,
+    out: &mut SegmentsSoa,
+    stats: &mut ClipStats,
+) -> bool {
+    let m = a[0].len();
+    debug_assert!(m > 0 && m <= BLOCK && a.iter().chain(c).all(|s| s.len() == m));
+    let steps = m.div_ceil(STEP);
+    // 1. Classify, and pack the crossing edges into lanes.
+    let mut n = 0usize; // crossing edges so far
+    let (mut accepted, mut rejected, mut away, mut non_finite) = (0u32, 0u32, 0u32, 0u32);
+    let mut all_accepted = true;
+    for s in 0..steps {
+        let base = s * STEP;
+        let live: u16 = if m - base >= STEP {
+            0xFFFF
+        } else {
+            (1u16 << (m - base)) - 1
+        };
+        let mut pa = [_mm512_setzero_ps(); 4];
+        let mut pc = [_mm512_setzero_ps(); 4];
+        for k in 0..4 {
+            // SAFETY: masked loads read only the live lanes, which are inside the slices.
+            unsafe {
+                pa[k] = _mm512_maskz_loadu_ps(live, a[k].as_ptr().add(base));
+                pc[k] = _mm512_maskz_loadu_ps(live, c[k].as_ptr().add(base));
+            }
+        }
+        // Outside some plane: the least of the twelve boundary coordinates is < 0. Both
+        // ends outside one plane: the least over the planes of the greater of the two is.
+        let (ba, bc) = (bc_ps::<ZERO_TO_ONE>(pa), bc_ps::<ZERO_TO_ONE>(pc));
+        let mut lowest = _mm512_min_ps(ba[0], bc[0]);
+        let mut shared = _mm512_max_ps(ba[0], bc[0]);
+        for i in 1..6 {
+            lowest = _mm512_min_ps(lowest, _mm512_min_ps(ba[i], bc[i]));
+            shared = _mm512_min_ps(shared, _mm512_max_ps(ba[i], bc[i]));
+        }
+        let zero = _mm512_setzero_ps();
+        let finite = finite_mask(pa, pc) & live;
+        let either = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest, zero);
+        let both = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, shared, zero);
+        let in_front = _mm512_mask_cmp_ps_mask::<_CMP_GT_OQ>(
+            _mm512_cmp_ps_mask::<_CMP_GT_OQ>(pa[3], zero),
+            pc[3],
+            zero,
+        );
+        // `clip_edge`'s order: non-finite, then both outside one plane, then both inside
+        // (drawn only with w > 0 at both ends: else the eye, clipped away), then crossing.
+        let reject = finite & both;
+        let inside = finite & !either;
+        let drawn = inside & in_front;
+        let cross = finite & either & !both;
+        lanes.crossing[s] = cross;
+        lanes.accepted[s] = drawn;
+        all_accepted &= drawn == live;
+        accepted += drawn.count_ones();
+        away += (inside & !in_front).count_ones();
+        rejected += reject.count_ones();
+        non_finite += (live & !finite).count_ones();
+        if cross != 0 {
+            // One compress of the lane numbers, then one permute per coordinate (instead of
+            // a compress each, which costs twice as much).
+            let pick = _mm512_maskz_compress_epi32(cross, iota());
+            for k in 0..4 {
+                // SAFETY: n + 16 ≤ 16·s + 16 ≤ BLOCK < ROOM.
+                unsafe {
+                    _mm512_storeu_ps(
+                        lanes.edge[k].as_mut_ptr().add(n),
+                        _mm512_permutexvar_ps(pick, pa[k]),
+                    );
+                    _mm512_storeu_ps(
+                        lanes.edge[4 + k].as_mut_ptr().add(n),
+                        _mm512_permutexvar_ps(pick, pc[k]),
+                    );
+                }
+            }
+            n += cross.count_ones() as usize;
+        }
+    }
+    if all_accepted {
+        copy_out(a, c, start, out);
+        stats.trivially_accepted += m as u64;
+        return true;
+    }
+    stats.trivially_accepted += u64::from(accepted);
+    stats.trivially_rejected += u64::from(rejected);
+    stats.clipped_away += u64::from(away);
+    stats.non_finite += u64::from(non_finite);
+    if n == 0 && accepted == 0 {
+        return false; // nothing to draw
+    }
+    // 2. Clip the lanes, eight at a time; the scalar code takes the lanes left to it.
+    let mut visible = 0u64; // bit j: lane j is drawn
+    let mut scalar = 0u64; // bit j: lane j is left to the scalar code
+    for base in (0..n).step_by(8) {
+        let live = if n - base >= 8 {
+            0xFF
+        } else {
+            (1u8 << (n - base)) - 1
+        };
+        let (v, s) = clip_lanes::<ZERO_TO_ONE>(lanes, base, live);
+        visible |= u64::from(v) << base;
+        scalar |= u64::from(s) << base;
+    }
+    let depth = if ZERO_TO_ONE {
+        DepthRange::ZeroToOne
+    } else {
+        DepthRange::NegOneToOne
+    };
+    while scalar != 0 {
+        let j = scalar.trailing_zeros() as usize;
+        scalar &= scalar - 1;
+        let p = Vec4::from_array(std::array::from_fn(|k| lanes.edge[k][j]));
+        let q = Vec4::from_array(std::array::from_fn(|k| lanes.edge[4 + k][j]));
+        let (pc, qc) = (
+            outcode(&boundary_coords(p, depth)),
+            outcode(&boundary_coords(q, depth)),
+        );
+        if let ClipOutcome::Clipped(p, q) = clip_crossing(p, q, pc, qc, depth) {
+            for k in 0..4 {
+                lanes.clipped[k][j] = p[k];
+                lanes.clipped[4 + k][j] = q[k];
+            }
+            visible |= 1 << j;
+        }
+    }
+    let drawn_lanes = u64::from(visible.count_ones());
+    stats.clipped += drawn_lanes;
+    stats.clipped_away += n as u64 - drawn_lanes;
+    // 3. Compact: each edge's ends (a crossing edge's clipped ends expanded back into its
+    // place), compressed by the mask of drawn edges, stored at the end of `out`.
+    let [ax, ay, az, aw] = &mut out.a;
+    let [cx, cy, cz, cw] = &mut out.c;
+    let ends: [&mut Vec<f32>; 8] = [ax, ay, az, aw, cx, cy, cz, cw];
+    let len: [usize; 8] = [0, 1, 2, 3, 4, 5, 6, 7].map(|k| ends[k].len());
+    let len_edge = out.edge.len();
+    let mut dst = [std::ptr::null_mut::<f32>(); 8];
+    for k in 0..8 {
+        // SAFETY: `len[k]` is the vector's length: one past its last element.
+        dst[k] = unsafe { ends[k].as_mut_ptr().add(len[k]) };
+    }
+    // SAFETY: as above.
+    let dst_edge = unsafe { out.edge.as_mut_ptr().add(len_edge) };
+    let mut kept = 0usize;
+    let mut lane = 0usize; // first lane of this step's crossing edges
+    for s in 0..steps {
+        let base = s * STEP;
+        let live: u16 = if m - base >= STEP {
+            0xFFFF
+        } else {
+            (1u16 << (m - base)) - 1
+        };
+        let cross = lanes.crossing[s];
+        // This step's crossing edges are lanes `lane..`: their drawn bits, spread to the
+        // edges' places.
+        let vis = _pdep_u32(
+            visible.checked_shr(lane as u32).unwrap_or(0) as u32,
+            u32::from(cross),
+        );
+        let keep = lanes.accepted[s] | vis as u16;
+        if keep != 0 {
+            // Where each kept segment comes from: slot o of the output takes edge `kept_at[o]`
+            // of the step, whose ends are its own (table 0, index = its place) or, for a
+            // crossing edge, its lane's clipped ends (table 1, index = 16 + its rank among
+            // the step's crossing edges). One compress and one expand per step, then one
+            // two-table permute per coordinate.
+            let kept_at = _mm512_maskz_compress_epi32(keep, iota());
+            let table = _mm512_mask_expand_epi32(
+                iota(),
+                cross,
+                _mm512_add_epi32(iota(), _mm512_set1_epi32(16)),
+            );
+            let from = _mm512_permutexvar_epi32(kept_at, table);
+            for k in 0..8 {
+                let src = if k < 4 { a[k] } else { c[k - 4] };
+                // SAFETY: the masked load reads only live lanes, inside the slice; the lane
+                // load reads 16 of `ROOM` from `lane ≤ BLOCK`; the store writes 16 floats
+                // at `kept` ≤ the edges before this step, inside the spare capacity.
+                unsafe {
+                    let own = _mm512_maskz_loadu_ps(live, src.as_ptr().add(base));
+                    let clipped = _mm512_loadu_ps(lanes.clipped[k].as_ptr().add(lane));
+                    _mm512_storeu_ps(dst[k].add(kept), _mm512_permutex2var_ps(own, from, clipped));
+                }
+            }
+            let index = _mm512_add_epi32(kept_at, _mm512_set1_epi32((start + base) as i32));
+            // SAFETY: as the stores above.
+            unsafe { _mm512_storeu_si512(dst_edge.add(kept).cast(), index) };
+            kept += keep.count_ones() as usize;
+        }
+        lane += cross.count_ones() as usize;
+    }
+    // SAFETY: the first `kept` slots past each length were written above.
+    unsafe {
+        for k in 0..8 {
+            ends[k].set_len(len[k] + kept);
+        }
+        out.edge.set_len(len_edge + kept);
+    }
+    false
+}
+
+/// Pass 2 on the eight lanes `base..base + 8` of `lanes.edge` (bit l of `live`: lane
+/// `base + l` holds an edge): their clipped ends into `lanes.clipped`; returns the masks of
+/// lanes drawn and of lanes left to the scalar code.
+///
+/// Operation for operation [`clip_crossing`]: the `f64` boundary coordinates
+/// (`[w+x, w−x, w+y, w−y, near, w−z]`), whose signs are the outcode bits (a rounded sum has
+/// the sign of the exact one); per plane crossed, `t_hit = bc_A / (bc_A − bc_C)`, raising
+/// `t_in` where A is outside and lowering `t_out` where C is; the early exit as one final
+/// test (`t_in` only rises and `t_out` only falls); the new ends `a + t·(c − a)`, rounded
+/// to `f32`; `settle()`'s test of each new end. Entry parameters are > 0, so the maximum
+/// has no ties of signed zeros; an exit parameter can be ±0, and such lanes go to the
+/// scalar code, as do ends that `settle()` would recompute.
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
+    lanes: &mut Lanes,
+    base: usize,
+    live: u8,
+) -> (u8, u8) {
+    // SAFETY (every load and store here): lanes `base..base + 8` with base < BLOCK.
+    let mut a = [_mm512_setzero_pd(); 4];
+    let mut c = [_mm512_setzero_pd(); 4];
+    for k in 0..4 {
+        unsafe {
+            a[k] = _mm512_cvtps_pd(_mm256_loadu_ps(lanes.edge[k].as_ptr().add(base)));
+            c[k] = _mm512_cvtps_pd(_mm256_loadu_ps(lanes.edge[4 + k].as_ptr().add(base)));
+        }
+    }
+    let a_bc = bc::<ZERO_TO_ONE>(a);
+    let c_bc = bc::<ZERO_TO_ONE>(c);
+    let zero = _mm512_setzero_pd();
+    let mut t_in = zero;
+    let mut t_out = _mm512_set1_pd(1.0);
+    let (mut enters, mut leaves) = (0u8, 0u8);
+    for i in 0..6 {
+        let enter = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live;
+        let leave = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(c_bc[i], zero) & live;
+        if enter | leave != 0 {
+            let t_hit = _mm512_div_pd(a_bc[i], _mm512_sub_pd(a_bc[i], c_bc[i]));
+            t_in = _mm512_mask_max_pd(t_in, enter, t_in, t_hit);
+            t_out = _mm512_mask_min_pd(t_out, leave, t_out, t_hit);
+        }
+        enters |= enter;
+        leaves |= leave;
+    }
+    let open = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(t_in, t_out);
+    let mut p = [_mm256_setzero_ps(); 4];
+    let mut q = [_mm256_setzero_ps(); 4];
+    for k in 0..4 {
+        let d = _mm512_sub_pd(c[k], a[k]);
+        let pk = _mm512_add_pd(a[k], _mm512_mul_pd(t_in, d));
+        let qk = _mm512_add_pd(a[k], _mm512_mul_pd(t_out, d));
+        // An end that is not moved keeps its `f32` value (f32 → f64 → f32 is exact).
+        p[k] = _mm512_cvtpd_ps(_mm512_mask_blend_pd(enters, a[k], pk));
+        q[k] = _mm512_cvtpd_ps(_mm512_mask_blend_pd(leaves, c[k], qk));
+        unsafe {
+            _mm256_storeu_ps(lanes.clipped[k].as_mut_ptr().add(base), p[k]);
+            _mm256_storeu_ps(lanes.clipped[4 + k].as_mut_ptr().add(base), q[k]);
+        }
+    }
+    let (p_ok, p_front) = settles_as_is::<ZERO_TO_ONE>(p);
+    let (q_ok, q_front) = settles_as_is::<ZERO_TO_ONE>(q);
+    let zero_exit = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(t_out, zero);
+    let scalar = (leaves & zero_exit) | (enters & !p_ok) | (leaves & !q_ok);
+    let open = open & live;
+    (open & !scalar & p_front & q_front, open & scalar)
+}
+
+/// The boundary coordinates of eight points in `f64`, in
+/// [`super::super::boundary_coords_of`]'s order and operations.
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn bc<const ZERO_TO_ONE: bool>([x, y, z, w]: [__m512d; 4]) -> [__m512d; 6] {
+    let near = if ZERO_TO_ONE { z } else { _mm512_add_pd(w, z) };
+    [
+        _mm512_add_pd(w, x),
+        _mm512_sub_pd(w, x),
+        _mm512_add_pd(w, y),
+        _mm512_sub_pd(w, y),
+        near,
+        _mm512_sub_pd(w, z),
+    ]
+}
+
+/// For eight computed ends (finite `f32`): whether `settle()` returns each as it is (every
+/// boundary coordinate ≥ −`SETTLE_REL`·max |pᵢ| in `f64`, or w not > 0), and whether w > 0.
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn settles_as_is<const ZERO_TO_ONE: bool>(p: [__m256; 4]) -> (u8, u8) {
+    let mut p64 = [_mm512_setzero_pd(); 4];
+    let mut abs = [_mm512_setzero_pd(); 4];
+    for k in 0..4 {
+        p64[k] = _mm512_cvtps_pd(p[k]);
+        abs[k] = _mm512_abs_pd(p64[k]);
+    }
+    let [_, _, z, w] = p64;
+    // |pᵢ| and their maximum are exact in f64, and do not depend on the order.
+    let m = _mm512_max_pd(_mm512_max_pd(abs[0], abs[1]), _mm512_max_pd(abs[2], abs[3]));
+    let floor = neg_pd(_mm512_mul_pd(_mm512_set1_pd(SETTLE_REL), m));
+    // The least boundary coordinate. min(w + x, w − x) is w − |x| rounded (rounding is
+    // monotonic), so four subtractions and three minima give what settle()'s six do.
+    let near = if ZERO_TO_ONE { z } else { _mm512_add_pd(w, z) };
+    let least = _mm512_min_pd(
+        _mm512_min_pd(_mm512_sub_pd(w, abs[0]), _mm512_sub_pd(w, abs[1])),
+        _mm512_min_pd(near, _mm512_sub_pd(w, z)),
+    );
+    let within = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(least, floor);
+    let front = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(p64[3], _mm512_setzero_pd());
+    (within | !front, front)
+}
