@@ -307,7 +307,7 @@ pub(crate) fn fit_trial(
     candidates: usize,
 ) -> Result<Candidate, DiagnoseError> {
     let (after, cov) = fit(&mut model, free, prep, before, (cfg.max_iterations, false));
-    make_candidate(
+    let mut c = make_candidate(
         base,
         &model,
         trial,
@@ -317,7 +317,9 @@ pub(crate) fn fit_trial(
         cov,
         cfg,
         candidates,
-    )
+    )?;
+    c.comparison = Some(std::sync::Arc::new(after));
+    Ok(c)
 }
 
 /// Try one effect on top of `base`: fit it and score it against the baseline. `fixed` lists
@@ -541,6 +543,7 @@ pub(crate) fn make_candidate(
         windows: after.windows.len(),
         joint: false,
         correction,
+        comparison: None,
     })
 }
 

@@ -142,6 +142,43 @@ fn lr_statistic(with: &Comparison, chi2_without: f64) -> f64 {
 }
 
 impl JointFit {
+    /// The joint fit of one member that is `c`, fitted alone on top of `model`: the same
+    /// fit, so none is repeated. None when `c` kept no comparison or does not apply.
+    pub(crate) fn from_candidate(model: &Model, c: &Candidate, prep: &Prepared) -> Option<Self> {
+        let comparison = (**c.comparison.as_ref()?).clone();
+        let mut with = model.clone();
+        c.correction.apply(&mut with).ok()?;
+        let members = vec![Member::of(c)];
+        let (free, spans) = joint_free(&mut with, &members, prep).ok()?;
+        // The covariance from the candidate's σ and correlations, over its fitted
+        // parameters in their order.
+        let sigma: Vec<f64> = c
+            .uncertainty
+            .iter()
+            .zip(&c.held)
+            .filter(|(_, h)| !**h)
+            .map(|(u, _)| *u)
+            .collect();
+        let np = free.len();
+        let cov = (sigma.len() == np
+            && c.correlation.len() == np * np
+            && sigma.iter().all(|s| s.is_finite()))
+        .then(|| {
+            (0..np * np)
+                .map(|ik| sigma[ik / np] * sigma[ik % np] * c.correlation[ik])
+                .collect()
+        });
+        Some(Self {
+            members,
+            model: with,
+            free,
+            spans,
+            comparison,
+            cov,
+            lr: Vec::new(),
+        })
+    }
+
     /// The joint fit without member `k`, refitted (the model as given when it was the only
     /// one).
     pub(crate) fn without(
