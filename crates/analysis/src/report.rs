@@ -330,6 +330,7 @@ pub fn ladder_json(d: &Diagnosis, rankings: bool) -> Value {
                     "noise_units": s.noise_units,
                     "added": s.added,
                     "dropped": s.dropped,
+                    "alternatives": s.alternatives,
                     "fitted": fitted_json(&s.fitted),
                     "error_after": s.error_after,
                     "noise_units_after": s.noise_units_after,
@@ -517,6 +518,7 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
             d.alternatives.join(", ")
         );
     }
+    out.push_str(&step_alternatives_text(d));
     for e in &d.evidence {
         let _ = writeln!(out, "  evidence: {e}");
     }
@@ -532,6 +534,24 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
             "  (candidates were fitted on {} of the {} windows; the causes found again on all)",
             d.windows.1, d.windows.0
         );
+    }
+    out
+}
+
+/// For a verdict of several causes, the candidates each step could have added as well.
+fn step_alternatives_text(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    if d.found.len() < 2 {
+        return out;
+    }
+    for s in &d.steps {
+        if let (Some(added), false) = (&s.added, s.alternatives.is_empty()) {
+            let _ = writeln!(
+                out,
+                "  as good an explanation as `{added}`: {} — these data cannot tell them apart",
+                s.alternatives.join(", ")
+            );
+        }
     }
     out
 }
@@ -605,6 +625,14 @@ pub fn steps_text(d: &Diagnosis) -> String {
         );
     }
     let _ = writeln!(out, "verdict: {}", verdict_text(d));
+    if !d.alternatives.is_empty() {
+        let _ = writeln!(
+            out,
+            "as good an explanation: {} — these data cannot tell them apart",
+            d.alternatives.join(", ")
+        );
+    }
+    out.push_str(&step_alternatives_text(d));
     out
 }
 

@@ -337,6 +337,9 @@ pub struct Step {
     pub added: Option<String>,
     /// Causes dropped after the addition: given the others, the data no longer needed them.
     pub dropped: Vec<String>,
+    /// Other candidates of this step that explain the data as well as the one added
+    /// (misfit within [`EQUIVALENT`] of it): these data cannot tell them apart.
+    pub alternatives: Vec<String>,
     /// The causes after this step, fitted jointly (on the screened windows).
     pub fitted: Vec<Candidate>,
     /// Total error and misfit in noise units of the joint fit after this step.
@@ -594,6 +597,7 @@ fn select(
             ranking,
             added: None,
             dropped: Vec::new(),
+            alternatives: Vec::new(),
             fitted: Vec::new(),
             error_after: baseline.comparison.total,
             noise_units_after: baseline.comparison.noise_units(),
@@ -656,6 +660,7 @@ fn select(
                 break;
             }
         }
+        step.alternatives = alternatives(&step.ranking, &best.effect);
         step.added = Some(best.effect.clone());
         step.fitted = fitted.records(base, &before, cfg, k_first);
         step.error_after = fitted.comparison.total;
@@ -753,13 +758,13 @@ pub fn diagnose(
 
 /// The significant, whole candidates other than the one found that leave as little misfit.
 fn alternatives(ranking: &[Candidate], name: &str) -> Vec<String> {
-    let Some(best) = ranking.iter().find(|c| &c.effect == name) else {
+    let Some(best) = ranking.iter().find(|c| c.effect == name) else {
         return Vec::new();
     };
     let limit = best.noise_units_after * (1.0 + EQUIVALENT);
     ranking
         .iter()
-        .filter(|c| &c.effect != name && c.significant && !c.partial)
+        .filter(|c| c.effect != name && c.significant && c.partial == best.partial)
         .filter(|c| c.noise_units_after <= limit)
         .map(|c| c.effect.clone())
         .collect()
