@@ -7,7 +7,7 @@ use crate::analysis::compare::{
     compare_prepared, noise_floor, CompareConfig, Comparison, Prepared,
 };
 use crate::analysis::conditions::{conditions, explain_growth, growth_exponent, Condition};
-use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
+use crate::analysis::diagnose::{add_fitted, promising_numbers, DiagnoseConfig};
 use crate::analysis::report::{
     axes_text, candidate_json, comparison_json, conditions_json, count, fmt_opt, fmt_params,
     model_label, noise_json, noise_text, windows_json, Table,
@@ -279,11 +279,34 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let final_units = last.comparison.noise_units();
     let at_floor = final_units <= DiagnoseConfig::default().at_floor;
     if at_floor {
-        println!(
-            "\nthe error is at the noise floor ({} × the noise): nothing left to find with these \
-             data (correlations with flight conditions would be chance)",
-            fixed(final_units, 2)
-        );
+        // Near the floor the totals alone cannot tell a right model from one with a small
+        // wrong number: the score test of `diagnose` can, at the cost of one flight per
+        // number and window.
+        let dcfg = DiagnoseConfig {
+            compare: cfg,
+            ..DiagnoseConfig::default()
+        };
+        let promising = promising_numbers(final_model, &prep, &dcfg);
+        if promising.is_empty() {
+            println!(
+                "\nthe error is at the noise floor ({} × the noise), and the score test finds no \
+                 number of the aircraft's set that could explain what is left; `wireflight \
+                 diagnose` also tries the catalogue's effects",
+                fixed(final_units, 2)
+            );
+        } else {
+            let named: Vec<String> = promising
+                .iter()
+                .take(3)
+                .map(|s| format!("{} ({})", s.key.name, s.key.term))
+                .collect();
+            println!(
+                "\nthe error is {} × the noise, near the floor, but the score test says {} could \
+                 still explain a significant part of it: run `wireflight diagnose` to fit and test",
+                fixed(final_units, 2),
+                named.join(", ")
+            );
+        }
         return Ok(());
     }
     println!("\n{}", title("error correlates with"));

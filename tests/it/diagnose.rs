@@ -13,9 +13,7 @@
 //! low, slow pass measured by precise instruments.
 
 use wireflight::analysis::compare::CompareConfig;
-use wireflight::analysis::diagnose::{
-    diagnose, iterate, Candidate, DiagnoseConfig, Diagnosis, Verdict,
-};
+use wireflight::analysis::diagnose::{diagnose, Candidate, DiagnoseConfig, Diagnosis, Verdict};
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::Origin;
@@ -168,7 +166,7 @@ fn assert_found(case: &Case, effect: &str) -> Candidate {
     let d = case.diagnose();
     let text = report(&format!("hidden {:?}, seed {}", case.hidden, case.seed), &d);
     eprintln!("{text}");
-    assert_eq!(d.verdict, Verdict::Effect(effect.into()), "{text}");
+    assert_eq!(d.verdict, Verdict::Found(vec![effect.into()]), "{text}");
     let winner = d.winner().unwrap().clone();
     assert!(winner.excess_removed >= 0.9, "{text}");
     winner
@@ -296,8 +294,11 @@ fn ground_effect_on_a_constant_height_pass_is_named_with_its_equals() {
     let d = case.diagnose();
     let text = report("hidden ground_effect at 0.3 m", &d);
     eprintln!("{text}");
-    let Verdict::Effect(verdict) = &d.verdict else {
+    let Verdict::Found(names) = &d.verdict else {
         panic!("a verdict was expected: {text}");
+    };
+    let [verdict] = names.as_slice() else {
+        panic!("one cause was expected: {text}");
     };
     let named: Vec<&str> = std::iter::once(verdict.as_str())
         .chain(d.alternatives.iter().map(String::as_str))
@@ -342,7 +343,11 @@ fn a_screened_diagnosis_refits_the_winner_on_every_window() {
         report("screened", &screened) + &report("whole", &whole) + &report("subset", &subset);
     eprintln!("{text}");
     assert_eq!(screened.windows, (15, 5), "{text}");
-    assert_eq!(screened.verdict, Verdict::Effect("wind".into()), "{text}");
+    assert_eq!(
+        screened.verdict,
+        Verdict::Found(vec!["wind".into()]),
+        "{text}"
+    );
     let winner = screened.winner().unwrap();
     assert_eq!(winner.windows, 15, "{text}");
     let all = whole.winner().unwrap();
@@ -397,7 +402,7 @@ fn a_screened_diagnosis_compares_the_base_as_compare_does_whatever_the_winner() 
         let d = diagnose(&base, &data, &[], &cfg).unwrap();
         let text = report(hidden, &d);
         assert_eq!(d.windows, (15, 5), "{text}");
-        assert_eq!(d.verdict, Verdict::Effect(winner.into()), "{text}");
+        assert_eq!(d.verdict, Verdict::Found(vec![winner.into()]), "{text}");
         assert_base_is_compares(&d, &base, &data, &cfg, &text);
     }
 }
@@ -434,27 +439,37 @@ fn clean_fixed_wing_data_give_no_verdict() {
 }
 
 #[test]
-fn iterate_finds_two_hidden_effects() {
+fn two_hidden_effects_are_found_together() {
     let case = Case::flight_test(
         &["wind:north_mps=4,east_mps=-3", "prop_torque:k_torque=0.5"],
         4,
     );
-    let (ladder, _) = iterate(&case.baseline(), &case.data(), &[], &case.config(), 4).unwrap();
-    let mut text = String::new();
-    for rung in &ladder {
-        text += &report(&format!("model {:?}", rung.effects), &rung.diagnosis);
+    let d = case.diagnose();
+    let mut text = report("wind + prop_torque", &d);
+    for (i, s) in d.steps.iter().enumerate() {
+        text += &format!(
+            "step {i} on {:?}: added {:?}, error {:.3} → {:.3}\n",
+            s.effects, s.added, s.error, s.error_after
+        );
     }
     eprintln!("{text}");
-    let last = ladder.last().unwrap();
-    let mut found = last.effects.clone();
-    found.sort();
+    let mut found: Vec<&str> = d.found.iter().map(|c| c.effect.as_str()).collect();
+    found.sort_unstable();
     assert_eq!(found, ["prop_torque", "wind"], "{text}");
-    assert_eq!(last.diagnosis.verdict, Verdict::None, "{text}");
-    // The error falls at every rung and ends near the noise floor.
-    for pair in ladder.windows(2) {
-        assert!(pair[1].error < pair[0].error, "{text}");
+    assert_eq!(
+        d.verdict.to_string().split(" + ").count(),
+        2,
+        "the verdict names both: {text}"
+    );
+    // The error falls at every step that adds, and ends near the noise floor; the last step
+    // adds nothing.
+    for s in &d.steps {
+        if s.added.is_some() {
+            assert!(s.error_after < s.error, "{text}");
+        }
     }
-    assert!(last.error < 1.3 * last.diagnosis.noise_floor, "{text}");
+    assert!(d.steps.last().unwrap().added.is_none(), "{text}");
+    assert!(d.found_error < 1.3 * d.noise_floor, "{text}");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -566,7 +581,7 @@ fn a_user_effect_with_a_parameter_invisible_at_its_start_is_fitted() {
     let candidate = thermal::THERMAL.build(&base.effect_context());
     let d = diagnose(&base, &data, &[candidate], &DiagnoseConfig::default()).unwrap();
     let text = report("hidden thermal", &d);
-    assert_eq!(d.verdict, Verdict::Effect("thermal".into()), "{text}");
+    assert_eq!(d.verdict, Verdict::Found(vec!["thermal".into()]), "{text}");
     let w = d.winner().unwrap();
     assert_param(w, "updraft_mps", 3.0, 0.01);
     assert_param(w, "radius_m", 80.0, 0.01);

@@ -175,7 +175,7 @@ fn report(d: &Diagnosis) -> String {
 fn assert_found(d: &Diagnosis, effect: &str, name: &str, truth: f64) -> Candidate {
     let text = report(d);
     eprint!("{text}");
-    assert_eq!(d.verdict, Verdict::Effect(effect.into()), "{text}");
+    assert_eq!(d.verdict, Verdict::Found(vec![effect.into()]), "{text}");
     let w = d.winner().expect("a winner").clone();
     assert!(w.significant && !w.partial, "{text}");
     let k = w.params.iter().position(|(n, _)| n == name).expect(name);
@@ -246,7 +246,7 @@ fn a_wrong_coefficient_is_named_with_its_value_never_a_catalogue_effect() {
         let truth = wireflight::flight::params::keys::get(&aerosonde, key).unwrap() * factor;
         assert_eq!(
             dg.verdict,
-            Verdict::Effect(format!("aircraft:{key}")),
+            Verdict::Found(vec![format!("aircraft:{key}")]),
             "{text}"
         );
         let w = dg.winner().unwrap();
@@ -269,9 +269,11 @@ fn a_wrong_mass_is_named_or_unexplained_never_a_catalogue_effect() {
     eprintln!("{text}");
     let catalogue = wireflight::flight::effects::catalogue_names();
     match &dg.verdict {
-        Verdict::Effect(name) => {
-            assert!(!catalogue.contains(&name.as_str()), "{text}");
-            assert!(name.starts_with("aircraft:"), "{text}");
+        Verdict::Found(names) => {
+            for name in names {
+                assert!(!catalogue.contains(&name.as_str()), "{text}");
+                assert!(name.starts_with("aircraft:"), "{text}");
+            }
         }
         Verdict::Unexplained => {}
         Verdict::None => panic!("a 10% heavier model is not at the noise floor\n{text}"),

@@ -30,5 +30,6 @@ mod overlay;
 mod pictures;
 mod plots;
 mod readme;
+mod several_causes;
 mod view;
 mod view_gimbal;

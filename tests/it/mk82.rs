@@ -137,7 +137,7 @@ fn mk82_diagnosis_finds_drag_first() {
     assert!(fall >= 5.0, "error falls only {fall:.2}×");
     assert!(
         d.verdict == Verdict::Unexplained && top.partial
-            || d.verdict == Verdict::Effect("drag".into()),
+            || d.verdict == Verdict::Found(vec!["drag".into()]),
         "{}",
         d.verdict
     );

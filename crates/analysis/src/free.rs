@@ -92,7 +92,7 @@ pub(crate) fn stepped(theta: &[f64], step: &[f64], free: &[Free]) -> Vec<f64> {
 const AIRCRAFT_MIN_SCALE: f64 = 0.01;
 
 /// The aircraft numbers `keys` of `model` as free parameters, each scaled by a tenth of its
-/// value.
+/// value and kept within its physical range ([`wireflight_flight::params::physical`]).
 ///
 /// # Errors
 /// An unknown key; a point mass.
@@ -106,7 +106,7 @@ pub(crate) fn aircraft_free(model: &Model, keys: &[&'static str]) -> Result<Vec<
                 .ok_or_else(|| KeyError::PointMass(k.to_string()))?;
             Ok(Free {
                 name: key.name,
-                range: key.range,
+                range: wireflight_flight::params::physical::fit_range(key, v),
                 scale: (0.1 * v.abs()).max(AIRCRAFT_MIN_SCALE),
                 owner: Owner::Aircraft,
             })

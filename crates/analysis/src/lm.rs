@@ -24,7 +24,7 @@ const LAMBDA_MIN: f64 = 1e-9;
 /// What a full Gauss–Newton step could still lower the linearised misfit by, gᵀA⁻¹g (None
 /// when A is singular): below the fit's tolerance, no trial is worth a pass over the windows
 /// — without this check a converged fit spends its last iteration on trials that all fail.
-fn newton_gain(a: &[f64], g: &[f64]) -> Option<f64> {
+pub(crate) fn newton_gain(a: &[f64], g: &[f64]) -> Option<f64> {
     let mut x = g.to_vec();
     let mut m = a.to_vec();
     solve_in_place(&mut m, &mut x, g.len())?;

@@ -93,24 +93,30 @@ pub fn fmt_opt(v: Option<f64>, unit: &str) -> String {
         .unwrap_or_else(|| "—".into())
 }
 
-/// `k=v±σ ...` of a candidate's parameters (held ones marked, the change from the set in %
-/// for aircraft numbers), or "" without parameters.
+/// `k=v±σ ...` of a candidate's parameters (held ones marked, those at a limit of their
+/// range marked, the change from the set in % for aircraft numbers — "new" where the set
+/// has 0), or "" without parameters.
 pub fn fmt_params(c: &Candidate) -> String {
     let changes = c.changes_percent();
     c.params
         .iter()
-        .zip(&c.uncertainty)
-        .zip(&c.held)
-        .map(|(((k, v), u), held)| {
-            let change = changes
-                .iter()
-                .find(|(key, _)| key == k)
-                .map(|(_, pct)| format!(" ({}% from the set)", signed(*pct, 1)))
-                .unwrap_or_default();
-            if *held {
+        .enumerate()
+        .map(|(i, (k, v))| {
+            let change = match changes.iter().find(|(key, _)| key == k) {
+                Some((_, Some(pct))) => format!(" ({}% from the set)", signed(*pct, 1)),
+                Some((_, None)) => " (new: the set has 0)".to_string(),
+                None => String::new(),
+            };
+            let u = c.uncertainty.get(i).copied().unwrap_or(f64::NAN);
+            if c.held.get(i).copied().unwrap_or(false) {
                 format!("{k}={} (held)", fmt_number(*v))
+            } else if c.at_limit.get(i).copied().unwrap_or(false) {
+                format!(
+                    "{k}={} (at its limit: not an estimate){change}",
+                    fmt_number(*v)
+                )
             } else if u.is_finite() {
-                format!("{k}={}±{}{change}", fmt_number(*v), fmt_number(*u))
+                format!("{k}={}±{}{change}", fmt_number(*v), fmt_number(u))
             } else {
                 format!("{k}={} (not determined){change}", fmt_number(*v))
             }
@@ -249,7 +255,14 @@ pub fn candidate_json(c: &Candidate) -> Value {
     let change: Map<String, Value> = c
         .changes_percent()
         .into_iter()
-        .map(|(k, v)| (k.to_string(), json!(v)))
+        .map(|(k, v)| (k.to_string(), v.map_or(json!("new"), |v| json!(v))))
+        .collect();
+    let at_limit: Vec<&String> = c
+        .params
+        .iter()
+        .zip(&c.at_limit)
+        .filter(|(_, l)| **l)
+        .map(|((k, _), _)| k)
         .collect();
     json!({
         "effect": c.effect,
@@ -258,6 +271,7 @@ pub fn candidate_json(c: &Candidate) -> Value {
         "uncertainty": unc,
         "uncertainty_level": "1 sigma",
         "held": held,
+        "at_limit": at_limit,
         "correlation": c.correlation,
         "error_before": c.error_before,
         "error_after": c.error_after,
@@ -270,19 +284,84 @@ pub fn candidate_json(c: &Candidate) -> Value {
         "significant": c.significant,
         "partial": c.partial,
         "windows": c.windows,
+        "fitted_with_causes_kept": c.joint,
     })
 }
 
-/// A diagnosis as JSON: verdict (`effect`, `none` or `unexplained`), errors, ranking.
+/// `{"NAME": {"PARAM": {"value": v, "sigma": s}}}` of fitted causes (σ `null` where not
+/// determined; held parameters and those at a limit say so).
+pub fn fitted_json(causes: &[Candidate]) -> Value {
+    let map: Map<String, Value> = causes
+        .iter()
+        .map(|c| {
+            let params: Map<String, Value> = c
+                .params
+                .iter()
+                .enumerate()
+                .map(|(i, (k, v))| {
+                    let sigma = c.uncertainty.get(i).copied().filter(|u| u.is_finite());
+                    let mut p = json!({"value": v, "sigma": sigma});
+                    if c.held.get(i).copied().unwrap_or(false) {
+                        p["held"] = json!(true);
+                    }
+                    if c.at_limit.get(i).copied().unwrap_or(false) {
+                        p["at_limit"] = json!(true);
+                    }
+                    (k.clone(), p)
+                })
+                .collect();
+            (c.effect.clone(), Value::Object(params))
+        })
+        .collect();
+    Value::Object(map)
+}
+
+/// The selection's steps as JSON: each rung's model (`effects`), its error, what it added
+/// and dropped, and the joint values after it (`fitted`); with `rankings`, each step's
+/// candidates too.
+pub fn ladder_json(d: &Diagnosis, rankings: bool) -> Value {
+    Value::Array(
+        d.steps
+            .iter()
+            .map(|s| {
+                let mut v = json!({
+                    "effects": s.effects,
+                    "error": s.error,
+                    "noise_units": s.noise_units,
+                    "added": s.added,
+                    "dropped": s.dropped,
+                    "alternatives": s.alternatives,
+                    "fitted": fitted_json(&s.fitted),
+                    "error_after": s.error_after,
+                    "noise_units_after": s.noise_units_after,
+                });
+                if rankings {
+                    v["ranking"] = s.ranking.iter().map(candidate_json).collect();
+                }
+                v
+            })
+            .collect(),
+    )
+}
+
+/// A diagnosis as JSON: verdict (names joined by " + ", `none` or `unexplained`), the causes
+/// found (`found`, with their joint values in `fitted` and full records in `causes`), errors,
+/// the first step's ranking and the ladder.
 pub fn diagnosis_json(d: &Diagnosis) -> Value {
     json!({
         "verdict": d.verdict.to_string(),
+        "found": d.found.iter().map(|c| c.effect.clone()).collect::<Vec<_>>(),
+        "fitted": fitted_json(&d.found),
+        "causes": d.found.iter().map(candidate_json).collect::<Vec<_>>(),
         "base_error": d.base_error,
         "noise_floor": d.noise_floor,
         "noise_units": d.noise_units,
+        "found_error": d.found_error,
+        "found_noise_units": d.found_noise_units,
         "windows": d.windows.0,
         "windows_screened": d.windows.1,
         "ranking": d.ranking.iter().map(candidate_json).collect::<Vec<_>>(),
+        "ladder": ladder_json(d, false),
         "evidence": d.evidence,
         "alternatives": d.alternatives,
         "aircraft_scores": d.aircraft_scores.iter().take(10).map(|s| json!({
@@ -345,6 +424,69 @@ pub fn axes_text(before: &Comparison, after: Option<&Comparison>) -> String {
     t.render(2)
 }
 
+/// "12%", "worse" or "—": the share of the misfit above the noise a candidate removed (in
+/// noise units, [`Candidate::excess_removed`]); the same quantity as the row's "× noise"
+/// before and after.
+fn removed_cell(c: &Candidate) -> String {
+    if c.noise_units_after > c.noise_units_before {
+        "worse".into()
+    } else {
+        format!("{}%", fixed(100.0 * c.excess_removed.clamp(0.0, 1.0), 0))
+    }
+}
+
+/// A ranking of candidates as a table.
+fn ranking_table(ranking: &[Candidate]) -> String {
+    let mut t = Table::new([
+        "candidate",
+        "× noise",
+        "removed",
+        "significant",
+        "fitted parameters (±1σ)",
+    ]);
+    for c in ranking {
+        t.row([
+            if c.joint {
+                format!("{} (with the causes kept)", c.effect)
+            } else {
+                c.effect.clone()
+            },
+            fixed(c.noise_units_after, 2),
+            removed_cell(c),
+            if c.any_at_limit() {
+                "at limit".into()
+            } else if c.partial {
+                "partial".into()
+            } else if c.significant {
+                "yes".into()
+            } else {
+                "no".into()
+            },
+            fmt_params(c),
+        ]);
+    }
+    t.render(2)
+}
+
+/// The causes of a joint fit as a table: values ±1σ, and each one's test given the others.
+fn causes_table(causes: &[Candidate]) -> String {
+    let mut t = Table::new([
+        "cause",
+        "LR given the others",
+        "needs",
+        "fitted together (±1σ)",
+    ]);
+    for c in causes {
+        t.row([
+            c.effect.clone(),
+            fixed(c.lr_statistic, 1),
+            format!("> {}", fixed(c.lr_critical, 1)),
+            fmt_params(c),
+        ]);
+    }
+    t.render(2)
+}
+
 /// The ranking table and verdict of a diagnosis, as text.
 pub fn diagnosis_text(d: &Diagnosis) -> String {
     let mut out = String::new();
@@ -361,31 +503,12 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
             String::new()
         }
     );
-    let mut t = Table::new([
-        "candidate",
-        "error after",
-        "× noise",
-        "removed",
-        "significant",
-        "fitted parameters (±1σ)",
-    ]);
-    for c in &d.ranking {
-        t.row([
-            c.effect.clone(),
-            fixed(c.error_after, 3),
-            fixed(c.noise_units_after, 2),
-            format!("{}%", fixed(100.0 * c.excess_removed.clamp(-1.0, 1.0), 0)),
-            if c.partial {
-                "partial".into()
-            } else if c.significant {
-                "yes".into()
-            } else {
-                "no".into()
-            },
-            fmt_params(c),
-        ]);
+    out.push_str("  each candidate alone (\"removed\": of the misfit above the noise):\n");
+    out.push_str(&ranking_table(&d.ranking));
+    if d.found.len() > 1 {
+        out.push_str("  the causes kept, fitted together:\n");
+        out.push_str(&causes_table(&d.found));
     }
-    out.push_str(&t.render(2));
     let _ = writeln!(out, "  verdict: {}", verdict_text(d));
     if !d.alternatives.is_empty() {
         let _ = writeln!(
@@ -395,6 +518,7 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
             d.alternatives.join(", ")
         );
     }
+    out.push_str(&step_alternatives_text(d));
     for e in &d.evidence {
         let _ = writeln!(out, "  evidence: {e}");
     }
@@ -407,10 +531,108 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     if d.windows.1 < d.windows.0 {
         let _ = writeln!(
             out,
-            "  (candidates were fitted on {} of the {} windows; the best one again on all)",
+            "  (candidates were fitted on {} of the {} windows; the causes found again on all)",
             d.windows.1, d.windows.0
         );
     }
+    out
+}
+
+/// For a verdict of several causes, the candidates each step could have added as well.
+fn step_alternatives_text(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    if d.found.len() < 2 {
+        return out;
+    }
+    for s in &d.steps {
+        if let (Some(added), false) = (&s.added, s.alternatives.is_empty()) {
+            let _ = writeln!(
+                out,
+                "  as good an explanation as `{added}`: {} — these data cannot tell them apart",
+                s.alternatives.join(", ")
+            );
+        }
+    }
+    out
+}
+
+/// "baseline" or "+ a + b": a step's model.
+fn step_model(effects: &[String]) -> String {
+    if effects.is_empty() {
+        "baseline".into()
+    } else {
+        format!("+ {}", effects.join(" + "))
+    }
+}
+
+/// How the selection went, step by step: each step's candidates, what it added and
+/// dropped, the joint values after it; then the ladder of errors.
+pub fn steps_text(d: &Diagnosis) -> String {
+    let mut out = String::new();
+    for (i, s) in d.steps.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "step {}: model {} — error {} ({} × the noise)",
+            i + 1,
+            step_model(&s.effects),
+            fixed(s.error, 3),
+            fixed(s.noise_units, 2)
+        );
+        out.push_str(&ranking_table(&s.ranking));
+        match &s.added {
+            Some(added) => {
+                let _ = write!(out, "  added {added}");
+                if !s.dropped.is_empty() {
+                    let _ = write!(
+                        out,
+                        "; dropped {} (given the others, the data no longer need it)",
+                        s.dropped.join(", ")
+                    );
+                }
+                let _ = writeln!(
+                    out,
+                    "; refitted together: error {} ({} × the noise)",
+                    fixed(s.error_after, 3),
+                    fixed(s.noise_units_after, 2)
+                );
+                out.push_str(&causes_table(&s.fitted));
+            }
+            None => {
+                let _ = writeln!(out, "  no candidate is significant: the selection stops");
+            }
+        }
+        out.push('\n');
+    }
+    out.push_str("ladder (error as causes are added, fitted together):\n");
+    let mut t = Table::new(["model", "error", "× noise"]);
+    for s in &d.steps {
+        t.row([
+            step_model(&s.effects),
+            fixed(s.error, 3),
+            fixed(s.noise_units, 2),
+        ]);
+    }
+    out.push_str(&t.render(2));
+    if d.windows.1 < d.windows.0 {
+        let _ = writeln!(
+            out,
+            "  (steps on {} of the {} windows; on all of them the causes found leave {} ({} × \
+             the noise))",
+            d.windows.1,
+            d.windows.0,
+            fixed(d.found_error, 3),
+            fixed(d.found_noise_units, 2)
+        );
+    }
+    let _ = writeln!(out, "verdict: {}", verdict_text(d));
+    if !d.alternatives.is_empty() {
+        let _ = writeln!(
+            out,
+            "as good an explanation: {} — these data cannot tell them apart",
+            d.alternatives.join(", ")
+        );
+    }
+    out.push_str(&step_alternatives_text(d));
     out
 }
 
@@ -442,50 +664,66 @@ pub fn correlations_text(c: &Candidate) -> String {
     parts.join(", ")
 }
 
+/// "`wind` is missing (north_mps=…)", "`aircraft:c_m_q` is wrong in the set (…)": one
+/// cause with its fitted values.
+fn cause_text(c: &Candidate) -> String {
+    let params = fmt_params(c);
+    let what = if c.effect.starts_with("aircraft:") {
+        "is wrong in the set"
+    } else {
+        "is missing"
+    };
+    format!(
+        "`{}` {what}{}",
+        c.effect,
+        if params.is_empty() {
+            String::new()
+        } else {
+            format!(" ({params})")
+        }
+    )
+}
+
 /// The verdict in a sentence.
 pub fn verdict_text(d: &Diagnosis) -> String {
-    match (&d.verdict, d.winner()) {
-        (Verdict::Effect(name), Some(w)) => {
-            let params = fmt_params(w);
-            let what = if name.starts_with("aircraft:") {
-                "is wrong in the set"
-            } else {
-                "is missing"
-            };
+    let fall = format!(
+        "{} → {} ({} × the noise)",
+        fixed(d.base_error, 3),
+        fixed(d.found_error, 3),
+        fixed(d.found_noise_units, 2)
+    );
+    match &d.verdict {
+        Verdict::Found(_) if d.found.len() == 1 => {
             format!(
-                "`{name}` {what}{}; with it the error falls {} → {} ({} × the noise)",
-                if params.is_empty() {
-                    String::new()
-                } else {
-                    format!(" ({params})")
-                },
-                fixed(w.error_before, 3),
-                fixed(w.error_after, 3),
-                fixed(w.noise_units_after, 2)
+                "{}; with it the error falls {fall}",
+                cause_text(&d.found[0])
             )
         }
-        (Verdict::None, _) => format!(
+        Verdict::Found(_) => {
+            let parts: Vec<String> = d.found.iter().map(cause_text).collect();
+            format!(
+                "{} causes at once, fitted together: {}; with them the error falls {fall}",
+                d.found.len(),
+                parts.join("; ")
+            )
+        }
+        Verdict::None => format!(
             "none — the error is at the noise floor ({} × the noise): nothing is missing that \
              these data can show",
             fixed(d.noise_units, 2)
         ),
-        _ => {
-            let partial: Vec<&str> = d
-                .ranking
-                .iter()
-                .filter(|c| c.partial)
-                .map(|c| c.effect.as_str())
-                .collect();
-            let mut s = format!(
-                "unexplained — the error stays {} × the noise and no candidate brings it to the \
-                 floor",
-                fixed(d.noise_units, 2)
-            );
-            if !partial.is_empty() {
-                let _ = write!(s, "; partial: {}", partial.join(", "));
-            }
-            s
+        Verdict::Unexplained if !d.found.is_empty() => {
+            let names: Vec<String> = d.found.iter().map(|c| format!("`{}`", c.effect)).collect();
+            format!(
+                "unexplained — with {} (fitted together) the error falls {fall}, still above the \
+                 noise, and no further candidate is significant: part of the answer",
+                names.join(" + ")
+            )
         }
+        Verdict::Unexplained => format!(
+            "unexplained — the error stays {} × the noise and no candidate is significant",
+            fixed(d.noise_units, 2)
+        ),
     }
 }
 

@@ -64,9 +64,12 @@ Examples:
   wireflight diagnose --flight two-effects.csv --iterate
   wireflight diagnose --flight tests/data/jsbsim-mk82.csv --iterate --json
 
-Every catalogue effect that applies to the vehicle is added in turn, its parameters fitted,
-and ranked by how much error it removes; a likelihood-ratio test over independent windows
-decides whether that is more than fitting noise would give.";
+Every catalogue effect that applies to the vehicle, and every promising number of the
+aircraft's set, is added in turn, its parameters fitted, and ranked by how much error it
+removes; a likelihood-ratio test decides whether that is more than fitting noise would give.
+The best significant one is kept and the search repeats on top of it, every cause kept being
+refitted together with the new one (and dropped when the others make it unnecessary), until
+no candidate is significant. The verdict names every cause kept.";
 
 /// `wireflight diagnose` options.
 #[derive(Debug, Args)]
@@ -85,7 +88,8 @@ pub struct DiagnoseArgs {
     /// How the flight is cut into windows.
     #[command(flatten)]
     pub windows: WindowArgs,
-    /// Add the winner and diagnose again until nothing significant is left.
+    /// Show every step of the search: the candidates at each step, what was added and
+    /// dropped, and the causes' joint values after it.
     #[arg(long)]
     pub iterate: bool,
     /// Machine-readable output (JSON) on stdout.

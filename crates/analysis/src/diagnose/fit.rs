@@ -8,24 +8,20 @@
 //! when the linearisation was off). The covariance comes from the projected Jacobian.
 
 use super::{AircraftChange, Candidate, Correction, DiagnoseConfig, DiagnoseError};
-use crate::compare::start::{Scratch, StartFit};
+use crate::compare::start::StartFit;
 use crate::compare::{
-    compare_corrections, compare_from_jacobians, compare_refit, compare_with_fits, Comparison,
-    Prepared,
+    compare_from_jacobians, compare_refit, compare_with_fits, Comparison, Prepared,
 };
-use crate::free::{aircraft_free, effect, set_values, values, Free, Owner};
-use crate::lm::{newton_trial, Lm, FIT_TOL};
-use crate::profile::{
-    add_into, linear_profile, moving_frame, normal_equations, perturbed_models,
-    window_normal_towards, Linearised,
-};
+use crate::free::{aircraft_free, effect, values, Free, Owner};
+use crate::lm::{Lm, FIT_TOL};
+use crate::profile::{linear_profile, moving_frame, normal_equations, Linearised};
 use wireflight_flight::effects::{Effect, ParamSpec};
 use wireflight_flight::model::{Model, State};
 use wireflight_flight::numeric::{chi2_quantile, invert};
 
 /// The fitted parameters' covariance in their own units (row-major), or None when the data
 /// do not determine them.
-fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
+pub(crate) fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
     let np = free.len();
     let inv = invert(a, np)?;
     let rho = cmp.residual_autocorrelation().clamp(0.0, 0.99);
@@ -140,12 +136,12 @@ fn move_starts(lin: &mut [Linearised], dq: &[Vec<f64>]) {
 /// Fit the free parameters of the effect `name` (already in `model`) (module docs), starting
 /// from the start fits `fits` of the model without it. Returns the comparison at the fitted
 /// values, and the parameter covariance.
-fn fit(
+pub(crate) fn fit(
     model: &mut Model,
     free: &[Free],
     prep: &Prepared,
     baseline: &Baseline,
-    iterations: usize,
+    (iterations, polish): (usize, bool),
 ) -> (Comparison, Option<Vec<f64>>) {
     let np = free.len();
     let fits = &baseline.fits;
@@ -187,11 +183,17 @@ fn fit(
     // then fitted exactly, and when that changes the misfit by more than the tolerance, the
     // fit is repeated around them.
     let mut exact: Option<Comparison> = None;
-    for _ in 0..3 {
+    //
+    // With `polish`, the fit always takes one more pass linearised about its own starts: the
+    // misfit's value may agree with the linearisation about the baseline's starts to the
+    // tolerance while its slope does not (a joint fit begun from values far from the
+    // baseline's ended 2σ from where a fit about its own starts does).
+    for pass in 0..3 {
         let starts: Vec<State> = lin.iter().map(|l| l.state(model)).collect();
         let jacobians: Vec<&[f64]> = lin.iter().map(|l| &*l.jac).collect();
         let (cmp, new_fits) = compare_refit(model, prep, &starts, &jacobians);
-        let settled = (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2);
+        let settled =
+            (cmp.chi2 - linear).abs() < FIT_TOL.max(1e-4 * cmp.chi2) && !(polish && pass == 0);
         flown = Some(new_fits.iter().map(|f| f.residuals.clone()).collect());
         lin = new_fits
             .into_iter()
@@ -304,8 +306,8 @@ pub(crate) fn fit_trial(
     cfg: &DiagnoseConfig,
     candidates: usize,
 ) -> Result<Candidate, DiagnoseError> {
-    let (after, cov) = fit(&mut model, free, prep, before, cfg.max_iterations);
-    make_candidate(
+    let (after, cov) = fit(&mut model, free, prep, before, (cfg.max_iterations, false));
+    let mut c = make_candidate(
         base,
         &model,
         trial,
@@ -315,7 +317,9 @@ pub(crate) fn fit_trial(
         cov,
         cfg,
         candidates,
-    )
+    )?;
+    c.comparison = Some(std::sync::Arc::new(after));
+    Ok(c)
 }
 
 /// Try one effect on top of `base`: fit it and score it against the baseline. `fixed` lists
@@ -375,167 +379,29 @@ pub fn try_aircraft(
     )
 }
 
-/// The full pass of a screened diagnosis: the best `top` candidates (at their subset values)
-/// and the base model compared on every window in one pass; for each candidate, each
-/// window's share of the parameters' normal equations is taken while its start fit exists,
-/// so no window's Jacobian outlives it. Each candidate's parameters then take one
-/// Gauss–Newton step on all windows — the all-window estimate, whose covariance is the
-/// all-window one — while its errors are those at the subset values (the two differ by a
-/// few of the subset's σ, which changes the misfit by a few units in hundreds of
-/// thousands).
-///
-/// The base model's start in each window is predicted from the first candidate's fit there
-/// ([`compare_corrections`]): linearly in the candidate's parameters, with the columns of
-/// its normal equations, when the base is the candidate with its parameters moved (an
-/// effect whose parameters all have absent values, numbers of the set); else from the
-/// base's residuals flown at the candidate's start (one flight).
-pub(crate) fn full_pass(
-    base: &Model,
-    top: &[Candidate],
-    full: &Prepared,
-    cfg: &DiagnoseConfig,
-    candidates: usize,
-) -> (Comparison, Vec<Candidate>) {
-    struct Fitting {
-        model: Model,
-        trial: Trial,
-        free: Vec<Free>,
-        theta: Vec<f64>,
-        perturbed: Vec<Model>,
-        /// The change of the scaled parameters that makes this the base model, if one does.
-        to_base: Option<Vec<f64>>,
-    }
-    let fittings: Vec<Fitting> = top
-        .iter()
-        .filter_map(|c| {
-            let mut model = base.clone();
-            c.correction.apply(&mut model).ok()?;
-            let (trial, free) = match &c.correction {
-                Correction::Effect(e) => {
-                    let held: Vec<String> = c
-                        .params
-                        .iter()
-                        .zip(&c.held)
-                        .filter(|(_, h)| **h)
-                        .map(|((k, _), _)| k.clone())
-                        .collect();
-                    let name = e.name().to_string();
-                    let free = effect_free(&mut model, &name, &held, full, false).ok()?;
-                    (Trial::Effect(name), free)
-                }
-                Correction::Aircraft(changes) => {
-                    let keys: Vec<&'static str> = changes.iter().map(|c| c.key).collect();
-                    let free = aircraft_free(&model, &keys).ok()?;
-                    (Trial::Aircraft(keys), free)
-                }
-            };
-            let theta = values(&model, &free);
-            let perturbed = perturbed_models(&model, &free, &theta);
-            let to_base = base_values(base, &model, &c.correction, &free).map(|b| {
-                b.iter()
-                    .zip(&theta)
-                    .zip(&free)
-                    .map(|((b, t), f)| (b - t) / f.scale)
-                    .collect()
-            });
-            Some(Fitting {
-                model,
-                trial,
-                free,
-                theta,
-                perturbed,
-                to_base,
-            })
-        })
-        .collect();
-    let models: Vec<&Model> = fittings.iter().map(|f| &f.model).collect();
-    let (base_cmp, results) = compare_corrections(base, &models, full, |k, w, fit| {
-        let f = &fittings[k];
-        let lin = Linearised::of(&f.model, fit);
-        // The fit's residuals are those at its start: no flight for them.
-        let at_start = (!fit.residuals.is_empty()).then_some(fit.residuals.as_slice());
-        let towards = if k == 0 { f.to_base.as_deref() } else { None };
-        // `lin` is the model's own fit: a wind's columns need no flight.
-        let (share, start) = window_normal_towards(
-            &f.model,
-            &f.perturbed,
-            &f.free,
-            full,
-            w,
-            &lin,
-            at_start,
-            (towards, true),
-        );
-        let start = match start {
-            Some(q) => Some(q),
-            // Not the candidate with other values: the base's own residuals at its start.
-            None if k == 0 && !fit.jacobian.is_empty() => {
-                let mut r = Vec::new();
-                let span = full.fit_range(w);
-                let mut scratch = Scratch::default();
-                full.window_residuals(base, span, &lin.state(base), &mut scratch, &mut r);
-                (r.len() == fit.residuals.len()).then(|| lin.start_absorbing(&mut r))
-            }
-            None => None,
-        };
-        (Some(share), start)
-    });
-    let mut out = Vec::new();
-    for (f, (after, shares)) in fittings.into_iter().zip(results) {
-        let np = f.free.len();
-        let mut sum = (vec![0.0; np * np], vec![0.0; np]);
-        for share in shares.iter().flatten() {
-            add_into(&mut sum, share);
-        }
-        let (a, g) = sum;
-        let mut model = f.model;
-        if let Some(theta) = (np > 0)
-            .then(|| newton_trial(&a, &g, &f.theta, &f.free))
-            .flatten()
-        {
-            set_values(&mut model, &f.free, &theta);
-        }
-        let cov = (np > 0).then(|| covariance(&a, &f.free, &after)).flatten();
-        if let Ok(c) = make_candidate(
-            base, &model, &f.trial, &f.free, &base_cmp, &after, cov, cfg, candidates,
-        ) {
-            out.push(c);
-        }
-    }
-    (base_cmp, out)
-}
-
-/// The base model's values of a candidate's free parameters, when the base is the candidate
-/// with other values: the set's numbers for an aircraft candidate; for an effect, the
-/// absent values of its parameters when every one has one and is free (a held one keeps the
-/// effect present).
-fn base_values(
-    base: &Model,
-    model: &Model,
-    correction: &Correction,
-    free: &[Free],
-) -> Option<Vec<f64>> {
-    match correction {
-        Correction::Aircraft(_) => free.iter().map(|f| base.aircraft(f.name)).collect(),
-        Correction::Effect(e) => {
-            let info = effect(model, e.name())?.info();
-            if info.params.is_empty() || info.params.len() != free.len() {
-                return None;
-            }
-            free.iter()
-                .map(|f| info.param(f.name).and_then(|p| p.absent))
-                .collect()
-        }
-    }
-}
-
 /// A significant candidate removes at least this fraction of the misfit above the noise (in
 /// noise units): less is too little to matter, however sure the test is of it.
 pub(crate) const MATERIAL: f64 = 0.2;
 
+/// The least misfit above the noise, in noise units, that counts as an excess at all: the
+/// noise is itself estimated from the data (to a few per cent), so a misfit within this of
+/// it is the noise's. Without it a model at 1.001 × the noise has an "excess" that any
+/// parameter removes a fifth of — rungs that gain nothing.
+pub(crate) const NOISE_SLACK: f64 = 0.02;
+
+/// The fraction of the misfit above the noise that going from `nu_b` to `nu_a` noise units
+/// removes: (ν_b − ν_a)/(ν_b − 1), the excess counted as at least [`NOISE_SLACK`]; in
+/// [−1.5, 1.5] (a fit that makes things worse shows as negative).
+pub(crate) fn excess_removed(nu_b: f64, nu_a: f64) -> f64 {
+    if !(nu_b.is_finite() && nu_a.is_finite()) {
+        return 0.0;
+    }
+    ((nu_b - nu_a) / (nu_b - 1.0).max(NOISE_SLACK)).clamp(-1.5, 1.5)
+}
+
 /// The χ² quantile a candidate's likelihood-ratio statistic must beat: the family-wise level
 /// split over all `candidates` (Bonferroni), for `np` fitted parameters.
-fn lr_critical(cfg: &DiagnoseConfig, candidates: usize, np: usize) -> f64 {
+pub(crate) fn lr_critical(cfg: &DiagnoseConfig, candidates: usize, np: usize) -> f64 {
     let level = cfg.alpha / candidates.max(1) as f64;
     chi2_quantile(1.0 - level, np.max(1) as f64)
 }
@@ -564,7 +430,7 @@ pub(crate) fn could_be_significant(
     if !(reduction > 0.0 && nu_b > 1.0) {
         return false;
     }
-    let material = (nu_b - nu_a) / (nu_b - 1.0) >= MATERIAL;
+    let material = excess_removed(nu_b, nu_a) >= MATERIAL;
     let lr = if after > 0.0 {
         dof * (chi2 / after).ln()
     } else {
@@ -575,7 +441,7 @@ pub(crate) fn could_be_significant(
 
 /// Build the candidate's record from its fit.
 #[allow(clippy::too_many_arguments)]
-fn make_candidate(
+pub(crate) fn make_candidate(
     base: &Model,
     model: &Model,
     trial: &Trial,
@@ -591,6 +457,15 @@ fn make_candidate(
     let mut params = Vec::new();
     let mut held = Vec::new();
     let mut uncertainty = Vec::new();
+    let mut at_limit = Vec::new();
+    // Ended on a bound of its range: within a millionth of its scale of it.
+    let limit = |k: Option<usize>, v: f64| {
+        k.is_some_and(|k| {
+            let f = &free[k];
+            let tol = 1e-6 * f.scale;
+            v <= f.range.0 + tol || v >= f.range.1 - tol
+        })
+    };
     let correction = match trial {
         Trial::Effect(name) => {
             let e = effect(model, name)
@@ -601,6 +476,7 @@ fn make_candidate(
                 let k = free.iter().position(|f| f.name == p.name);
                 held.push(k.is_none());
                 uncertainty.push(k.map_or(f64::NAN, sigma));
+                at_limit.push(limit(k, p.value));
             }
             Correction::Effect(e)
         }
@@ -611,6 +487,7 @@ fn make_candidate(
                 params.push((key.to_string(), value));
                 held.push(false);
                 uncertainty.push(sigma(k));
+                at_limit.push(limit(Some(k), value));
                 changes.push(AircraftChange {
                     key,
                     was: base.aircraft(key).unwrap_or(f64::NAN),
@@ -630,23 +507,23 @@ fn make_candidate(
         None => Vec::new(),
     };
     let (nu_b, nu_a) = (before.noise_units(), after.noise_units());
-    let excess_removed = if nu_b > 1.0 {
-        ((nu_b - nu_a) / (nu_b - 1.0)).clamp(-1.5, 1.5)
-    } else {
-        0.0
-    };
+    let excess_removed = excess_removed(nu_b, nu_a);
     let lr = if after.chi2 > 0.0 {
         after.independent_residuals() * (before.chi2 / after.chi2).ln()
     } else {
         f64::INFINITY
     };
     let lr_critical = lr_critical(cfg, candidates, np);
-    let significant = lr > lr_critical && after.chi2 < before.chi2 && excess_removed >= MATERIAL;
+    let significant = lr > lr_critical
+        && after.chi2 < before.chi2
+        && excess_removed >= MATERIAL
+        && !at_limit.iter().any(|&l| l);
     Ok(Candidate {
         effect: trial.label(),
         params,
         held,
         uncertainty,
+        at_limit,
         correlation,
         fitted: np,
         error_before: before.total,
@@ -664,7 +541,9 @@ fn make_candidate(
         significant,
         partial: significant && nu_a > cfg.at_floor,
         windows: after.windows.len(),
+        joint: false,
         correction,
+        comparison: None,
     })
 }
 

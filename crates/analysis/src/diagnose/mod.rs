@@ -36,15 +36,17 @@
 //! candidates then re-fitted on all of them.
 
 mod fit;
+mod joint;
 pub mod screen;
 
 use std::fmt;
 
 use rayon::prelude::*;
 
-use fit::{could_be_significant, full_pass};
+use fit::{could_be_significant, lr_critical, Trial};
 pub use fit::{try_aircraft, try_effect, Baseline};
-use screen::{score_aircraft, KeyScore};
+use joint::{fit_joint, full_pass, JointFit, Member};
+use screen::{score_aircraft, score_effect, KeyScore};
 
 use crate::compare::{noise_floor, AxisError, CompareConfig, Comparison, NoiseEstimate, Prepared};
 use crate::free::KeyError;
@@ -67,6 +69,8 @@ pub struct DiagnoseConfig {
     pub screen_windows: usize,
     /// Misfit, in units of the measurement noise, that counts as "at the noise floor".
     pub at_floor: f64,
+    /// At most this many causes are kept together.
+    pub max_causes: usize,
 }
 
 impl Default for DiagnoseConfig {
@@ -77,6 +81,7 @@ impl Default for DiagnoseConfig {
             alpha: 0.01,
             screen_windows: 24,
             at_floor: 1.25,
+            max_causes: 5,
         }
     }
 }
@@ -136,6 +141,10 @@ pub struct Candidate {
     /// 1σ of each fitted parameter (NaN for held ones, and where the data do not determine
     /// it).
     pub uncertainty: Vec<f64>,
+    /// Whether each fitted parameter ended at the edge of its range (its physical range for
+    /// an aircraft number): the data pushed it there, so it is no estimate. A candidate with
+    /// one is never significant.
+    pub at_limit: Vec<bool>,
     /// Correlation matrix of the fitted parameters (row-major, `fitted`×`fitted`).
     pub correlation: Vec<f64>,
     /// Number of fitted parameters.
@@ -163,21 +172,37 @@ pub struct Candidate {
     pub partial: bool,
     /// Windows the fit used.
     pub windows: usize,
+    /// Fitted together with the causes already kept (their values moved too), rather than
+    /// alone on top of them.
+    pub joint: bool,
     /// The fitted correction, ready to apply to the model.
     pub correction: Correction,
+    /// The comparison of the model with it, on the windows it was fitted on (kept so a
+    /// selection that keeps it need not fit it again).
+    pub(crate) comparison: Option<std::sync::Arc<Comparison>>,
 }
 
 impl Candidate {
     /// For a candidate of aircraft numbers, the relative change of each from the set, in %
-    /// (empty for an effect).
-    pub fn changes_percent(&self) -> Vec<(&'static str, f64)> {
+    /// (None where the set has 0: the term is new), empty for an effect.
+    pub fn changes_percent(&self) -> Vec<(&'static str, Option<f64>)> {
         match &self.correction {
             Correction::Aircraft(changes) => changes
                 .iter()
-                .map(|c| (c.key, 100.0 * (c.value / c.was - 1.0)))
+                .map(|c| {
+                    (
+                        c.key,
+                        (c.was != 0.0).then(|| 100.0 * (c.value / c.was - 1.0)),
+                    )
+                })
                 .collect(),
             Correction::Effect(_) => Vec::new(),
         }
+    }
+
+    /// Whether any fitted parameter ended at its limit.
+    pub fn any_at_limit(&self) -> bool {
+        self.at_limit.iter().any(|&l| l)
     }
 }
 
@@ -219,9 +244,9 @@ impl Correction {
 /// What the diagnosis concludes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum Verdict {
-    /// This correction (an effect name, or `aircraft:KEY`) is what the model lacks: applying
-    /// it brings the error to the noise.
-    Effect(String),
+    /// These corrections (effect names, `aircraft:KEY`), fitted together, are what the model
+    /// lacks: applying them brings the error to the noise.
+    Found(Vec<String>),
     /// The error is at the noise floor: nothing is missing that these data could show.
     None,
     /// The error is above the noise floor and no candidate brings it there.
@@ -231,7 +256,7 @@ pub enum Verdict {
 impl fmt::Display for Verdict {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Verdict::Effect(name) => f.write_str(name),
+            Verdict::Found(names) => f.write_str(&names.join(" + ")),
             Verdict::None => f.write_str("none"),
             Verdict::Unexplained => f.write_str("unexplained"),
         }
@@ -249,10 +274,24 @@ pub struct Diagnosis {
     pub noise_units: f64,
     /// The comparison of the model as given (all windows).
     pub base: Comparison,
-    /// Candidates, least misfit left first.
+    /// Candidates against the model as given, least misfit left first (the first step's).
     pub ranking: Vec<Candidate>,
     /// The conclusion.
     pub verdict: Verdict,
+    /// The causes the selection kept, with their values from the joint fit on every window
+    /// (errors from the model as given to all of them applied; each one's likelihood-ratio
+    /// test is that of the model without it, given the others). With a `None` verdict,
+    /// empty; with an `Unexplained` one, what was found before the selection stopped short
+    /// of the noise.
+    pub found: Vec<Candidate>,
+    /// Total error with every cause found applied (the base error when none was).
+    pub found_error: f64,
+    /// Misfit with every cause found applied, in noise units.
+    pub found_noise_units: f64,
+    /// How the selection went: one step per screening of the candidates.
+    pub steps: Vec<Step>,
+    /// Corrections the significance level was shared over at the first step.
+    pub candidates: usize,
     /// Windows of the whole comparison, and of the screening (equal when not screened).
     pub windows: (usize, usize),
     /// The measurement noise of the data.
@@ -273,19 +312,49 @@ pub struct Diagnosis {
 pub const EQUIVALENT: f64 = 0.01;
 
 impl Diagnosis {
-    /// The winning candidate, when the verdict is an effect.
+    /// The one cause found, when the verdict names exactly one.
     pub fn winner(&self) -> Option<&Candidate> {
-        match &self.verdict {
-            Verdict::Effect(v) => self.ranking.iter().find(|c| &c.effect == v),
+        match (&self.verdict, self.found.as_slice()) {
+            (Verdict::Found(names), [c]) if names.len() == 1 => Some(c),
             _ => None,
         }
     }
 }
 
+/// One step of the selection: the candidates screened against the model with the causes
+/// kept so far, and what the step changed.
+#[derive(Clone, Debug)]
+pub struct Step {
+    /// The causes in the model the candidates were screened against.
+    pub effects: Vec<String>,
+    /// That model's total error and misfit in noise units (on the screened windows).
+    pub error: f64,
+    /// See `error`.
+    pub noise_units: f64,
+    /// The candidates, least misfit left first, each fitted alone on top of that model.
+    pub ranking: Vec<Candidate>,
+    /// The significant candidate this step added (None: the selection stopped here).
+    pub added: Option<String>,
+    /// Causes dropped after the addition: given the others, the data no longer needed them.
+    pub dropped: Vec<String>,
+    /// Other candidates of this step that explain the data as well as the one added
+    /// (misfit within [`EQUIVALENT`] of it): these data cannot tell them apart.
+    pub alternatives: Vec<String>,
+    /// The causes after this step, fitted jointly (on the screened windows).
+    pub fitted: Vec<Candidate>,
+    /// Total error and misfit in noise units of the joint fit after this step.
+    pub error_after: f64,
+    /// See `error_after`.
+    pub noise_units_after: f64,
+}
+
 /// Add effects to `model` as `--add` does: each spec's given parameters are held, the rest
 /// fitted (on `prep`). A spec named `aircraft` sets the numbers it gives a value
-/// (`aircraft:c_m_alpha=-3.3`) and fits those it only names (`aircraft:c_m_alpha`), jointly.
-/// Returns the fitted candidates, in order.
+/// (`aircraft:c_m_alpha=-3.3`) and fits those it only names (`aircraft:c_m_alpha`). Each
+/// is fitted in turn on top of the ones before, and then, when there are several, all of
+/// them together ([`joint`]): the values and ± returned are the joint ones, the errors
+/// those from the model as given to all of them applied. Returns the fitted candidates, in
+/// order.
 ///
 /// # Errors
 /// Unknown effects, parameters or keys, values out of range, an effect already in the model.
@@ -295,6 +364,7 @@ pub fn add_fitted(
     adds: &[EffectSpec],
     cfg: &DiagnoseConfig,
 ) -> Result<Vec<Candidate>, DiagnoseError> {
+    let original = model.clone();
     let mut out = Vec::new();
     for spec in adds {
         if spec.is_aircraft() {
@@ -325,7 +395,16 @@ pub fn add_fitted(
         cand.correction.apply(model)?;
         out.push(cand);
     }
-    Ok(out)
+    if out.len() < 2 {
+        return Ok(out);
+    }
+    let members: Vec<Member> = out.iter().map(Member::of).collect();
+    let start = Baseline::of(model, prep);
+    let mut joint = fit_joint(model.clone(), members, prep, &start, cfg.max_iterations)?;
+    let before = Baseline::of(&original, prep).comparison;
+    let _ = joint.test_members(&[], &original, prep, cfg.max_iterations)?;
+    *model = joint.model.clone();
+    Ok(joint.records(&original, &before, cfg, 1))
 }
 
 /// The candidates of a diagnosis: every catalogue effect that applies and is not in the model
@@ -349,42 +428,57 @@ fn rank(ranking: &mut [Candidate]) {
     });
 }
 
-fn verdict(ranking: &[Candidate], noise_units: f64, at_floor: f64) -> Verdict {
-    match ranking.iter().find(|c| c.significant) {
-        Some(c) if !c.partial => Verdict::Effect(c.effect.clone()),
-        Some(_) => Verdict::Unexplained,
-        None if noise_units <= at_floor => Verdict::None,
-        None => Verdict::Unexplained,
+/// The numbers of the aircraft's set that the score test says could still explain a
+/// significant part of `model`'s misfit on `prep` — the screen `diagnose` runs before it
+/// fits any ([`could_be_significant`]) — best first. What `compare` checks before it calls
+/// an error near the noise "at the floor". Empty for a point mass.
+pub fn promising_numbers(model: &Model, prep: &Prepared, cfg: &DiagnoseConfig) -> Vec<KeyScore> {
+    if prep.windows.is_empty() {
+        return Vec::new();
     }
+    let baseline = Baseline::of(model, prep);
+    let scores = score_aircraft(model, prep, &baseline);
+    let k = candidate_effects(model, &[]).len() + scores.len();
+    scores
+        .into_iter()
+        .filter(|s| could_be_significant(&baseline.comparison, s.reduction, cfg, k))
+        .collect()
 }
 
-/// Diagnose: try every catalogue effect that applies to the vehicle and is not in the model
-/// yet, plus `extra` user effects; rank; decide (module docs).
-///
-/// # Errors
-/// A flight too short for one comparison window.
-pub fn diagnose(
-    base: &Model,
-    data: &FlightData,
+/// One screening: every candidate fitted alone on top of `model` (on `prep`), ranked. The
+/// aircraft numbers in `taken` are not tried again; with `rescreen`, effects whose score
+/// could not make them significant are not fitted. Returns the ranking, the aircraft
+/// numbers' scores, and how many corrections the significance level is shared over.
+fn screen_round(
+    model: &Model,
+    prep: &Prepared,
+    baseline: &Baseline,
     extra: &[Box<dyn Effect>],
+    (taken, rescreen): (&[&'static str], bool),
     cfg: &DiagnoseConfig,
-) -> Result<Diagnosis, DiagnoseError> {
-    let full = Prepared::new(data, cfg.compare);
-    if full.windows.is_empty() {
-        return Err(DiagnoseError::TooShort {
-            samples: data.len(),
-            duration_s: data.duration(),
-            window_s: cfg.compare.window_s,
-        });
-    }
-    let screened = cfg.screen_windows > 0 && full.windows.len() > cfg.screen_windows;
-    let screen = screened.then(|| full.with_max_windows(cfg.screen_windows));
-    let prep = screen.as_ref().unwrap_or(&full);
-    let baseline = Baseline::of(base, prep);
-    let effects = candidate_effects(base, extra);
-    let scores = score_aircraft(base, prep, &baseline);
+) -> (Vec<Candidate>, Vec<KeyScore>, usize) {
+    let effects = candidate_effects(model, extra);
+    let scores: Vec<KeyScore> = score_aircraft(model, prep, baseline)
+        .into_iter()
+        .filter(|s| !taken.contains(&s.key.name))
+        .collect();
     // Every screened number counts against the significance level, fitted or not.
     let k = effects.len() + scores.len();
+    // With causes kept, the effects too are screened by their score first: after the
+    // causes that explain the flight, most effects could not be significant, and fitting
+    // each again would cost the hour's diagnosis a second full screening (measured: 1.2 s
+    // of 5.8 s). Those without absent values are fitted as before.
+    let effects: Vec<Box<dyn Effect>> = if !rescreen {
+        effects
+    } else {
+        effects
+            .into_par_iter()
+            .filter(|e| {
+                score_effect(model, e.clone(), prep, baseline)
+                    .is_none_or(|r| could_be_significant(&baseline.comparison, r, cfg, k))
+            })
+            .collect()
+    };
     // Candidates are fitted side by side as well as window by window: a fit's passes over
     // the few screened windows leave a core idle at every pass's end, and another
     // candidate's windows fill it.
@@ -402,29 +496,241 @@ pub fn diagnose(
     let mut ranking: Vec<Candidate> = trials
         .into_par_iter()
         .filter_map(|t| match t {
-            Trying::Effect(e) => try_effect(base, e, &[], prep, &baseline, cfg, k).ok(),
-            Trying::Aircraft(key) => try_aircraft(base, &[key], prep, &baseline, cfg, k).ok(),
+            Trying::Effect(e) => try_effect(model, e, &[], prep, baseline, cfg, k).ok(),
+            Trying::Aircraft(key) => try_aircraft(model, &[key], prep, baseline, cfg, k).ok(),
         })
         .collect();
     rank(&mut ranking);
-    let base_cmp = if screened {
-        // The best on the subset, on every window (when it is significant there: otherwise
-        // there is nothing to sharpen).
-        let top = usize::from(ranking.first().is_some_and(|c| c.significant));
-        let (base_cmp, refitted) = full_pass(base, &ranking[..top], &full, cfg, k);
-        for c in refitted {
-            if let Some(slot) = ranking.iter_mut().find(|r| r.effect == c.effect) {
-                *slot = c;
+    (ranking, scores, k)
+}
+
+/// The aircraft numbers a joint fit's members change.
+fn taken_keys(joint: Option<&JointFit>) -> Vec<&'static str> {
+    joint
+        .map(|j| {
+            j.members
+                .iter()
+                .flat_map(|m| match &m.trial {
+                    Trial::Aircraft(keys) => keys.clone(),
+                    Trial::Effect(_) => Vec::new(),
+                })
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// Forward selection with backward elimination, on `prep`: screen every candidate on top of
+/// the causes kept so far; add the best significant one and refit all of them jointly; drop,
+/// one at a time, any earlier cause whose removal the data no longer reject (the
+/// likelihood-ratio test of the joint fit without it, refitted); repeat until no candidate
+/// is significant. A cause dropped once is not added again. Returns the steps, the last
+/// joint fit and the first step's aircraft scores and candidate count.
+fn select(
+    base: &Model,
+    prep: &Prepared,
+    extra: &[Box<dyn Effect>],
+    cfg: &DiagnoseConfig,
+) -> Result<(Vec<Step>, Option<JointFit>, Vec<KeyScore>, usize), DiagnoseError> {
+    let mut model = base.clone();
+    let mut baseline = Baseline::of(base, prep);
+    let before = baseline.comparison.clone();
+    let mut joint: Option<JointFit> = None;
+    let mut steps: Vec<Step> = Vec::new();
+    let mut first: Option<(Vec<KeyScore>, usize)> = None;
+    let mut ever_dropped: Vec<String> = Vec::new();
+    // Each round adds one cause and drops at most as many as were added: bounded by twice
+    // the causes allowed.
+    for _ in 0..=2 * cfg.max_causes {
+        let taken = taken_keys(joint.as_ref());
+        let rescreen = joint.is_some();
+        let (mut ranking, scores, k) =
+            screen_round(&model, prep, &baseline, extra, (&taken, rescreen), cfg);
+        let k_first = first.get_or_insert((scores, k)).1;
+        let effects: Vec<String> = joint
+            .as_ref()
+            .map(|j| j.members.iter().map(Member::label).collect())
+            .unwrap_or_default();
+        let room = effects.len() < cfg.max_causes;
+        // With causes kept, the most promising candidates — those the test finds real, fitted
+        // alone — are fitted together with them and judged so: a cause found first takes up
+        // part of a later one's misfit (an actuator lag fitted 0.22 s where 0.15 s and a
+        // weaker weathercock stability were the truth), which only a joint fit gives back.
+        let mut joint_trials: Vec<(String, JointFit)> = Vec::new();
+        if let Some(j) = joint.as_ref().filter(|_| room) {
+            let tries: Vec<Candidate> = ranking
+                .iter()
+                .filter(|c| c.lr_statistic > c.lr_critical && !c.any_at_limit())
+                .filter(|c| !ever_dropped.contains(&c.effect))
+                .take(JOINT_TRIES)
+                .cloned()
+                .collect();
+            let fits: Vec<(Candidate, JointFit)> = tries
+                .into_par_iter()
+                .filter_map(|c| {
+                    let mut m = model.clone();
+                    c.correction.apply(&mut m).ok()?;
+                    let mut members = j.members.clone();
+                    members.push(Member::of(&c));
+                    let jf = fit_joint(m, members, prep, &baseline, cfg.max_iterations).ok()?;
+                    let mut rec = jf.records(&model, &baseline.comparison, cfg, k).pop()?;
+                    rec.joint = true;
+                    Some((rec, jf))
+                })
+                .collect();
+            for (rec, jf) in fits {
+                if let Some(slot) = ranking.iter_mut().find(|c| c.effect == rec.effect) {
+                    joint_trials.push((rec.effect.clone(), jf));
+                    *slot = rec;
+                }
+            }
+            rank(&mut ranking);
+        }
+        let best = ranking
+            .iter()
+            .find(|c| c.significant && !ever_dropped.contains(&c.effect))
+            .filter(|_| room)
+            .cloned();
+        let mut step = Step {
+            effects,
+            error: baseline.comparison.total,
+            noise_units: baseline.comparison.noise_units(),
+            ranking,
+            added: None,
+            dropped: Vec::new(),
+            alternatives: Vec::new(),
+            fitted: Vec::new(),
+            error_after: baseline.comparison.total,
+            noise_units_after: baseline.comparison.noise_units(),
+        };
+        let Some(best) = best else {
+            step.fitted = joint
+                .as_ref()
+                .map(|j| j.records(base, &before, cfg, k_first))
+                .unwrap_or_default();
+            steps.push(step);
+            break;
+        };
+        // The first cause's joint fit is its own fit alone: not repeated.
+        let alone = joint
+            .is_none()
+            .then(|| JointFit::from_candidate(&model, &best, prep))
+            .flatten();
+        let tried = joint_trials
+            .into_iter()
+            .find(|(name, _)| *name == best.effect);
+        let mut fitted = match (tried, alone) {
+            (Some((_, jf)), _) | (None, Some(jf)) => jf,
+            (None, None) => {
+                let mut trial_model = model.clone();
+                best.correction.apply(&mut trial_model)?;
+                let mut members: Vec<Member> = joint
+                    .as_ref()
+                    .map(|j| j.members.clone())
+                    .unwrap_or_default();
+                members.push(Member::of(&best));
+                fit_joint(trial_model, members, prep, &baseline, cfg.max_iterations)?
+            }
+        };
+        // The newest member's test is against the previous joint fit, already optimal
+        // without it; the others' need a refit each.
+        let mut known = vec![(
+            fitted.members.len() - 1,
+            fitted.lr_against(&baseline.comparison),
+        )];
+        loop {
+            let without = fitted.test_members(&known, base, prep, cfg.max_iterations)?;
+            known.clear();
+            let weakest = without
+                .into_iter()
+                .map(|(i, fit)| {
+                    let crit = lr_critical(cfg, k_first, fitted.spans[i].len());
+                    (fitted.lr[i] / crit, i, fit)
+                })
+                .filter(|(ratio, _, _)| !(*ratio > 1.0))
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            let Some((_, i, fit)) = weakest else { break };
+            let label = fitted.members[i].label();
+            step.dropped.push(label.clone());
+            ever_dropped.push(label);
+            fitted = fit;
+            if fitted.members.len() < 2 {
+                // One member left: its test is against the model as given.
+                known = vec![(0, fitted.lr_against(&before))];
+                let _ = fitted.test_members(&known, base, prep, cfg.max_iterations)?;
+                break;
             }
         }
-        rank(&mut ranking);
-        base_cmp
+        step.alternatives = alternatives(&step.ranking, &best.effect);
+        step.added = Some(best.effect.clone());
+        step.fitted = fitted.records(base, &before, cfg, k_first);
+        step.error_after = fitted.comparison.total;
+        step.noise_units_after = fitted.comparison.noise_units();
+        steps.push(step);
+        model = fitted.model.clone();
+        baseline = Baseline::of(&model, prep);
+        joint = Some(fitted);
+    }
+    let (scores, k) = first.unwrap_or_default();
+    Ok((steps, joint, scores, k))
+}
+
+/// Diagnose: try every catalogue effect that applies to the vehicle and is not in the model
+/// yet, plus `extra` user effects, and every promising number of the aircraft's set; keep
+/// the significant ones by forward selection with backward elimination, fitted jointly;
+/// decide (module docs).
+///
+/// # Errors
+/// A flight too short for one comparison window; a correction the model refuses.
+pub fn diagnose(
+    base: &Model,
+    data: &FlightData,
+    extra: &[Box<dyn Effect>],
+    cfg: &DiagnoseConfig,
+) -> Result<Diagnosis, DiagnoseError> {
+    let full = Prepared::new(data, cfg.compare);
+    if full.windows.is_empty() {
+        return Err(DiagnoseError::TooShort {
+            samples: data.len(),
+            duration_s: data.duration(),
+            window_s: cfg.compare.window_s,
+        });
+    }
+    let screened = cfg.screen_windows > 0 && full.windows.len() > cfg.screen_windows;
+    let screen = screened.then(|| full.with_max_windows(cfg.screen_windows));
+    let prep = screen.as_ref().unwrap_or(&full);
+    let (steps, joint, scores, k) = select(base, prep, extra, cfg)?;
+    let (base_cmp, joint) = if screened {
+        // The causes found on the subset, on every window.
+        full_pass(base, joint.as_ref(), &full)
     } else {
-        baseline.comparison
+        let base_cmp = Baseline::of(base, &full).comparison;
+        (base_cmp, joint)
     };
     let noise_units = base_cmp.noise_units();
-    let verdict = verdict(&ranking, noise_units, cfg.at_floor);
-    let alternatives = alternatives(&ranking, &verdict);
+    let found = joint
+        .as_ref()
+        .map(|j| j.records(base, &base_cmp, cfg, k))
+        .unwrap_or_default();
+    let (found_error, found_noise_units) =
+        joint.as_ref().map_or((base_cmp.total, noise_units), |j| {
+            (j.comparison.total, j.comparison.noise_units())
+        });
+    let verdict = if found.is_empty() {
+        if noise_units <= cfg.at_floor {
+            Verdict::None
+        } else {
+            Verdict::Unexplained
+        }
+    } else if found_noise_units <= cfg.at_floor {
+        Verdict::Found(found.iter().map(|c| c.effect.clone()).collect())
+    } else {
+        Verdict::Unexplained
+    };
+    let ranking = steps.first().map(|s| s.ranking.clone()).unwrap_or_default();
+    let alternatives = match found.as_slice() {
+        [only] if matches!(verdict, Verdict::Found(_)) => alternatives(&ranking, &only.effect),
+        _ => Vec::new(),
+    };
     let evidence = if verdict == Verdict::Unexplained {
         evidence(&base_cmp, &full, &scores)
     } else {
@@ -436,6 +742,11 @@ pub fn diagnose(
         noise_units,
         verdict,
         ranking,
+        found,
+        found_error,
+        found_noise_units,
+        steps,
+        candidates: k,
         windows: (full.windows.len(), prep.windows.len()),
         base_noise: full.noise,
         base: base_cmp,
@@ -445,18 +756,15 @@ pub fn diagnose(
     })
 }
 
-/// The significant, whole candidates other than the verdict that leave as little misfit.
-fn alternatives(ranking: &[Candidate], verdict: &Verdict) -> Vec<String> {
-    let Verdict::Effect(name) = verdict else {
-        return Vec::new();
-    };
-    let Some(best) = ranking.iter().find(|c| &c.effect == name) else {
+/// The significant, whole candidates other than the one found that leave as little misfit.
+fn alternatives(ranking: &[Candidate], name: &str) -> Vec<String> {
+    let Some(best) = ranking.iter().find(|c| c.effect == name) else {
         return Vec::new();
     };
     let limit = best.noise_units_after * (1.0 + EQUIVALENT);
     ranking
         .iter()
-        .filter(|c| &c.effect != name && c.significant && !c.partial)
+        .filter(|c| c.effect != name && c.significant && c.partial == best.partial)
         .filter(|c| c.noise_units_after <= limit)
         .map(|c| c.effect.clone())
         .collect()
@@ -470,6 +778,10 @@ enum Trying {
 
 /// How many of the best-scoring aircraft numbers are fitted as candidates.
 const AIRCRAFT_FITS: usize = 5;
+
+/// How many of the candidates the test finds real, fitted alone, are fitted together with
+/// the causes kept so far.
+const JOINT_TRIES: usize = 4;
 
 /// Where the error of a comparison is, and which terms of the model would reduce it most.
 fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<String> {
@@ -540,58 +852,4 @@ fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<Strin
         ));
     }
     out
-}
-
-/// One rung of the `--iterate` ladder.
-#[derive(Clone, Debug)]
-pub struct Rung {
-    /// Corrections applied at this rung (effect names, `aircraft:KEY`).
-    pub effects: Vec<String>,
-    /// Total error of that model.
-    pub error: f64,
-    /// The diagnosis made at this rung.
-    pub diagnosis: Diagnosis,
-}
-
-/// Diagnose, apply the best significant candidate (with its fitted parameters, even when it
-/// only explains part of the error), repeat until no candidate is significant (at most
-/// `max_rungs` applied). Returns the ladder and the final model.
-///
-/// # Errors
-/// As [`diagnose`].
-pub fn iterate(
-    base: &Model,
-    data: &FlightData,
-    extra: &[Box<dyn Effect>],
-    cfg: &DiagnoseConfig,
-    max_rungs: usize,
-) -> Result<(Vec<Rung>, Model), DiagnoseError> {
-    let mut model = base.clone();
-    let mut applied = model.effect_names();
-    let mut ladder = Vec::new();
-    for _ in 0..=max_rungs {
-        let diagnosis = diagnose(&model, data, extra, cfg)?;
-        // The best significant candidate, even a partial one: the ladder peels one correction
-        // at a time when several are missing.
-        let winner = diagnosis
-            .ranking
-            .iter()
-            .find(|c| c.significant)
-            .map(|c| (c.effect.clone(), c.correction.clone()));
-        ladder.push(Rung {
-            effects: applied.clone(),
-            error: diagnosis.base_error,
-            diagnosis,
-        });
-        match winner {
-            Some((label, c)) if ladder.len() <= max_rungs => {
-                if c.apply(&mut model).is_err() {
-                    break;
-                }
-                applied.push(label);
-            }
-            _ => break,
-        }
-    }
-    Ok((ladder, model))
 }

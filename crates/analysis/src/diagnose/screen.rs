@@ -9,10 +9,13 @@
 
 use rayon::prelude::*;
 
-use super::fit::Baseline;
+use super::fit::{effect_free, Baseline};
 use crate::compare::start::Scratch;
 use crate::compare::Prepared;
-use crate::profile::Linearised;
+use crate::free::values;
+use crate::lm::newton_gain;
+use crate::profile::{normal_equations, Linearised};
+use wireflight_flight::effects::Effect;
 use wireflight_flight::model::Model;
 use wireflight_flight::params::keys::{AircraftKey, KEYS};
 
@@ -89,4 +92,42 @@ pub fn score_aircraft(base: &Model, prep: &Prepared, baseline: &Baseline) -> Vec
         .collect();
     scores.sort_by(|a, b| b.reduction.total_cmp(&a.reduction));
     scores
+}
+
+/// What adding `effect` to `model` could remove of the misfit, to first order: the
+/// Gauss–Newton gain gᵀA⁻¹g of its free parameters at their absent values, where the model
+/// with the effect is `model` itself and the baseline's start fits are its own (so a wind's
+/// columns need no flight). None when a free parameter has no absent value (the effect is
+/// never the model without it) or the effect cannot be added.
+///
+/// Exact when the residuals are linear in the parameters; the screen allows for a fit that
+/// removes several times it ([`super::fit::could_be_significant`]).
+pub(crate) fn score_effect(
+    model: &Model,
+    effect: Box<dyn Effect>,
+    prep: &Prepared,
+    baseline: &Baseline,
+) -> Option<f64> {
+    let name = effect.name();
+    let mut with = model.clone();
+    with.add_effect(effect).ok()?;
+    let free = effect_free(&mut with, name, &[], prep, false).ok()?;
+    if free.is_empty() {
+        return None;
+    }
+    let info = with.effects.iter().find(|e| e.name() == name)?.info();
+    let e = with.effect_mut(name)?;
+    for f in &free {
+        let absent = info.param(f.name)?.absent?;
+        e.set_param(f.name, absent).ok()?;
+    }
+    let theta = values(&with, &free);
+    let lin: Vec<Linearised> = baseline
+        .fits
+        .iter()
+        .map(|f| Linearised::of(&with, f))
+        .collect();
+    let flown: Vec<Vec<f64>> = baseline.fits.iter().map(|f| f.residuals.clone()).collect();
+    let (a, g) = normal_equations(&with, (&free, true), &theta, prep, &lin, Some(&flown));
+    newton_gain(&a, &g).filter(|v| v.is_finite() && *v >= 0.0)
 }

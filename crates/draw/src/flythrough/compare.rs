@@ -443,7 +443,10 @@ impl Compare {
                     seconds: started.elapsed().as_secs_f64(),
                 };
                 let mut refresh = false;
-                for c in d.ranking {
+                // The causes found carry their joint values; the rest, their values alone.
+                let found: Vec<String> = d.found.iter().map(|c| c.effect.clone()).collect();
+                let alone = d.ranking.into_iter().filter(|c| !found.contains(&c.effect));
+                for c in d.found.into_iter().chain(alone) {
                     if let Some(r) = self.rows.iter_mut().find(|r| r.name == c.effect) {
                         refresh |= r.on && !r.in_base && r.waits_for_fit();
                         if let Correction::Effect(e) = c.correction {
@@ -500,13 +503,19 @@ impl Compare {
             Fit::Failed(why) => format!("diagnosis failed ({why}): catalogue defaults"),
             Fit::Off => "not fitted: catalogue defaults".into(),
             Fit::Done {
-                verdict: Verdict::Effect(v),
+                verdict: Verdict::Found(v),
                 ..
-            } if v.starts_with("aircraft:") => format!("diagnosis: `{v}` is wrong in the set"),
+            } if v.len() > 1 => format!("diagnosis: `{}` together", v.join("` + `")),
             Fit::Done {
-                verdict: Verdict::Effect(v),
+                verdict: Verdict::Found(v),
                 ..
-            } => format!("diagnosis: `{v}` is missing"),
+            } if v.iter().all(|v| v.starts_with("aircraft:")) => {
+                format!("diagnosis: `{}` is wrong in the set", v.join(""))
+            }
+            Fit::Done {
+                verdict: Verdict::Found(v),
+                ..
+            } => format!("diagnosis: `{}` is missing", v.join("")),
             Fit::Done {
                 verdict: Verdict::None,
                 ..

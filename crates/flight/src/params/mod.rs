@@ -5,6 +5,7 @@
 //! are errors (a misspelt coefficient must not silently become zero).
 
 pub mod keys;
+pub mod physical;
 pub mod suggest;
 
 use std::path::{Path, PathBuf};
