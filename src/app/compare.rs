@@ -59,16 +59,22 @@ impl Findings {
 /// # Errors
 /// Bad data or model, bad effects, plot or output errors.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
+    // --out by its extension: .gif the replay, .toml the model with the --add effects.
+    let ext =
+        |p: &std::path::Path, e: &str| p.extension().is_some_and(|x| x.eq_ignore_ascii_case(e));
+    let gif_out = args.out.as_deref().filter(|o| ext(o, "gif"));
+    let model_out = args.out.as_deref().filter(|o| ext(o, "toml"));
     if let Some(out) = &args.out {
-        if !out
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
-        {
+        if gif_out.is_none() && model_out.is_none() {
             anyhow::bail!(
-                "{}: --out writes an animated GIF (a .gif name)",
+                "{}: --out writes an animated GIF (a .gif name) or the model as a model file \
+                 (a .toml name)",
                 out.display()
             );
         }
+    }
+    if let Some(report) = &args.report {
+        crate::app::diagnose::check_report(report)?;
     }
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let base = args.model.choice().build(&args.flight, &data)?;
@@ -109,8 +115,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     drop(progress);
     let label = format!("+ {}", args.model.add.join(" + "));
 
+    let at_floor = last.comparison.noise_units() <= DiagnoseConfig::default().at_floor;
+    // The condition the text names first: the final model's when the text lists them (above
+    // the floor), else the model as given's, which `compare` without --add lists.
+    let quoted = if at_floor { &before } else { last };
     if let Some(dir) = &args.plots {
-        let series = last
+        let series = quoted
             .conditions
             .first()
             .map(|c| crate::analysis::plots::ConditionSeries {
@@ -122,6 +132,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             data_name: Some(args.flight.display().to_string()),
             model_name: Some(model_label(&base)),
             noise_floor: Some(floor),
+            window_s: Some(cfg.window_s),
         };
         let files = crate::analysis::plots::write_plots_with(
             dir,
@@ -140,7 +151,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
 
     let frame_outs = [
         args.frames_dir.as_deref().map(FrameOut::Pngs),
-        args.out.as_deref().map(FrameOut::Gif),
+        gif_out.map(FrameOut::Gif),
     ];
     for out in frame_outs.into_iter().flatten() {
         let mut track = ModelTrack::from_comparison(&data, &last.comparison)?;
@@ -181,6 +192,51 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 crate::app::shown(to),
                 model_label(final_model)
             );
+        }
+    }
+
+    if let Some(out) = model_out {
+        let comment = format!(
+            "The model of `wireflight compare --flight {}`{}.",
+            args.flight.display(),
+            if fitted.is_empty() {
+                String::new()
+            } else {
+                format!(" with {label}, fitted")
+            }
+        );
+        let text = crate::app::diagnose::model_toml(
+            &after_model,
+            &args.model.choice(),
+            &args.flight,
+            &data,
+            &comment,
+        )?;
+        crate::fsio::write_atomic(out, text.as_bytes())?;
+        if !args.json {
+            println!("wrote {}", crate::app::shown(out));
+        }
+    }
+    if let Some(path) = &args.report {
+        let report = wireflight_draw::report::Report {
+            command: format!("wireflight compare --flight {}", args.flight.display()),
+            data_name: args.flight.display().to_string(),
+            data: &data,
+            model_name: model_label(&base),
+            before: &before.comparison,
+            after: after.as_ref().map(|a| (&a.comparison, label.clone())),
+            noise: &prep.noise,
+            noise_floor: floor,
+            window_s: cfg.window_s,
+            conditions: &quoted.conditions,
+            diagnosis: None,
+            fitted: &fitted,
+            replay: Some(wireflight_draw::report::ReplaySize::default()),
+            at_floor: DiagnoseConfig::default().at_floor,
+        };
+        wireflight_draw::report::write_report(path, &report)?;
+        if !args.json {
+            println!("wrote {}", crate::app::shown(path));
         }
     }
 
@@ -277,7 +333,6 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     print!("{}", t.render(2));
     let final_units = last.comparison.noise_units();
-    let at_floor = final_units <= DiagnoseConfig::default().at_floor;
     if at_floor {
         // Near the floor the totals alone cannot tell a right model from one with a small
         // wrong number: the score test of `diagnose` can, at the cost of one flight per

@@ -12,6 +12,12 @@ use crate::app::cli::DiagnoseArgs;
 /// # Errors
 /// Bad data or model.
 pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
+    if let Some(out) = &args.out {
+        check_model_out(out)?;
+    }
+    if let Some(report) = &args.report {
+        check_report(report)?;
+    }
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let mut base = args.model.choice().build(&args.flight, &data)?;
     let cfg = DiagnoseConfig {
@@ -37,7 +43,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
             v["ladder"] = ladder_json(&d, true);
         }
         println!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(());
+        return keep(args, &data, &base, &d, &cfg);
     }
     println!(
         "{}: {} samples, {:.1} s; model {}\n  {}",
@@ -52,5 +58,195 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", diagnosis_text(&d));
     }
+    keep(args, &data, &base, &d, &cfg)
+}
+
+/// `--out` and `--report`: the model with the causes found, and the page that shows them.
+fn keep(
+    args: &DiagnoseArgs,
+    data: &crate::flight::data::FlightData,
+    base: &crate::flight::model::Model,
+    d: &diagnose::Diagnosis,
+    cfg: &DiagnoseConfig,
+) -> anyhow::Result<()> {
+    if args.out.is_none() && args.report.is_none() {
+        return Ok(());
+    }
+    let mut model = base.clone();
+    for c in &d.found {
+        c.correction.apply(&mut model)?;
+    }
+    if let Some(out) = &args.out {
+        let names: Vec<&str> = d.found.iter().map(|c| c.effect.as_str()).collect();
+        let comment = format!(
+            "The model of `wireflight diagnose --flight {}` with the causes found: {}.\n\
+             verdict: {}",
+            args.flight.display(),
+            if names.is_empty() {
+                "none".to_string()
+            } else {
+                names.join(" + ")
+            },
+            crate::analysis::report::verdict_text(d)
+        );
+        let text = model_toml(&model, &args.model.choice(), &args.flight, data, &comment)?;
+        crate::fsio::write_atomic(out, text.as_bytes())?;
+        if !args.json {
+            println!("wrote {}", crate::app::shown(out));
+        }
+    }
+    if let Some(path) = &args.report {
+        let prep = Prepared::new(data, cfg.compare);
+        let after = (!d.found.is_empty())
+            .then(|| crate::analysis::compare::compare_prepared(&model, &prep));
+        let label = format!(
+            "+ {}",
+            d.found
+                .iter()
+                .map(|c| c.effect.as_str())
+                .collect::<Vec<_>>()
+                .join(" + ")
+        );
+        let conditions =
+            crate::analysis::conditions::conditions(data, &d.base, base.origin.altitude_m);
+        let report = wireflight_draw::report::Report {
+            command: format!("wireflight diagnose --flight {}", args.flight.display()),
+            data_name: args.flight.display().to_string(),
+            data,
+            model_name: model_label(base),
+            before: &d.base,
+            after: after.as_ref().map(|a| (a, label)),
+            noise: &d.base_noise,
+            noise_floor: d.noise_floor,
+            window_s: cfg.compare.window_s,
+            conditions: &conditions,
+            diagnosis: Some(d),
+            fitted: &d.found,
+            replay: Some(wireflight_draw::report::ReplaySize::default()),
+            at_floor: cfg.at_floor,
+        };
+        wireflight_draw::report::write_report(path, &report)?;
+        if !args.json {
+            println!("wrote {}", crate::app::shown(path));
+        }
+    }
     Ok(())
+}
+
+/// The parameter set a model choice starts from, as a name or an absolute path (so that a
+/// model file written anywhere reads it back): `--aircraft`, the model file's, the data's
+/// `# aircraft:` (relative to the data file), else the Aerosonde.
+fn aircraft_source(
+    choice: &crate::flight::spec::ModelChoice,
+    flight: &std::path::Path,
+    data: &crate::flight::data::FlightData,
+) -> anyhow::Result<String> {
+    use crate::flight::spec::ModelSpec;
+    let source = if let Some(a) = &choice.aircraft {
+        a.clone()
+    } else if let Some(m) = &choice.model_file {
+        ModelSpec::load(m)?.aircraft_source()
+    } else if let Some(a) = &data.meta.aircraft {
+        let mut s = ModelSpec::baseline(crate::flight::VehicleKind::FixedWing);
+        s.aircraft = a.clone();
+        s.base_dir = flight.parent().map(std::path::Path::to_path_buf);
+        s.aircraft_source()
+    } else {
+        "aerosonde".to_string()
+    };
+    let path = std::path::Path::new(&source);
+    Ok(if source != "aerosonde" && path.is_file() {
+        std::fs::canonicalize(path)
+            .map(|p| p.display().to_string())
+            .unwrap_or(source)
+    } else {
+        source
+    })
+}
+
+/// `model` as a model file (`--model`): its vehicle, its parameter set (the one the choice
+/// started from, every number that differs from it given as `aircraft:KEY=V`), its effects
+/// with every parameter and its origin, headed by `comment` lines. Numbers are written so
+/// that they read back exactly.
+pub(crate) fn model_toml(
+    model: &crate::flight::model::Model,
+    choice: &crate::flight::spec::ModelChoice,
+    flight: &std::path::Path,
+    data: &crate::flight::data::FlightData,
+    comment: &str,
+) -> anyhow::Result<String> {
+    use std::fmt::Write as _;
+    let mut out = String::new();
+    for line in comment.lines() {
+        let _ = writeln!(out, "# {line}");
+    }
+    let _ = writeln!(out, "vehicle = \"{}\"", model.vehicle.kind());
+    let mut effects: Vec<String> = Vec::new();
+    if model.vehicle.kind() == crate::flight::VehicleKind::FixedWing {
+        let source = aircraft_source(choice, flight, data)?;
+        let set = crate::flight::params::FixedWingParams::load(&source)?;
+        let _ = writeln!(out, "aircraft = {source:?}");
+        let changed: Vec<String> = crate::flight::params::keys::KEYS
+            .iter()
+            .filter_map(|k| {
+                let v = model.aircraft(k.name)?;
+                let was = crate::flight::params::keys::get(&set, k.name)?;
+                (v != was).then(|| format!("{}={v:?}", k.name))
+            })
+            .collect();
+        if !changed.is_empty() {
+            effects.push(format!("aircraft:{}", changed.join(",")));
+        }
+    }
+    let names: Vec<String> = model.effect_names();
+    let mut listed: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    listed.extend(effects.iter().map(|e| format!("{e:?}")));
+    let _ = writeln!(out, "effects = [{}]", listed.join(", "));
+    for e in &model.effects {
+        let params = e.params();
+        if params.is_empty() {
+            continue;
+        }
+        let _ = writeln!(out, "\n[{}]", e.name());
+        for p in params {
+            let _ = writeln!(out, "{} = {:?}", p.name, p.value);
+        }
+    }
+    let o = &model.origin;
+    let _ = writeln!(
+        out,
+        "\n[origin]\nlatitude_deg = {:?}\nlongitude_deg = {:?}\naltitude_m = {:?}",
+        o.latitude_deg, o.longitude_deg, o.altitude_m
+    );
+    Ok(out)
+}
+
+/// Check that `path` names a model file (`.toml`).
+pub(crate) fn check_model_out(path: &std::path::Path) -> anyhow::Result<()> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"))
+    {
+        Ok(())
+    } else {
+        anyhow::bail!(
+            "{}: --out writes the model with the causes found as a model file (a .toml name)",
+            path.display()
+        )
+    }
+}
+
+/// Check that `path` names an HTML page (`.html` or `.htm`).
+pub(crate) fn check_report(path: &std::path::Path) -> anyhow::Result<()> {
+    if path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("html") || e.eq_ignore_ascii_case("htm"))
+    {
+        Ok(())
+    } else {
+        anyhow::bail!(
+            "{}: --report writes one HTML page (a .html name)",
+            path.display()
+        )
+    }
 }

@@ -30,6 +30,7 @@ mod overlay;
 mod pictures;
 mod plots;
 mod readme;
+mod report;
 mod several_causes;
 mod view;
 mod view_gimbal;

@@ -13,7 +13,8 @@ use wireflight::analysis::compare::{
 use wireflight::analysis::conditions::conditions;
 use wireflight::analysis::plots::{
     write_plots, write_plots_with, ConditionSeries, PlotInfo, ERROR_VS_CONDITION,
-    ERROR_VS_CONDITION_SIZE, MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, RESIDUALS, RESIDUALS_SIZE,
+    ERROR_VS_CONDITION_SIZE, MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, RESIDUALS,
+    RESIDUALS_PER_AXIS, RESIDUALS_PER_AXIS_ROW, RESIDUALS_PER_AXIS_WIDTH, RESIDUALS_SIZE,
 };
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::data::FlightData;
@@ -142,11 +143,11 @@ fn check_png(path: &Path, size: (u32, u32)) {
         path.display(),
         distinct.len()
     );
-    // The "before" series colour (blue) is drawn.
+    // The "before" series colour (blue, light behind an "after" model) is drawn.
     let blue = img
         .rgb
         .iter()
-        .filter(|p| p[2] > 150 && p[0] < 80 && p[1] > 90 && p[1] < 150)
+        .filter(|p| p[2] > 150 && i32::from(p[2]) - i32::from(p[0]) > 40 && p[2] > p[1])
         .count();
     assert!(blue > 500, "{}: {blue} blue pixels", path.display());
 }
@@ -171,6 +172,7 @@ fn before_after_and_condition_plots_are_written_and_drawn() {
         data_name: Some("windy.csv".into()),
         model_name: Some("fixed-wing aerosonde".into()),
         noise_floor: Some(case.floor),
+        window_s: Some(8.0),
     };
     let files = write_plots_with(
         &dir,
@@ -185,14 +187,29 @@ fn before_after_and_condition_plots_are_written_and_drawn() {
         .iter()
         .map(|f| f.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
-    assert_eq!(names, [MEASURED_VS_MODEL, RESIDUALS, ERROR_VS_CONDITION]);
+    assert_eq!(
+        names,
+        [
+            MEASURED_VS_MODEL,
+            RESIDUALS,
+            RESIDUALS_PER_AXIS,
+            ERROR_VS_CONDITION
+        ]
+    );
     for f in &files {
         assert_eq!(f.parent().unwrap(), dir);
         assert!(f.is_file(), "{}", f.display());
     }
     check_png(&files[0], MEASURED_VS_MODEL_SIZE);
     check_png(&files[1], RESIDUALS_SIZE);
-    check_png(&files[2], ERROR_VS_CONDITION_SIZE);
+    // Position, velocity, attitude, rates and air data: five rows of three axes.
+    check_png(&files[2], per_axis_size(5));
+    check_png(&files[3], ERROR_VS_CONDITION_SIZE);
+    // One window count, as `compare` prints it.
+    for f in &files {
+        let text = png_text(f);
+        assert!(text.contains("8 windows of 8 s"), "{}: {text}", f.display());
+    }
     // The "after" colour (green) appears where an after-model is given.
     for f in &files {
         let img = decode(f);
@@ -205,7 +222,7 @@ fn before_after_and_condition_plots_are_written_and_drawn() {
     }
     // No temporary files are left behind.
     let entries: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
-    assert_eq!(entries.len(), 3);
+    assert_eq!(entries.len(), 4);
     keep(&files, "fixed-wing");
 
     // Written again into the same directory: replaced, same result.
@@ -219,11 +236,123 @@ fn before_after_and_condition_plots_are_written_and_drawn() {
     )
     .unwrap();
     assert_eq!(again, files);
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3);
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 4);
+}
+
+/// The size of `residuals_per_axis.png` with `rows` channels.
+fn per_axis_size(rows: u32) -> (u32, u32) {
+    (RESIDUALS_PER_AXIS_WIDTH, 92 + rows * RESIDUALS_PER_AXIS_ROW)
+}
+
+/// The UTF-8 text chunks of a PNG (its title and subtitle), one per line.
+fn png_text(path: &Path) -> String {
+    let bytes = std::fs::read(path).unwrap();
+    let dec = png::Decoder::new(std::io::Cursor::new(bytes))
+        .read_info()
+        .unwrap();
+    dec.info()
+        .utf8_text
+        .iter()
+        .map(|c| format!("{}: {}", c.keyword, c.get_text().unwrap()))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// `compare`'s text and its plots agree: the conditions plot shows the condition the text
+/// names first, with the same r (with `--add` bringing the error to the noise, the text names
+/// none, and the plot shows the model as given's, which `compare` without `--add` names), and
+/// every plot counts the windows as the text does ("5 windows of 8 s"). The plots' titles are
+/// read from their PNG text chunks.
+#[test]
+fn the_text_and_the_plots_name_the_same_condition_and_windows() {
+    let tmp = tempfile::tempdir().unwrap();
+    let csv = tmp.path().join("a.csv");
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
+            .args(args)
+            .current_dir(tmp.path())
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(
+            o.status.success(),
+            "{args:?}: {text}{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        text
+    };
+    run(&[
+        "simulate",
+        "--manoeuvre",
+        "flight-test",
+        "--duration",
+        "40",
+        "--hidden",
+        "aircraft:c_m_alpha=-3.3",
+        "--noise-pos",
+        "0.05",
+        "--noise-att",
+        "0.05",
+        "--noise-vel",
+        "0.05",
+        "--noise-rate",
+        "0.2",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let plain = run(&["compare", "--flight", "a.csv", "--plots", "p1"]);
+    let with = run(&[
+        "compare",
+        "--flight",
+        "a.csv",
+        "--add",
+        "aircraft:c_m_alpha",
+        "--plots",
+        "p2",
+    ]);
+    // The first condition of "error correlates with" and its r, as the text prints them.
+    let first = plain
+        .lines()
+        .skip_while(|l| !l.starts_with("error correlates with"))
+        .nth(2)
+        .unwrap_or_else(|| panic!("no condition table: {plain}"))
+        .trim()
+        .to_string();
+    let (name_unit, r) = first.rsplit_once("  ").unwrap();
+    let name = name_unit.trim().rsplit_once(" (").unwrap().0;
+    let r = r.trim();
+    // The window count of the text's first line.
+    let windows = plain
+        .lines()
+        .find(|l| l.starts_with("a.csv: "))
+        .unwrap()
+        .split(", ")
+        .find(|p| p.contains("windows of"))
+        .unwrap()
+        .split(';')
+        .next()
+        .unwrap()
+        .to_string();
+    for dir in ["p1", "p2"] {
+        let title =
+            png_text(&tmp.path().join(dir).join(ERROR_VS_CONDITION)).replace('\u{2212}', "-");
+        assert!(
+            title.contains(&format!("Window error vs {name} — r = {r}")),
+            "{dir}: the plot says {title:?}, the text {first:?}"
+        );
+        for f in [RESIDUALS, RESIDUALS_PER_AXIS, MEASURED_VS_MODEL] {
+            let text = png_text(&tmp.path().join(dir).join(f));
+            assert!(
+                text.contains(&windows),
+                "{dir}/{f}: {text:?} vs {windows:?}"
+            );
+        }
+    }
+    assert!(with.contains(&windows), "{with}");
 }
 
 #[test]
-fn before_only_without_condition_writes_two_plots() {
+fn before_only_without_condition_writes_three_plots() {
     let truth = model(VehicleKind::PointMass, &["drag:k=0.0004"]);
     let data = flight(&truth, Manoeuvre::Ballistic, 30.0);
     let prep = Prepared::new(
@@ -241,11 +370,14 @@ fn before_only_without_condition_writes_two_plots() {
         files,
         [
             tmp.path().join(MEASURED_VS_MODEL),
-            tmp.path().join(RESIDUALS)
+            tmp.path().join(RESIDUALS),
+            tmp.path().join(RESIDUALS_PER_AXIS)
         ]
     );
     check_png(&files[0], MEASURED_VS_MODEL_SIZE);
     check_png(&files[1], RESIDUALS_SIZE);
+    // A point mass: position and velocity only.
+    check_png(&files[2], per_axis_size(2));
     keep(&files, "point-mass");
 }
 

@@ -70,6 +70,7 @@ const PAGES: &[&str] = &[
     "docs/jsbsim.md",
     "docs/reliability.md",
     "docs/rendering.md",
+    "docs/report.md",
     "docs/testing.md",
     "docs/validation.md",
     "docs/window.md",
@@ -509,6 +510,7 @@ page_tests! {
     docs_jsbsim_commands => "docs/jsbsim.md";
     docs_reliability_commands => "docs/reliability.md";
     docs_rendering_commands => "docs/rendering.md";
+    docs_report_commands => "docs/report.md";
     docs_testing_commands => "docs/testing.md";
     docs_validation_commands => "docs/validation.md";
     docs_window_commands => "docs/window.md";

@@ -17,4 +17,5 @@ pub mod output;
 pub mod plots;
 pub mod progress;
 pub mod render;
+pub mod report;
 pub mod scene;

@@ -11,6 +11,7 @@ Examples:
   wireflight compare --flight windy.csv --add wind --frames-dir frames/   # both aircraft, replayed
   wireflight compare --flight windy.csv --add wind --out compare.gif --fps 5 --size 480x360
   wireflight compare --flight test.csv --model docs/examples/model.toml --json
+  wireflight compare --flight a.csv --add aircraft:c_m_alpha --report report.html --out model.toml
 
 The model is restarted from the data every --window seconds (multiple shooting) from a
 least-squares estimate of the state, and its prediction compared with the measurements.
@@ -40,9 +41,14 @@ pub struct CompareArgs {
     /// with the `--add` effects when given), with the error over time, into this directory.
     #[arg(long, value_name = "DIR")]
     pub frames_dir: Option<std::path::PathBuf>,
-    /// Write the replay (as --frames-dir draws it) as one animated GIF (atomically).
-    #[arg(long, value_name = "FILE.gif")]
+    /// FILE.gif: the replay (as --frames-dir draws it) as one animated GIF; FILE.toml: the
+    /// model with the --add effects and their fitted values, as a model file for --model.
+    #[arg(long, value_name = "FILE.gif|FILE.toml")]
     pub out: Option<std::path::PathBuf>,
+    /// Write one self-contained HTML page: the error per channel and axis before and after,
+    /// the fitted values, the plots and a small replay, inline.
+    #[arg(long, value_name = "FILE.html")]
+    pub report: Option<std::path::PathBuf>,
     /// Frames per second of flight time for --frames-dir and --out (25, as `render`'s).
     #[arg(long, default_value_t = crate::output::DEFAULT_FPS, value_parser = positive)]
     pub fps: f64,
@@ -63,6 +69,7 @@ Examples:
   wireflight diagnose --flight windy.csv
   wireflight diagnose --flight two-effects.csv --iterate
   wireflight diagnose --flight tests/data/jsbsim-mk82.csv --iterate --json
+  wireflight diagnose --flight a.csv --report report.html --out model.toml
 
 Every catalogue effect that applies to the vehicle, and every promising number of the
 aircraft's set, is added in turn, its parameters fitted, and ranked by how much error it
@@ -92,6 +99,14 @@ pub struct DiagnoseArgs {
     /// dropped, and the causes' joint values after it.
     #[arg(long)]
     pub iterate: bool,
+    /// Write the model with the causes found (effects with their fitted parameters, the
+    /// aircraft's numbers changed) as a model file for --model (FILE.toml).
+    #[arg(long, value_name = "FILE.toml")]
+    pub out: Option<std::path::PathBuf>,
+    /// Write one self-contained HTML page: the verdict, the ladder, the error per channel and
+    /// axis before and after, the fitted values, the plots and a small replay, inline.
+    #[arg(long, value_name = "FILE.html")]
+    pub report: Option<std::path::PathBuf>,
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,

@@ -27,6 +27,21 @@ fn score_units(ctx: &PlotContext) -> String {
     .join(", ")
 }
 
+/// The title: the condition and its correlation with the window score — the same Pearson
+/// r, to two decimals, as `compare`'s "error correlates with" table — before (and after).
+pub(super) fn title(ctx: &PlotContext, cond: &ConditionSeries) -> String {
+    let x: &[f64] = &cond.per_window;
+    let yb: Vec<f64> = ctx.before.windows.iter().map(|w| w.score).collect();
+    let rb = pearson(x, &yb);
+    let r_text = |r: Option<f64>| r.map_or("n/a".into(), |r| unicode_minus(signed(r, 2)));
+    let mut title = format!("Window error vs {} — r = {}", cond.name, r_text(rb));
+    if let Some((a, _)) = ctx.after {
+        let ya: Vec<f64> = a.windows.iter().map(|w| w.score).collect();
+        title.push_str(&format!(" before, {} after", r_text(pearson(x, &ya))));
+    }
+    title
+}
+
 /// Draws `error_vs_condition.png` into `root`, the window score against `cond`.
 pub(super) fn draw_error_vs_condition(
     root: &Root,
@@ -38,13 +53,7 @@ pub(super) fn draw_error_vs_condition(
     let ya: Option<Vec<f64>> = ctx
         .after
         .map(|(a, _)| a.windows.iter().map(|w| w.score).collect());
-    let rb = pearson(x, &yb);
-    let ra = ya.as_ref().and_then(|y| pearson(x, y));
-    let r_text = |r: Option<f64>| r.map_or("n/a".into(), |r| unicode_minus(signed(r, 2)));
-    let mut title = format!("Window error vs {} — r = {}", cond.name, r_text(rb));
-    if ya.is_some() {
-        title.push_str(&format!(" before, {} after", r_text(ra)));
-    }
+    let title = title(ctx, cond);
     let mut legend = vec![(Key::Dot(BEFORE), ctx.model_name.clone())];
     if let Some(name) = ctx.after_name() {
         legend.push((Key::Dot(AFTER), name));

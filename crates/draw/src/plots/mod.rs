@@ -8,6 +8,10 @@
 //!   against time, before (and after), the worst windows shaded, the noise floor (window score)
 //!   and the measurement noise (channels) as dashed lines; the title gives the total error
 //!   before → after.
+//! * `residuals_per_axis.png` — predicted − measured against time for every axis of every
+//!   channel the data have (position, velocity, attitude, body rates, airspeed, α, β), the
+//!   model as given light behind the model with the added effects; each axis reaches the
+//!   largest error drawn.
 //! * `error_vs_condition.png` — when a [`ConditionSeries`] is given, the window score against
 //!   that condition, with the correlation in the title.
 //!
@@ -22,6 +26,7 @@
 
 mod error_vs_condition;
 mod measured_vs_model;
+mod residual_axes;
 mod residuals;
 mod style;
 
@@ -34,6 +39,7 @@ use thiserror::Error;
 
 use self::error_vs_condition::draw_error_vs_condition;
 use self::measured_vs_model::draw_measured_vs_model;
+use self::residual_axes::draw_residual_axes;
 use self::residuals::draw_residuals;
 use self::style::{render_png, Root};
 use wireflight_analysis::compare::{Comparison, Prediction};
@@ -116,6 +122,8 @@ pub enum CanvasError {
 pub const MEASURED_VS_MODEL: &str = "measured_vs_model.png";
 /// File name of the residual plot.
 pub const RESIDUALS: &str = "residuals.png";
+/// File name of the per-axis residual plot.
+pub const RESIDUALS_PER_AXIS: &str = "residuals_per_axis.png";
 /// File name of the error-vs-condition plot.
 pub const ERROR_VS_CONDITION: &str = "error_vs_condition.png";
 
@@ -123,6 +131,11 @@ pub const ERROR_VS_CONDITION: &str = "error_vs_condition.png";
 pub const MEASURED_VS_MODEL_SIZE: (u32, u32) = (1600, 1000);
 /// Pixel size of `residuals.png` (up to four stacked panels).
 pub const RESIDUALS_SIZE: (u32, u32) = (1400, 1000);
+/// Width of `residuals_per_axis.png`; its height is [`RESIDUALS_PER_AXIS_ROW`] per channel
+/// (position, velocity, attitude, rates, air data: those the data have) plus the header.
+pub const RESIDUALS_PER_AXIS_WIDTH: u32 = 1500;
+/// Height of one row of `residuals_per_axis.png`.
+pub const RESIDUALS_PER_AXIS_ROW: u32 = 260;
 /// Pixel size of `error_vs_condition.png`.
 pub const ERROR_VS_CONDITION_SIZE: (u32, u32) = (1200, 800);
 
@@ -147,6 +160,9 @@ pub struct PlotInfo {
     /// Noise floor of the total score ([`super::compare::noise_floor`]), drawn on the
     /// window-score panel.
     pub noise_floor: Option<f64>,
+    /// The window length the comparison was asked for, s (`--window`): the subtitles say
+    /// "6 windows of 8 s" as the text does (default: the windows' mean length, "about").
+    pub window_s: Option<f64>,
 }
 
 /// Write the comparison plots into `dir` (created if missing); returns the files written.
@@ -203,41 +219,83 @@ pub fn write_plots_with(
             });
         }
     }
-    // The set is drawn into a temporary directory and moved in together: a run that is
+    let pngs = render_plots(dir, data, before, after, best, info)?;
+    // The set is written into a temporary directory and moved in together: a run that is
     // stopped or fails leaves the directory as it was, never a partial set.
     let staged = StagedDir::new(dir).map_err(|source| PlotError::CreateDir {
         dir: dir.to_path_buf(),
         source,
     })?;
-    let ctx = PlotContext::new(data, before, after, info);
-
     let mut written = Vec::new();
-    let mut emit = |name: &str,
-                    size: (u32, u32),
-                    draw: &dyn Fn(&Root) -> Result<(), CanvasError>|
-     -> Result<(), PlotError> {
-        let path = dir.join(name);
-        let bytes = match render_png(size, draw) {
-            Ok(bytes) => bytes,
-            Err(source) => return Err(PlotError::Draw { path, source }),
-        };
-        wireflight_fsio::write_atomic(&staged.path().join(name), &bytes)?;
-        written.push(path);
-        Ok(())
-    };
-    emit(MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, &|root| {
-        draw_measured_vs_model(root, &ctx)
-    })?;
-    emit(RESIDUALS, RESIDUALS_SIZE, &|root| {
-        draw_residuals(root, &ctx)
-    })?;
-    if let Some(c) = best {
-        emit(ERROR_VS_CONDITION, ERROR_VS_CONDITION_SIZE, &|root| {
-            draw_error_vs_condition(root, &ctx, c)
-        })?;
+    for (name, bytes) in &pngs {
+        wireflight_fsio::write_atomic(&staged.path().join(name), bytes)?;
+        written.push(dir.join(name));
     }
     staged.commit_merge()?;
     Ok(written)
+}
+
+/// The plots of [`write_plots_with`] drawn in memory, each as (file name, PNG bytes), in the
+/// order they are written; `dir` only names them in errors. Each PNG carries its title and
+/// subtitle as text chunks (`Title`, `Description`).
+pub(crate) fn render_plots(
+    dir: &Path,
+    data: &FlightData,
+    before: &Comparison,
+    after: Option<(&Comparison, &str)>,
+    best: Option<&ConditionSeries>,
+    info: &PlotInfo,
+) -> Result<Vec<(&'static str, Vec<u8>)>, PlotError> {
+    let ctx = PlotContext::new(data, before, after, info);
+    let mut out = Vec::new();
+    let mut emit = |name: &'static str,
+                    size: (u32, u32),
+                    text: Vec<(&str, String)>,
+                    draw: &dyn Fn(&Root) -> Result<(), CanvasError>|
+     -> Result<(), PlotError> {
+        match render_png(size, &text, draw) {
+            Ok(bytes) => {
+                out.push((name, bytes));
+                Ok(())
+            }
+            Err(source) => Err(PlotError::Draw {
+                path: dir.join(name),
+                source,
+            }),
+        }
+    };
+    let described = |title: String| vec![("Title", title), ("Description", ctx.subtitle(""))];
+    emit(
+        MEASURED_VS_MODEL,
+        MEASURED_VS_MODEL_SIZE,
+        described(format!("Measured vs model — {}", ctx.data_name)),
+        &|root| draw_measured_vs_model(root, &ctx),
+    )?;
+    emit(
+        RESIDUALS,
+        RESIDUALS_SIZE,
+        described(residuals::title(&ctx)),
+        &|root| draw_residuals(root, &ctx),
+    )?;
+    let rows = residual_axes::rows(before) as u32;
+    emit(
+        RESIDUALS_PER_AXIS,
+        (
+            RESIDUALS_PER_AXIS_WIDTH,
+            style::HEADER_H + rows * RESIDUALS_PER_AXIS_ROW,
+        ),
+        described("Residuals per axis (predicted − measured)".into()),
+        &|root| draw_residual_axes(root, &ctx),
+    )?;
+    if let Some(c) = best {
+        emit(
+            ERROR_VS_CONDITION,
+            ERROR_VS_CONDITION_SIZE,
+            described(error_vs_condition::title(&ctx, c)),
+            &|root| draw_error_vs_condition(root, &ctx, c),
+        )?;
+    }
+    Ok(out)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -251,6 +309,7 @@ struct PlotContext<'a> {
     data_name: String,
     model_name: String,
     noise_floor: Option<f64>,
+    window_s: Option<f64>,
     t_range: Range<f64>,
     has_vel: bool,
     has_att: bool,
@@ -283,6 +342,7 @@ impl<'a> PlotContext<'a> {
             data_name,
             model_name,
             noise_floor: info.noise_floor.filter(|f| f.is_finite()),
+            window_s: info.window_s.filter(|w| w.is_finite() && *w > 0.0),
             t_range,
             has_vel: before.channels.velocity_mps.is_some() && data.vel_ned.is_some(),
             has_att: before.channels.attitude_deg.is_some() && data.attitude.is_some(),
@@ -301,15 +361,11 @@ impl<'a> PlotContext<'a> {
     }
 
     fn subtitle(&self, remark: &str) -> String {
-        let n = self.before.windows.len();
-        let mean_len =
-            self.before.windows.iter().map(|w| w.t1 - w.t0).sum::<f64>() / n.max(1) as f64;
         format!(
-            "{} samples over {:.1} s; {n} window{} of about {:.0} s{remark}",
+            "{} samples over {:.1} s; {}{remark}",
             self.data.len(),
             self.data.duration(),
-            if n == 1 { "" } else { "s" },
-            mean_len
+            windows_text(self.before, self.window_s)
         )
     }
 
@@ -377,4 +433,18 @@ fn window_segments(
                 .collect()
         })
         .collect()
+}
+
+/// "6 windows of 8 s" — as `compare` prints it — for the window length asked for; "6 windows
+/// of about 7.5 s" (their mean length) when it is not known.
+pub fn windows_text(cmp: &Comparison, window_s: Option<f64>) -> String {
+    let n = cmp.windows.len();
+    let plural = if n == 1 { "" } else { "s" };
+    match window_s {
+        Some(w) => format!("{n} window{plural} of {w} s"),
+        None => {
+            let mean = cmp.windows.iter().map(|w| w.t1 - w.t0).sum::<f64>() / n.max(1) as f64;
+            format!("{n} window{plural} of about {mean:.1} s")
+        }
+    }
 }

@@ -8,18 +8,16 @@
 use plotters::prelude::*;
 
 use super::style::{
-    axis_top, draw_hline_dashed, draw_line, error_cap, header, panel, shade, Key, Root, AFTER,
-    BEFORE, NOISE, SHADE,
+    axis_top, draw_hline_dashed, draw_line, header, panel, shade, Key, Root, AFTER, BEFORE,
+    BEFORE_LIGHT, NOISE, SHADE,
 };
 use super::{window_segments, CanvasError, PlotContext, Segments};
 use crate::figures::three_figures;
 use wireflight_analysis::compare::{estimate_noise, Comparison, Prediction};
 use wireflight_flight::numeric::attitude_error_deg;
 
-/// Draws `residuals.png` into `root`.
-pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), CanvasError> {
-    let d = ctx.data;
-    let worst = ctx.worst_spans();
+/// The title of `residuals.png`: the total error before (→ after) and the noise floor.
+pub(super) fn title(ctx: &PlotContext) -> String {
     let mut title = format!(
         "Residuals — total error {}",
         three_figures(ctx.before.total)
@@ -30,7 +28,20 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), Canva
     if let Some(f) = ctx.noise_floor {
         title.push_str(&format!("  (noise floor {})", three_figures(f)));
     }
-    let mut legend = vec![(Key::Line(BEFORE.to_rgba(), 2), ctx.model_name.clone())];
+    title
+}
+
+/// Draws `residuals.png` into `root`.
+pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), CanvasError> {
+    let d = ctx.data;
+    let worst = ctx.worst_spans();
+    let title = title(ctx);
+    let before_key = if ctx.after.is_some() {
+        BEFORE_LIGHT
+    } else {
+        BEFORE.to_rgba()
+    };
+    let mut legend = vec![(Key::Line(before_key, 2), ctx.model_name.clone())];
     if let Some(name) = ctx.after_name() {
         legend.push((Key::Line(AFTER.to_rgba(), 2), name));
     }
@@ -132,7 +143,8 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), Canva
         ErrorPanel {
             caption,
             y_desc: unit,
-            top: error_cap(&values, noise_level.unwrap_or(0.0)),
+            // Every peak shown: the axis reaches the largest error drawn.
+            top: axis_top(values.iter().copied(), noise_level, 1.08),
             before: &b,
             after: &a,
             width: 2,
@@ -178,9 +190,18 @@ impl ErrorPanel<'_> {
             4,
         )?;
         shade(&mut chart, worst)?;
-        for (segs, color) in [(self.before, BEFORE), (self.after, AFTER)] {
+        // With an "after" model the "before" one is drawn light, behind it.
+        let before = if self.after.is_empty() {
+            BEFORE.stroke_width(self.width)
+        } else {
+            BEFORE_LIGHT.stroke_width(self.width)
+        };
+        for (segs, style) in [
+            (self.before, before),
+            (self.after, AFTER.stroke_width(self.width)),
+        ] {
             for s in segs {
-                draw_line(&mut chart, s, color.stroke_width(self.width))?;
+                draw_line(&mut chart, s, style)?;
             }
         }
         if let Some(level) = self.level {

@@ -19,7 +19,7 @@ use super::CanvasError;
 // ---------------------------------------------------------------------------------------------
 // Rendering plumbing.
 
-pub(super) type Root<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
+pub(crate) type Root<'a> = DrawingArea<BitMapBackend<'a>, Shift>;
 
 const FONT: &str = "sans-serif";
 static FONT_BYTES: &[u8] = include_bytes!("../../../../assets/fonts/DejaVuSans-subset.ttf");
@@ -36,9 +36,11 @@ fn ensure_font() -> Result<(), CanvasError> {
     }
 }
 
-/// Draw with `draw` into a white RGB image of `size` and encode it as PNG.
-pub(super) fn render_png(
+/// Draw with `draw` into a white RGB image of `size` and encode it as PNG, with `text` as
+/// UTF-8 text chunks (`Title`, `Description`: what the picture says, for programs and tests).
+pub(crate) fn render_png(
     size: (u32, u32),
+    text: &[(&str, String)],
     draw: &dyn Fn(&Root) -> Result<(), CanvasError>,
 ) -> Result<Vec<u8>, CanvasError> {
     ensure_font()?;
@@ -55,6 +57,9 @@ pub(super) fn render_png(
         let mut enc = png::Encoder::new(&mut out, w, h);
         enc.set_color(png::ColorType::Rgb);
         enc.set_depth(png::BitDepth::Eight);
+        for (key, value) in text {
+            enc.add_itxt_chunk((*key).to_string(), value.clone())?;
+        }
         let mut writer = enc.write_header()?;
         writer.write_image_data(&rgb)?;
     }
@@ -67,13 +72,15 @@ pub(super) fn render_png(
 pub(super) const MEASURED: RGBAColor = RGBAColor(20, 20, 20, 0.75);
 pub(super) const BEFORE: RGBColor = RGBColor(31, 119, 180);
 pub(super) const AFTER: RGBColor = RGBColor(44, 160, 44);
+/// The "before" model drawn behind the "after" one: the same blue, light.
+pub(super) const BEFORE_LIGHT: RGBAColor = RGBAColor(31, 119, 180, 0.35);
 pub(super) const NOISE: RGBColor = RGBColor(60, 60, 60);
 const TEXT: RGBColor = RGBColor(25, 25, 25);
 const SUBTLE: RGBColor = RGBColor(90, 90, 90);
 pub(super) const SHADE: RGBAColor = RGBAColor(220, 40, 40, 0.14);
 const GRID: RGBAColor = RGBAColor(0, 0, 0, 0.07);
 
-const HEADER_H: u32 = 92;
+pub(super) const HEADER_H: u32 = 92;
 const TITLE_PX: f64 = 26.0;
 const SUBTITLE_PX: f64 = 17.0;
 const CAPTION_PX: f64 = 18.0;
@@ -160,8 +167,9 @@ pub(super) fn header<'a>(
 /// scientific notation with the digits that tell the ticks apart (never a 100-digit number):
 /// what differs from `wireflight_flight::numeric::format`, which has a fixed count of digits.
 pub(super) fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> String {
-    // The tick step: the smallest 1, 2 or 5 × 10^k giving at most `n` ticks.
-    let raw = (range.end - range.start).abs() / n.max(1) as f64;
+    // The tick step: the smallest 1, 2 or 5 × 10^k giving at most `2n` ticks (plotters may
+    // place up to twice as many as asked: a label with too few decimals would repeat).
+    let raw = (range.end - range.start).abs() / (2 * n.max(1)) as f64;
     let step = if raw > 0.0 && raw.is_finite() {
         let mag = 10f64.powf(raw.log10().floor());
         [1.0, 2.0, 5.0, 10.0]
@@ -407,25 +415,6 @@ pub(super) fn padded(lo: f64, hi: f64) -> Range<f64> {
         return (c - h)..(c + h);
     }
     (lo - 0.06 * span)..(hi + 0.06 * span)
-}
-
-/// Upper limit for a non-negative error axis: the 99.5th percentile of `values` (so that a
-/// single diverged window does not flatten the rest), at least `at_least`, plus headroom.
-pub(super) fn error_cap(values: &[f64], at_least: f64) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| x.is_finite()).collect();
-    let q = if v.is_empty() {
-        0.0
-    } else {
-        v.sort_by(f64::total_cmp);
-        let idx = ((v.len() - 1) as f64 * 0.995).round() as usize;
-        v[idx]
-    };
-    let cap = q.max(at_least) * 1.1;
-    if cap > 0.0 && cap.is_finite() {
-        cap
-    } else {
-        1.0
-    }
 }
 
 /// A number as a plot writes it: with U+2212 (−) for the minus sign, which the hyphen of
