@@ -228,9 +228,6 @@ fn coverage(
         n += 1;
         for (h, t) in hits.iter_mut().zip(&case.truths) {
             let (v, s) = fitted_value(&fitted, t).expect("fitted");
-            if std::env::var_os("SEVERAL_CAUSES_Z").is_some() {
-                eprintln!("z {} {} {:+.2}", case.name, t.param, (v - t.value) / s);
-            }
             if (v - t.value).abs() <= 2.0 * s {
                 *h += 1;
             }

@@ -364,6 +364,19 @@ pub(crate) fn normal_equations(
     lin: &[Linearised],
     at_starts: Option<&[Vec<f64>]>,
 ) -> Normal {
+    normal_equations_by_window(model, (free, own), theta, prep, lin, at_starts).0
+}
+
+/// [`normal_equations`], and each window's gradient share D̃ᵀr (for the windows' scatter:
+/// [`crate::diagnose`]'s sandwich covariance).
+pub(crate) fn normal_equations_by_window(
+    model: &Model,
+    (free, own): (&[Free], bool),
+    theta: &[f64],
+    prep: &Prepared,
+    lin: &[Linearised],
+    at_starts: Option<&[Vec<f64>]>,
+) -> (Normal, Vec<Vec<f64>>) {
     let np = free.len();
     let perturbed = perturbed_models(model, free, theta);
     let parts: Vec<Normal> = prep
@@ -380,7 +393,7 @@ pub(crate) fn normal_equations(
     for p in &parts {
         add_into(&mut sum, p);
     }
-    sum
+    (sum, parts.into_iter().map(|p| p.1).collect())
 }
 
 #[cfg(test)]

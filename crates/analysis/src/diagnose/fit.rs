@@ -14,28 +14,114 @@ use crate::compare::{
 };
 use crate::free::{aircraft_free, effect, values, Free, Owner};
 use crate::lm::{Lm, FIT_TOL};
-use crate::profile::{linear_profile, moving_frame, normal_equations, Linearised};
+use crate::profile::{
+    linear_profile, moving_frame, normal_equations, normal_equations_by_window, Linearised,
+};
 use wireflight_flight::effects::{Effect, ParamSpec};
 use wireflight_flight::model::{Model, State};
 use wireflight_flight::numeric::{chi2_quantile, invert};
 
 /// The fitted parameters' covariance in their own units (row-major), or None when the data
 /// do not determine them.
-pub(crate) fn covariance(a: &[f64], free: &[Free], cmp: &Comparison) -> Option<Vec<f64>> {
+///
+/// Two estimates, the correlations the first's:
+/// * the model-based one, (D̃ᵀD̃)⁻¹ scaled by the misfit per residual when it exceeds 1 and
+///   by the residuals' lag-1 autocorrelation ρ, (1+ρ)/(1−ρ);
+/// * with at least three more windows than parameters, the sandwich A⁻¹BA⁻¹ with each
+///   window a cluster, B = W/(W−1)·Σ (g_w − ḡ)(g_w − ḡ)ᵀ of the windows' gradient shares
+///   `grads`: how much the windows' own pulls on the parameters scatter, whatever makes the
+///   residuals inside a window correlated (a model that is not exact, a smooth misfit). It
+///   replaces a parameter's model-based σ where it exceeds it by more than the windows'
+///   scatter would by chance (the χ² 95% quantile over W − 1).
+///
+/// Coverage on refsim's flights: docs/workbench.md.
+pub(crate) fn covariance(
+    a: &[f64],
+    free: &[Free],
+    cmp: &Comparison,
+    grads: Option<&[Vec<f64>]>,
+) -> Option<Vec<f64>> {
     let np = free.len();
     let inv = invert(a, np)?;
     let rho = cmp.residual_autocorrelation().clamp(0.0, 0.99);
     let s2 = (cmp.chi2 / cmp.dof.max(1.0)).max(1.0) * (1.0 + rho) / (1.0 - rho);
+    let mut model: Vec<f64> = inv.iter().map(|v| v * s2).collect();
+    if let Some((sandwich, windows)) = grads.and_then(|g| sandwich(&inv, g, np)) {
+        // The windows' scatter replaces a σ only where it is larger than noise in the
+        // scatter of so few windows would make it (its 95% quantile): otherwise a handful of
+        // windows would inflate every σ at random.
+        let dof = windows as f64 - 1.0;
+        let beyond = chi2_quantile(0.95, dof) / dof;
+        let sd: Vec<f64> = (0..np)
+            .map(|i| {
+                let (m, s) = (model[i * np + i], sandwich[i * np + i]);
+                if s > beyond * m { s } else { m }.max(0.0).sqrt()
+            })
+            .collect();
+        let old: Vec<f64> = (0..np).map(|i| model[i * np + i].max(0.0).sqrt()).collect();
+        for i in 0..np {
+            for k in 0..np {
+                let corr = model[i * np + k] / (old[i] * old[k]);
+                model[i * np + k] = if corr.is_finite() {
+                    corr * sd[i] * sd[k]
+                } else {
+                    model[i * np + k]
+                };
+            }
+        }
+    }
     let mut cov = vec![0.0; np * np];
     for i in 0..np {
         for k in 0..np {
-            cov[i * np + k] = inv[i * np + k] * s2 * free[i].scale * free[k].scale;
+            cov[i * np + k] = model[i * np + k] * free[i].scale * free[k].scale;
         }
     }
     cov.iter()
         .all(|v| v.is_finite())
         .then_some(cov)
         .filter(|c| (0..np).all(|i| c[i * np + i] >= 0.0))
+}
+
+/// The cluster sandwich A⁻¹BA⁻¹ in the scaled parameters (`inv` = A⁻¹), the windows'
+/// gradient shares `grads` the clusters; None with fewer than np + 3 windows (the scatter
+/// of so few says nothing).
+fn sandwich(inv: &[f64], grads: &[Vec<f64>], np: usize) -> Option<(Vec<f64>, usize)> {
+    let w = grads.iter().filter(|g| g.len() == np).count();
+    if np == 0 || w < np + 3 {
+        return None;
+    }
+    let mut mean = vec![0.0; np];
+    for g in grads.iter().filter(|g| g.len() == np) {
+        mean.iter_mut().zip(g).for_each(|(m, v)| *m += v / w as f64);
+    }
+    let mut b = vec![0.0; np * np];
+    for g in grads.iter().filter(|g| g.len() == np) {
+        for i in 0..np {
+            for k in 0..np {
+                b[i * np + k] += (g[i] - mean[i]) * (g[k] - mean[k]);
+            }
+        }
+    }
+    let f = w as f64 / (w as f64 - 1.0);
+    // inv · B · inv
+    let mut ib = vec![0.0; np * np];
+    for i in 0..np {
+        for k in 0..np {
+            ib[i * np + k] = (0..np)
+                .map(|j| inv[i * np + j] * b[j * np + k])
+                .sum::<f64>();
+        }
+    }
+    let mut out = vec![0.0; np * np];
+    for i in 0..np {
+        for k in 0..np {
+            out[i * np + k] = f
+                * (0..np)
+                    .map(|j| ib[i * np + j] * inv[j * np + k])
+                    .sum::<f64>();
+        }
+    }
+    out.iter().all(|v| v.is_finite()).then_some((out, w))
 }
 
 /// Whose start fits a linearised fit begins from.
@@ -175,8 +261,9 @@ pub(crate) fn fit(
         // The effect explains nothing the starts could not: its best values change the misfit
         // by less than a hundredth of a noise unit, so the comparison is the baseline's.
         let own = at_absent_values(model, free, &theta);
-        let (a, _) = normal_equations(model, (free, own), &theta, prep, &lin, flown.as_deref());
-        let cov = covariance(&a, free, &baseline.comparison);
+        let ((a, _), grads) =
+            normal_equations_by_window(model, (free, own), &theta, prep, &lin, flown.as_deref());
+        let cov = covariance(&a, free, &baseline.comparison, Some(&grads));
         return (baseline.comparison.clone(), cov);
     }
     // The linearisation is around the starts of the model without the effect; the starts are
@@ -216,8 +303,9 @@ pub(crate) fn fit(
         unreachable!("the loop runs at least once");
     };
     // The starts are the model's own fits (refitted at least once above).
-    let (a, _) = normal_equations(model, (free, true), &theta, prep, &lin, flown.as_deref());
-    let cov = covariance(&a, free, &cmp);
+    let ((a, _), grads) =
+        normal_equations_by_window(model, (free, true), &theta, prep, &lin, flown.as_deref());
+    let cov = covariance(&a, free, &cmp, Some(&grads));
     (cmp, cov)
 }
 

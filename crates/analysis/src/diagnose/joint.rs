@@ -20,6 +20,7 @@ use crate::free::{aircraft_free, effect, set_values, values, Free};
 use crate::lm::newton_trial;
 use crate::profile::{add_into, perturbed_models, window_normal_towards, Linearised};
 use wireflight_flight::model::Model;
+use wireflight_flight::numeric::solve_in_place;
 
 /// One cause of a joint fit: an effect (with the parameters the user held), or numbers of
 /// the aircraft's set.
@@ -371,7 +372,28 @@ pub(crate) fn full_pass(
     {
         set_values(&mut model, free, &theta);
     }
-    let cov = (np > 0).then(|| covariance(&a, free, &after)).flatten();
+    // Each window's gradient share where the step lands (g_w + A_w·δ, to first order): the
+    // shares were taken at the subset's values, and the step's own pull would otherwise
+    // read as scatter between windows.
+    let mut delta: Vec<f64> = g.iter().map(|v| -v).collect();
+    let mut m = a.clone();
+    let solved = solve_in_place(&mut m, &mut delta, np).is_some();
+    let grads: Vec<Vec<f64>> = shares
+        .iter()
+        .flatten()
+        .map(|(aw, gw)| {
+            let mut g = gw.clone();
+            if solved {
+                for (i, gi) in g.iter_mut().enumerate() {
+                    *gi += (0..np).map(|k| aw[i * np + k] * delta[k]).sum::<f64>();
+                }
+            }
+            g
+        })
+        .collect();
+    let cov = (np > 0)
+        .then(|| covariance(&a, free, &after, Some(&grads)))
+        .flatten();
     let refitted = JointFit {
         members: joint.members.clone(),
         model,
