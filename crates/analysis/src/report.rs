@@ -715,9 +715,10 @@ pub fn verdict_text(d: &Diagnosis) -> String {
         Verdict::Unexplained if !d.found.is_empty() => {
             let names: Vec<String> = d.found.iter().map(|c| format!("`{}`", c.effect)).collect();
             format!(
-                "unexplained — with {} (fitted together) the error falls {fall}, still above the \
-                 noise, and no further candidate is significant: part of the answer",
-                names.join(" + ")
+                "unexplained — with {}{} the error falls {fall}, still above the noise, and no \
+                 further candidate is significant: part of the answer",
+                names.join(" + "),
+                if names.len() > 1 { " (fitted together)" } else { "" }
             )
         }
         Verdict::Unexplained => format!(
