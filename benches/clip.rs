@@ -13,7 +13,8 @@
 //!   (ground grid, hills, runway, structures, horizon), about 1 M edges.
 //!
 //! `copy` is a streaming copy of the same bytes (the eight coordinate arrays, 32 B per edge,
-//! into eight others): the bandwidth reference. `blinn-batch` is the structure-of-arrays
+//! into eight others): the bandwidth reference. `copy-blocks` copies them the way the batch
+//! writes: 64 edges at a time into nine vectors (the eight and the edge indices), 36 B out. `blinn-batch` is the structure-of-arrays
 //! path ([`wireflight::clip::batch::clip_soa`]: its AVX-512 build where the CPU has one, the
 //! portable build elsewhere, chosen at run time); every other line is the straightforward
 //! per-edge loop (clip, tally, push the segment). 2D algorithms run on 2D sets of the same
@@ -201,6 +202,27 @@ fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clip
                 copy.c[k].copy_from_slice(&soa.c[k]);
             }
             black_box(&copy);
+        })
+    });
+    // The same copy shaped like the batch's output: 64 edges at a time from the eight arrays
+    // into nine (the eight and the edge indices), appended to reserved vectors: 8 streams in
+    // and 9 out, 32 B read and 36 B written per edge, as the batch does when it draws every
+    // edge (and does when a block is all inside).
+    let mut out_copy = SegmentsSoa::default();
+    g.bench_function("copy-blocks", |b| {
+        b.iter(|| {
+            out_copy.clear();
+            out_copy.reserve(soa.len());
+            let n = soa.len();
+            for start in (0..n).step_by(64) {
+                let end = n.min(start + 64);
+                for k in 0..4 {
+                    out_copy.a[k].extend_from_slice(&soa.a[k][start..end]);
+                    out_copy.c[k].extend_from_slice(&soa.c[k][start..end]);
+                }
+                out_copy.edge.extend(start as u32..end as u32);
+            }
+            black_box(&out_copy);
         })
     });
     let mut out_soa = SegmentsSoa::default();

@@ -10,8 +10,10 @@
 //! 2. **Clip the lanes** (8 edges per step, `f64`): [`super::super::blinn::clip_crossing`]'s
 //!    arithmetic in the same operations and order, all six planes at once with masks (a plane
 //!    no lane crosses is skipped), `t_in`/`t_out` by masked max/min, the new ends, and
-//!    `settle()`'s test. The rare lanes whose result could depend on the order of ties (an
-//!    exit parameter of ±0) or that `settle()` would recompute take the scalar code.
+//!    `settle()`'s test (both only for the side some lane moves: mostly the start points
+//!    are inside, and then they are passed through). The rare lanes whose result could
+//!    depend on the order of ties (an exit parameter of ±0) or that `settle()` would
+//!    recompute take the scalar code.
 //! 3. **Compact** (16 edges per step): each drawn edge's own ends, or for a crossing edge its
 //!    lane's clipped ends, picked by one two-table permute per coordinate and stored straight
 //!    into the output's spare capacity.
@@ -167,10 +169,12 @@ unsafe fn iota() -> __m512i {
 #[target_feature(enable = "avx512f")]
 #[inline]
 unsafe fn finite_mask(a: [__m512; 4], c: [__m512; 4]) -> u16 {
-    let mut z = _mm512_setzero_ps();
-    for v in a.into_iter().chain(c) {
-        z = _mm512_add_ps(z, _mm512_sub_ps(v, v));
-    }
+    // Summed as a tree (depth four, not a chain of sixteen dependent operations).
+    let [d0, d1, d2, d3] = a.map(|v| _mm512_sub_ps(v, v));
+    let [d4, d5, d6, d7] = c.map(|v| _mm512_sub_ps(v, v));
+    let sa = _mm512_add_ps(_mm512_add_ps(d0, d1), _mm512_add_ps(d2, d3));
+    let sc = _mm512_add_ps(_mm512_add_ps(d4, d5), _mm512_add_ps(d6, d7));
+    let z = _mm512_add_ps(sa, sc);
     _mm512_cmp_ps_mask::<_CMP_ORD_Q>(z, z)
 }
 
@@ -431,22 +435,44 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
         leaves |= leave;
     }
     let open = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(t_in, t_out);
+    // Where no lane moves an end (no lane enters: every A inside, the common case; or none
+    // leaves), that end is the input's in every lane: no new ends to compute, nothing for
+    // `settle()` to check, only its w > 0 test.
+    let moved = |ends: &[__m512d; 4], t: __m512d, mask: u8, k: usize| {
+        let d = _mm512_sub_pd(c[k], a[k]);
+        let e = _mm512_add_pd(a[k], _mm512_mul_pd(t, d));
+        // An end that is not moved keeps its `f32` value (f32 → f64 → f32 is exact).
+        _mm512_cvtpd_ps(_mm512_mask_blend_pd(mask, ends[k], e))
+    };
     let mut p = [_mm256_setzero_ps(); 4];
     let mut q = [_mm256_setzero_ps(); 4];
     for k in 0..4 {
-        let d = _mm512_sub_pd(c[k], a[k]);
-        let pk = _mm512_add_pd(a[k], _mm512_mul_pd(t_in, d));
-        let qk = _mm512_add_pd(a[k], _mm512_mul_pd(t_out, d));
-        // An end that is not moved keeps its `f32` value (f32 → f64 → f32 is exact).
-        p[k] = _mm512_cvtpd_ps(_mm512_mask_blend_pd(enters, a[k], pk));
-        q[k] = _mm512_cvtpd_ps(_mm512_mask_blend_pd(leaves, c[k], qk));
+        p[k] = if enters != 0 {
+            moved(&a, t_in, enters, k)
+        } else {
+            _mm512_cvtpd_ps(a[k])
+        };
+        q[k] = if leaves != 0 {
+            moved(&c, t_out, leaves, k)
+        } else {
+            _mm512_cvtpd_ps(c[k])
+        };
         unsafe {
             _mm256_storeu_ps(lanes.clipped[k].as_mut_ptr().add(base), p[k]);
             _mm256_storeu_ps(lanes.clipped[4 + k].as_mut_ptr().add(base), q[k]);
         }
     }
-    let (p_ok, p_front) = settles_as_is::<ZERO_TO_ONE>(p);
-    let (q_ok, q_front) = settles_as_is::<ZERO_TO_ONE>(q);
+    let front = |w: __m512d| _mm512_cmp_pd_mask::<_CMP_GT_OQ>(w, zero);
+    let (p_ok, p_front) = if enters != 0 {
+        settles_as_is::<ZERO_TO_ONE>(p)
+    } else {
+        (0xFF, front(a[3]))
+    };
+    let (q_ok, q_front) = if leaves != 0 {
+        settles_as_is::<ZERO_TO_ONE>(q)
+    } else {
+        (0xFF, front(c[3]))
+    };
     let zero_exit = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(t_out, zero);
     let scalar = (leaves & zero_exit) | (enters & !p_ok) | (leaves & !q_ok);
     let open = open & live;
