@@ -360,10 +360,9 @@ fn a_screened_diagnosis_refits_the_winner_on_every_window() {
             (s / s_all - 1.0).abs() < 0.1,
             "{name}: ± {s} vs {s_all}\n{text}"
         );
-        assert!(
-            s < 0.7 * s_few,
-            "{name}: ± {s} vs the subset's {s_few}\n{text}"
-        );
+        // Below the subset's: three times the windows, though a σ may take the windows'
+        // scatter where it exceeds chance (the subset has too few windows for that).
+        assert!(s < s_few, "{name}: ± {s} vs the subset's {s_few}\n{text}");
         assert!(
             (v - v_all).abs() < s_all,
             "{name}: {v} vs {v_all} ± {s_all}\n{text}"
