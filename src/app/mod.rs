@@ -101,6 +101,8 @@ pub const OLD_SPELLINGS: &[(&str, &str, &str)] = &[
     ("diagnose", "--data", "--flight"),
     ("identify", "--data", "--flight"),
     ("view", "--flight-model", "--model"),
+    ("clip", "--output", "--out"),
+    ("clip", "--window", "--rect"),
 ];
 
 /// Say on stderr that `old` is an old spelling of `new`; it still works.

@@ -718,7 +718,11 @@ pub fn verdict_text(d: &Diagnosis) -> String {
                 "unexplained — with {}{} the error falls {fall}, still above the noise, and no \
                  further candidate is significant: part of the answer",
                 names.join(" + "),
-                if names.len() > 1 { " (fitted together)" } else { "" }
+                if names.len() > 1 {
+                    " (fitted together)"
+                } else {
+                    ""
+                }
             )
         }
         Verdict::Unexplained => format!(

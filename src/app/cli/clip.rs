@@ -12,15 +12,15 @@ pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;
 
 const EXAMPLES: &str = "\
 Examples:
-  wireflight clip --algo blinn --input edges.csv --output clipped.csv --stats
-  wireflight clip --algo cohen-sutherland --depth minus-one-to-one --input e.csv --output o.csv
-  wireflight clip --algo nicholl-lee-nicholl --window 2,2,4,4 --input 2d.csv --output o.csv
-  wireflight clip --algo weiler-atherton --subject s.txt --clip c.txt --output o.txt --json
-  wireflight clip --algo weiler-atherton --demo --output wa-pictures/
+  wireflight clip --algo blinn --input edges.csv --out clipped.csv --stats
+  wireflight clip --algo cohen-sutherland --depth minus-one-to-one --input e.csv --out o.csv
+  wireflight clip --algo nicholl-lee-nicholl --rect 2,2,4,4 --input 2d.csv --out o.csv
+  wireflight clip --algo weiler-atherton --subject s.txt --clip c.txt --out o.txt --json
+  wireflight clip --algo weiler-atherton --demo --out wa-pictures/
 
 Input: one edge per line, x0,y0,z0,w0,x1,y1,z1,w1 (homogeneous clip space, visible where
 -w <= x,y <= w and 0 <= z <= w, or -w <= z <= w with --depth minus-one-to-one), or x0,y0,x1,y1
-with --window XMIN,YMIN,XMAX,YMAX. Blank lines and lines starting with # are skipped; a first
+with --rect XMIN,YMIN,XMAX,YMAX. Blank lines and lines starting with # are skipped; a first
 line that does not start with a number is a header. Output: one line per input edge, in
 order: the visible part in the same columns, or an empty line when nothing is visible.
 2D only: nicholl-lee-nicholl. Homogeneous only: blinn, blinn-batch.
@@ -33,7 +33,7 @@ other polygons are not used). --op intersection (default) or difference. The out
 same format: each piece of the result as its outline (counter-clockwise), then each of its
 holes (clockwise) as a polygon of its own; --json prints the same polygons, which of them are
 holes, and the area. --picture draws subject, clip polygon and result (PNG). --demo writes
-the clipping lab's pictures of the degenerate cases into --output DIR instead.";
+the clipping lab's pictures of the degenerate cases into --out DIR instead.";
 
 /// Line clipping algorithms of the `clip` command.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -85,7 +85,8 @@ pub struct ClipArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub input: Option<PathBuf>,
     /// Where to write the clipped edges (CSV), or the clipped polygons; written atomically.
-    #[arg(long, value_name = "FILE")]
+    /// (`--output` is an old spelling of this option.)
+    #[arg(long = "out", alias = "output", value_name = "FILE")]
     pub output: PathBuf,
     /// weiler-atherton: the polygons to clip (x,y a line, a blank line between polygons).
     #[arg(long, value_name = "FILE")]
@@ -106,12 +107,13 @@ pub struct ClipArgs {
     pub picture: Option<PathBuf>,
     /// weiler-atherton: instead of clipping files, write the clipping lab's pictures
     /// (concave pieces, a difference, a hole, a shared vertex, collinear edges, a vertex on an
-    /// edge) and a list of them into --output DIR, as a whole (a DIR from an earlier run is
+    /// edge) and a list of them into --out DIR, as a whole (a DIR from an earlier run is
     /// replaced).
     #[arg(long, conflicts_with_all = ["input", "subject", "clip", "op", "json", "picture", "window", "depth", "stats"])]
     pub demo: bool,
-    /// Clip 2D edges (x0,y0,x1,y1) against this window.
-    #[arg(long, value_name = "XMIN,YMIN,XMAX,YMAX", allow_hyphen_values = true, value_parser = parse_window, conflicts_with = "depth")]
+    /// Clip 2D edges (x0,y0,x1,y1) against this rectangle. (`--window` is an old spelling of
+    /// this option.)
+    #[arg(long = "rect", alias = "window", value_name = "XMIN,YMIN,XMAX,YMAX", allow_hyphen_values = true, value_parser = parse_window, conflicts_with = "depth")]
     pub window: Option<Window2>,
     /// Depth range of the homogeneous clip volume [default: zero-to-one].
     #[arg(long, value_enum)]

@@ -1,5 +1,5 @@
 //! `wireflight clip`: the clipping lab on the command line. Edges from a CSV file (homogeneous
-//! clip space, or 2D with `--window`) → one algorithm → the clipped edges, in input order,
+//! clip space, or 2D with `--rect`) → one algorithm → the clipped edges, in input order,
 //! written atomically; `--stats` prints the tally and the time per edge. Weiler-Atherton clips
 //! polygons instead ([`polygons`]).
 
@@ -77,7 +77,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         Some(window) => {
             let clip: fn(Vec2, Vec2, &Window2) -> ClipOutcome<Vec2> = match args.algo {
                 Algo::Blinn | Algo::BlinnBatch => {
-                    bail!("blinn clips homogeneous edges: leave out --window")
+                    bail!("blinn clips homogeneous edges: leave out --rect")
                 }
                 Algo::CohenSutherland => cohen_sutherland::clip_2d,
                 Algo::LiangBarsky => liang_barsky::clip_2d,
@@ -130,7 +130,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
                 Algo::WeilerAtherton => unreachable!("polygons::run"),
                 Algo::NichollLeeNicholl => bail!(
                     "nicholl-lee-nicholl is a 2D algorithm (its regions come from the corners of a \
-                     rectangle): give --window XMIN,YMIN,XMAX,YMAX and 2D edges"
+                     rectangle): give --rect XMIN,YMIN,XMAX,YMAX and 2D edges"
                 ),
             };
             let file = io::parse_rows(&text, input, &HOMOGENEOUS_COLUMNS)?;

@@ -350,7 +350,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     }
     for (given, option) in [
         (args.input.is_some(), "--input (give --subject and --clip)"),
-        (args.window.is_some(), "--window"),
+        (args.window.is_some(), "--rect"),
         (args.depth.is_some(), "--depth"),
         (args.stats, "--stats"),
     ] {

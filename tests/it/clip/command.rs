@@ -24,7 +24,7 @@ fn clip(dir: &Path, input: &str, extra: &[&str]) -> (Output, String) {
         "clip",
         "--input",
         inp.to_str().unwrap(),
-        "--output",
+        "--out",
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
@@ -47,7 +47,7 @@ fn planar_seed_examples_through_the_csv_interface() {
         let (o, out) = clip(
             dir.path(),
             input,
-            &["--algo", algo, "--window", "2,2,4,4", "--stats"],
+            &["--algo", algo, "--rect", "2,2,4,4", "--stats"],
         );
         assert!(o.status.success(), "{algo}: {}", text(&o.stderr));
         assert_eq!(
@@ -64,6 +64,34 @@ fn planar_seed_examples_through_the_csv_interface() {
             "stray files"
         );
     }
+}
+
+/// `--output` and `--window`, the old spellings of `--out` and `--rect`, still work, with a
+/// note on stderr.
+#[test]
+fn old_spellings_of_out_and_rect_work_with_a_note() {
+    let dir = tempfile::tempdir().unwrap();
+    let (inp, out) = (dir.path().join("in.csv"), dir.path().join("old.csv"));
+    std::fs::write(&inp, "x0,y0,x1,y1\n1,3,5,2\n").unwrap();
+    let o = wireflight(&[
+        "clip",
+        "--algo",
+        "cohen-sutherland",
+        "--input",
+        inp.to_str().unwrap(),
+        "--output",
+        out.to_str().unwrap(),
+        "--window",
+        "2,2,4,4",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        "x0,y0,x1,y1\n2,2.75,4,2.25\n"
+    );
+    let e = text(&o.stderr);
+    assert!(e.contains("--output is an old spelling of --out"), "{e}");
+    assert!(e.contains("--window is an old spelling of --rect"), "{e}");
 }
 
 #[test]
@@ -123,7 +151,7 @@ fn bad_input_names_the_line_and_exits_2() {
         ),
         (
             "0,0,0,1,1,1,0,1\n",
-            &["--algo", "cohen-sutherland", "--window", "0,0,1,1"],
+            &["--algo", "cohen-sutherland", "--rect", "0,0,1,1"],
             "in.csv:1: expected 4 values",
         ),
         (
@@ -138,7 +166,7 @@ fn bad_input_names_the_line_and_exits_2() {
         ),
         (
             "0,0,1,1\n",
-            &["--algo", "blinn", "--window", "0,0,1,1"],
+            &["--algo", "blinn", "--rect", "0,0,1,1"],
             "blinn clips homogeneous edges",
         ),
     ];
@@ -172,7 +200,7 @@ fn bad_input_names_the_line_and_exits_2() {
         "blinn",
         "--input",
         dir.path().join("bin.csv").to_str().unwrap(),
-        "--output",
+        "--out",
         dir.path().join("o.csv").to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));
@@ -181,7 +209,7 @@ fn bad_input_names_the_line_and_exits_2() {
         "{}",
         text(&o.stderr)
     );
-    let (o, _) = clip(dir.path(), "", &["--algo", "blinn", "--window", "4,0,1,1"]);
+    let (o, _) = clip(dir.path(), "", &["--algo", "blinn", "--rect", "4,0,1,1"]);
     assert_eq!(o.status.code(), Some(2));
 }
 

@@ -28,7 +28,7 @@ fn clip(dir: &Path, subject: &str, clip: &str, extra: &[&str]) -> (Output, Optio
         s.to_str().unwrap(),
         "--clip",
         c.to_str().unwrap(),
-        "--output",
+        "--out",
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
@@ -206,7 +206,7 @@ fn bad_files_name_the_line_and_write_nothing() {
         "no/such.txt",
         "--clip",
         "no/such.txt",
-        "--output",
+        "--out",
         dir.path().join("o.txt").to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));
@@ -220,7 +220,7 @@ fn options_belong_to_their_algorithms() {
     let out = out.to_str().unwrap();
     let cases: [(&[&str], &str); 5] = [
         (
-            &["--algo", "blinn", "--subject", "a", "--output", out],
+            &["--algo", "blinn", "--subject", "a", "--out", out],
             "--subject is for --algo weiler-atherton",
         ),
         (
@@ -231,28 +231,21 @@ fn options_belong_to_their_algorithms() {
                 "a",
                 "--op",
                 "difference",
-                "--output",
+                "--out",
                 out,
             ],
             "--op is for --algo weiler-atherton",
         ),
         (
-            &["--algo", "blinn", "--output", out],
+            &["--algo", "blinn", "--out", out],
             "--algo blinn clips edges: give --input",
         ),
         (
-            &["--algo", "weiler-atherton", "--input", "a", "--output", out],
+            &["--algo", "weiler-atherton", "--input", "a", "--out", out],
             "leave out --input",
         ),
         (
-            &[
-                "--algo",
-                "weiler-atherton",
-                "--subject",
-                "a",
-                "--output",
-                out,
-            ],
+            &["--algo", "weiler-atherton", "--subject", "a", "--out", out],
             "needs --subject FILE and --clip FILE",
         ),
     ];
@@ -286,7 +279,7 @@ fn demo(out: &Path, extra: &[&str]) -> Output {
         "--algo",
         "weiler-atherton",
         "--demo",
-        "--output",
+        "--out",
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
@@ -364,7 +357,7 @@ fn demo_refuses_what_it_would_overwrite_and_foreign_options() {
         let err = text(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{err}");
         assert!(
-            err.contains(want) && err.contains("--output") && !err.contains("panicked"),
+            err.contains(want) && err.contains("--out") && !err.contains("panicked"),
             "{err}"
         );
     }
@@ -390,7 +383,7 @@ fn demo_refuses_what_it_would_overwrite_and_foreign_options() {
         "--algo",
         "blinn",
         "--demo",
-        "--output",
+        "--out",
         out.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(2));

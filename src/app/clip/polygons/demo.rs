@@ -1,4 +1,4 @@
-//! `wireflight clip --algo weiler-atherton --demo --output DIR`: the clipping lab's pictures of
+//! `wireflight clip --algo weiler-atherton --demo --out DIR`: the clipping lab's pictures of
 //! Weiler-Atherton, written into a directory as a whole. Each shows what a convex clipper
 //! cannot do, or a degenerate case decided exactly: concave against concave in several
 //! pieces, a difference in several pieces, a hole, a shared vertex, collinear overlapping
@@ -431,10 +431,10 @@ fn scene(case: &Case, pieces: &[Piece]) -> LineScene {
     }
 }
 
-/// Write the pictures and the manifest into `--output` as a whole.
+/// Write the pictures and the manifest into `--out` as a whole.
 ///
 /// # Errors
-/// `--output` is a file, or a directory that an earlier run of this command did not write;
+/// `--out` is a file, or a directory that an earlier run of this command did not write;
 /// I/O errors. Nothing is left half-written.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let dir = &args.output;
@@ -465,7 +465,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         names.push(name);
     }
     files.push((MANIFEST.to_string(), manifest.into_bytes()));
-    write_dir_atomic(dir, &files, MANIFEST).context("--output")?;
+    write_dir_atomic(dir, &files, MANIFEST).context("--out")?;
     println!(
         "wrote {} pictures ({}) and {MANIFEST} to {}",
         names.len(),
