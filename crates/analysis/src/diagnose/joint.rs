@@ -222,15 +222,15 @@ impl JointFit {
         prep: &Prepared,
         iterations: usize,
     ) -> Result<Vec<(usize, JointFit)>, DiagnoseError> {
-        let mut lr = vec![f64::NAN; self.members.len()];
+        let mut lr = Vec::with_capacity(self.members.len());
         let mut fits = Vec::new();
         for k in 0..self.members.len() {
             if let Some((_, v)) = known.iter().find(|(i, _)| *i == k) {
-                lr[k] = *v;
+                lr.push(*v);
                 continue;
             }
             let without = self.without(k, base, prep, iterations)?;
-            lr[k] = lr_statistic(&self.comparison, without.comparison.chi2);
+            lr.push(lr_statistic(&self.comparison, without.comparison.chi2));
             fits.push((k, without));
         }
         self.lr = lr;

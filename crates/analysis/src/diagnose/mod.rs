@@ -523,14 +523,13 @@ fn taken_keys(joint: Option<&JointFit>) -> Vec<&'static str> {
 /// the causes kept so far; add the best significant one and refit all of them jointly; drop,
 /// one at a time, any earlier cause whose removal the data no longer reject (the
 /// likelihood-ratio test of the joint fit without it, refitted); repeat until no candidate
-/// is significant. A cause dropped once is not added again. Returns the steps, the last
-/// joint fit and the first step's aircraft scores and candidate count.
+/// is significant. A cause dropped once is not added again.
 fn select(
     base: &Model,
     prep: &Prepared,
     extra: &[Box<dyn Effect>],
     cfg: &DiagnoseConfig,
-) -> Result<(Vec<Step>, Option<JointFit>, Vec<KeyScore>, usize), DiagnoseError> {
+) -> Result<Selection, DiagnoseError> {
     let mut model = base.clone();
     let mut baseline = Baseline::of(base, prep);
     let before = baseline.comparison.clone();
@@ -646,7 +645,8 @@ fn select(
                     let crit = lr_critical(cfg, k_first, fitted.spans[i].len());
                     (fitted.lr[i] / crit, i, fit)
                 })
-                .filter(|(ratio, _, _)| !(*ratio > 1.0))
+                // A statistic that is not a number cannot keep a cause either.
+                .filter(|(ratio, _, _)| ratio.is_nan() || *ratio <= 1.0)
                 .min_by(|a, b| a.0.total_cmp(&b.0));
             let Some((_, i, fit)) = weakest else { break };
             let label = fitted.members[i].label();
@@ -670,8 +670,22 @@ fn select(
         baseline = Baseline::of(&model, prep);
         joint = Some(fitted);
     }
-    let (scores, k) = first.unwrap_or_default();
-    Ok((steps, joint, scores, k))
+    let (scores, candidates) = first.unwrap_or_default();
+    Ok(Selection {
+        steps,
+        joint,
+        scores,
+        candidates,
+    })
+}
+
+/// What the selection found: its steps, the last joint fit, and the first step's aircraft
+/// scores and candidate count (the significance level's family).
+struct Selection {
+    steps: Vec<Step>,
+    joint: Option<JointFit>,
+    scores: Vec<KeyScore>,
+    candidates: usize,
 }
 
 /// Diagnose: try every catalogue effect that applies to the vehicle and is not in the model
@@ -698,7 +712,12 @@ pub fn diagnose(
     let screened = cfg.screen_windows > 0 && full.windows.len() > cfg.screen_windows;
     let screen = screened.then(|| full.with_max_windows(cfg.screen_windows));
     let prep = screen.as_ref().unwrap_or(&full);
-    let (steps, joint, scores, k) = select(base, prep, extra, cfg)?;
+    let Selection {
+        steps,
+        joint,
+        scores,
+        candidates: k,
+    } = select(base, prep, extra, cfg)?;
     let (base_cmp, joint) = if screened {
         // The causes found on the subset, on every window.
         full_pass(base, joint.as_ref(), &full)
