@@ -18,22 +18,27 @@
 //!   times as much in the tests' fits).
 //! * **Uncertainty**: the covariance (JᵀJ)⁻¹ of the projected Jacobian of noise-weighted
 //!   residuals, scaled by the misfit per residual when it exceeds 1 and by the residuals'
-//!   autocorrelation (AR(1): (1+ρ)/(1−ρ)); 1σ, with the correlation matrix. All windows count.
+//!   autocorrelation (AR(1): (1+ρ)/(1−ρ)); where the windows' scatter (a cluster sandwich)
+//!   exceeds it beyond chance, that. 1σ, with the correlation matrix. All windows count.
 //! * **Significance**: the likelihood-ratio statistic N·ln(χ²₀/χ²₁) over the effectively
 //!   independent residuals N (ν·(1−ρ)/(1+ρ): white residuals count fully, a smooth misfit
 //!   hardly) against the χ² quantile for the number of fitted parameters at the family-wise
 //!   level α split over all candidates, the screened aircraft numbers included (Bonferroni);
-//!   and the candidate must remove at least a fifth of the misfit above the noise.
-//! * **Verdict**: the significant candidate that leaves the least misfit, if it brings the
-//!   error to the noise (≤ `at_floor` noise units); a significant candidate that leaves the
-//!   error above the noise is only *partial*, and the verdict is then `unexplained`. Without a
-//!   significant candidate: `none` when the error is at the noise, `unexplained` when it is not.
-//!   An unexplained verdict comes with evidence: where the error is (channel and axis), the
-//!   terms of the model that would reduce it most, and the conditions it follows.
-//!   [`iterate`] applies the winner and repeats.
+//!   the candidate must remove at least a fifth of the misfit above the noise, and no fitted
+//!   value may end at a limit of its range.
+//! * **Several causes** (`joint`): forward selection with backward elimination — the best
+//!   significant candidate is kept, every cause kept is refitted together with it, a cause
+//!   the others make unnecessary is dropped, and the search repeats on top of them until no
+//!   candidate is significant by the same test.
+//! * **Verdict**: the causes kept, when together they bring the error to the noise
+//!   (≤ `at_floor` noise units); `unexplained` when they leave it above (what was found is
+//!   part of the answer), or when nothing is significant and the error is above the noise;
+//!   `none` when nothing is significant and the error is at the noise. An unexplained verdict
+//!   comes with evidence: where the error is (channel and axis), the terms of the model that
+//!   would reduce it most, and the conditions it follows.
 //!
-//! Long flights are screened on a subset of windows (`screen_windows`), and the best
-//! candidates then re-fitted on all of them.
+//! Long flights are screened on a subset of windows (`screen_windows`), and the causes found
+//! then fitted on all of them.
 
 mod fit;
 mod joint;
