@@ -357,7 +357,7 @@ pub struct Step {
 /// fitted (on `prep`). A spec named `aircraft` sets the numbers it gives a value
 /// (`aircraft:c_m_alpha=-3.3`) and fits those it only names (`aircraft:c_m_alpha`). Each
 /// is fitted in turn on top of the ones before, and then, when there are several, all of
-/// them together ([`joint`]): the values and ± returned are the joint ones, the errors
+/// them together (`joint`): the values and ± returned are the joint ones, the errors
 /// those from the model as given to all of them applied. Returns the fitted candidates, in
 /// order.
 ///
