@@ -677,6 +677,7 @@ fn select(
     }
     let (scores, candidates) = first.unwrap_or_default();
     Ok(Selection {
+        before,
         steps,
         joint,
         scores,
@@ -687,6 +688,8 @@ fn select(
 /// What the selection found: its steps, the last joint fit, and the first step's aircraft
 /// scores and candidate count (the significance level's family).
 struct Selection {
+    /// The model as given, compared on the selection's windows.
+    before: Comparison,
     steps: Vec<Step>,
     joint: Option<JointFit>,
     scores: Vec<KeyScore>,
@@ -718,6 +721,7 @@ pub fn diagnose(
     let screen = screened.then(|| full.with_max_windows(cfg.screen_windows));
     let prep = screen.as_ref().unwrap_or(&full);
     let Selection {
+        before,
         steps,
         joint,
         scores,
@@ -727,8 +731,8 @@ pub fn diagnose(
         // The causes found on the subset, on every window.
         full_pass(base, joint.as_ref(), &full)
     } else {
-        let base_cmp = Baseline::of(base, &full).comparison;
-        (base_cmp, joint)
+        // The selection ran on every window: its comparison of the model as given is this.
+        (before, joint)
     };
     let noise_units = base_cmp.noise_units();
     let found = joint
