@@ -390,6 +390,25 @@ impl Model {
         }
     }
 
+    /// What an accelerometer at the centre of gravity reads at time `t` and state `x` under
+    /// commands `cmd`: the specific force, m/s², in body axes (FRD) for a fixed wing and in
+    /// NED for a point mass — the acceleration relative to inertial space less gravity, so a
+    /// level, unaccelerated airplane reads (0, 0, −g). It is the derivative's force over
+    /// mass, read back from the derivative itself (u̇ + ω × v − Rᵀ·g), so it can never
+    /// disagree with the dynamics the model flies.
+    pub fn specific_force(&self, t: f64, x: &State, cmd: &Controls) -> DVec3 {
+        let frame = self.frame(t, x);
+        let d = self.derivative_in(t, x, cmd, &frame);
+        let acc = DVec3::new(d.0[3], d.0[4], d.0[5]);
+        let gravity = DVec3::new(0.0, 0.0, frame.g);
+        match self.vehicle {
+            Vehicle::PointMass => acc - gravity,
+            Vehicle::FixedWing(_) => {
+                acc + x.omega().cross(x.vel()) - frame.rot.transpose() * gravity
+            }
+        }
+    }
+
     /// [`derivative`](Self::derivative) with its [`Frame`] given: `frame` must be
     /// [`frame`](Self::frame) of the same time and of a state that differs from `x` at most
     /// in its body rates and surfaces (RK4's first stage and a read inside its step under

@@ -264,6 +264,24 @@ mod tests {
     }
 
     #[test]
+    fn a_trimmed_airplane_feels_one_g_upwards_along_its_own_vertical() {
+        // Steady, level, unaccelerated: the accelerometer reads the lift's and thrust's
+        // answer to gravity, −g along NED down, seen in body axes; the trim's nose-up pitch
+        // turns part of it onto +x.
+        let m = aerosonde();
+        let t = trim_level(&m, 25.0, 0.3, DVec3::new(0.0, 0.0, -100.0)).unwrap();
+        let f = m.specific_force(0.0, &t.state, &t.controls);
+        let expected = t.state.rot().transpose() * DVec3::new(0.0, 0.0, -crate::G0);
+        let tol = 1e-6 + 2.0 * t.residual;
+        assert!((f - expected).length() < tol, "{f} vs {expected}");
+        let theta = t.state.attitude().pitch;
+        assert!(
+            theta > 0.0 && (f.x - crate::G0 * theta.sin()).abs() < tol,
+            "{f}"
+        );
+    }
+
+    #[test]
     fn trim_in_wind_is_steady_relative_to_the_air() {
         let mut m = aerosonde();
         m.add_effect(Box::new(Wind {
