@@ -17,7 +17,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::effects::{Effect, EffectContext, Origin, Sample, RHO_SEA_LEVEL};
+use super::effects::{Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
 use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
@@ -235,6 +235,24 @@ impl Model {
         }
         self.effects.push(effect);
         Ok(())
+    }
+
+    /// Whether any effect acts on what the sensors read ([`Effect::is_measurement`]).
+    pub fn has_measurement_effects(&self) -> bool {
+        self.effects.iter().any(|e| e.is_measurement())
+    }
+
+    /// How late the navigation solution is read, s: the effects' delays summed (0 without).
+    pub fn nav_delay(&self) -> f64 {
+        self.effects.iter().filter_map(|e| e.nav_delay()).sum()
+    }
+
+    /// What the sensors read of `truth`: every measurement effect's
+    /// [`Effect::measure`], in model order (the delay is the comparison's, over a flight).
+    pub fn measure(&self, truth: &mut Reading) {
+        for e in self.effects.iter().filter(|e| e.is_measurement()) {
+            e.measure(truth);
+        }
     }
 
     /// The value of a parameter of the aircraft's set (`c_m_alpha`, `mass_kg`, …; see
@@ -470,7 +488,11 @@ impl Model {
         // What the effects see, only when any acts on the body: the bare airframe (every
         // flight of a model without effects) and a wind (it only blows: its air is in the
         // frame already) have no use for it.
-        if self.effects.iter().any(|e| !e.is_uniform_wind()) {
+        if self
+            .effects
+            .iter()
+            .any(|e| !e.is_uniform_wind() && !e.is_measurement())
+        {
             let s = Sample {
                 t,
                 pos_ned: pos,
@@ -484,7 +506,7 @@ impl Model {
                 controls: ctl,
                 mass: p.mass.mass_kg,
             };
-            for e in &self.effects {
+            for e in self.effects.iter().filter(|e| !e.is_measurement()) {
                 induced_factor *= e.induced_drag_factor(&s);
                 let (f, m) = e.force_moment_body(&s);
                 force += f;

@@ -32,6 +32,7 @@ pub mod predict;
 mod rows;
 mod score;
 mod sensitivity;
+mod sensors;
 pub mod start;
 
 use std::sync::Arc;
@@ -46,6 +47,7 @@ use score::{assemble, assemble_as};
 use start::{Scratch, StartFit};
 
 use wireflight_flight::data::{unwrap_angles, FlightData};
+use wireflight_flight::effects::Channel;
 use wireflight_flight::model::{AirData, Model, State, Vehicle};
 use wireflight_geometry::euler::EulerZyx;
 
@@ -123,6 +125,19 @@ impl Measured {
             attitude: d.attitude.is_some(),
             rates: d.rates_body.is_some() && !d.is_derived("rates_body"),
             airspeed: d.airspeed.is_some(),
+        }
+    }
+
+    /// Whether `data` (these channels' flight) records `channel` as a measurement the
+    /// comparison scores (not derived from another channel).
+    pub fn records(self, channel: Channel, data: &FlightData) -> bool {
+        match channel {
+            Channel::Position => true,
+            Channel::Velocity => self.velocity && data.vel_ned.is_some(),
+            Channel::Attitude => self.attitude && data.attitude.is_some(),
+            Channel::Rates => self.rates && data.rates_body.is_some(),
+            Channel::Airspeed => self.airspeed && data.airspeed.is_some(),
+            Channel::Accelerometer => false,
         }
     }
 

@@ -6,6 +6,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
+use super::sensors::apply_sensors;
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::{air_angles, AirData, HeldCommands, Model, State, Vehicle};
 use wireflight_flight::Controls;
@@ -32,6 +33,9 @@ pub struct Predicted {
     pub air_velocity_body: DVec3,
     /// Air density, kg/m³ (zero for a point mass).
     pub rho: f64,
+    /// What the airspeed sensor reads, m/s: the length of the air-relative velocity, changed
+    /// by the model's measurement effects ([`apply_sensors`]).
+    pub airspeed: f64,
 }
 
 impl Predicted {
@@ -41,9 +45,9 @@ impl Predicted {
         EulerZyx::from_matrix(DMat3::from_quat(self.quat)).0
     }
 
-    /// Airspeed, m/s.
+    /// Airspeed as the sensor reads it, m/s.
     pub fn airspeed(&self) -> f64 {
-        self.air_velocity_body.length()
+        self.airspeed
     }
 
     /// Airspeed, angle of attack and sideslip in the model's air (zero for a point mass).
@@ -74,13 +78,15 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
         Vehicle::FixedWing(_) => {
             let rot = x.rot();
             let (wind, rho) = model.air_at(x.pos_ned(), t);
+            let air_velocity_body = x.vel() - rot.transpose() * wind;
             Predicted {
                 pos_ned: x.pos_ned(),
                 vel_ned: rot * x.vel(),
                 quat: x.quat(),
                 rates: x.omega(),
-                air_velocity_body: x.vel() - rot.transpose() * wind,
+                air_velocity_body,
                 rho,
+                airspeed: air_velocity_body.length(),
             }
         }
     }
@@ -94,8 +100,25 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
 /// `max_dt` after its start), and the states at the samples inside it are read from the
 /// step's stages: the integration steps no longer double with the data rate. A diverging
 /// model holds its last finite prediction (scored as the large error it is) and its states
-/// stop there.
+/// stop there. The predictions are what the sensors read, under the model's measurement
+/// effects ([`super::sensors`]); the states are the truth.
 pub fn fly_window(
+    model: &Model,
+    d: &FlightData,
+    (start, end): (usize, usize),
+    x0: &State,
+    max_dt: f64,
+    out: &mut Vec<Predicted>,
+    states: &mut Vec<State>,
+) {
+    fly_truth(model, d, (start, end), x0, max_dt, out, states);
+    if let Some(time) = d.time.get(start..end) {
+        apply_sensors(model, time, out);
+    }
+}
+
+/// [`fly_window`] before the sensors: the predictions of the true flight.
+fn fly_truth(
     model: &Model,
     d: &FlightData,
     (start, end): (usize, usize),

@@ -12,6 +12,7 @@
 use glam::{DMat3, DVec3};
 
 use super::predict::{controls_at, sample_steps};
+use super::sensors::{airspeed_gain, attitude_read, delay_rows};
 use super::start::{param_count, state_of};
 use super::Prepared;
 use wireflight_flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
@@ -124,6 +125,16 @@ impl Prepared<'_> {
                 cur = 1 - cur;
             }
         }
+        let delay = model.nav_delay();
+        if delay > 0.0 {
+            let velocity = self.measured.for_vehicle(model).velocity && d.vel_ned.is_some();
+            let channels: &[usize] = if velocity {
+                &[0, 1, 2, 3, 4, 5]
+            } else {
+                &[0, 1, 2]
+            };
+            delay_rows(&d.time[start..end], delay, per_sample, channels, jac, m);
+        }
         finite
     }
 
@@ -159,8 +170,10 @@ impl Prepared<'_> {
         }
         let rot = x.rot();
         let v = x.vel();
+        // A misaligned attitude reference reads R·R₀: a body-frame error δθ reads R₀ᵀ·δθ.
         let w = if attitude {
-            euler_rates_matrix(x, &rot)
+            let (read, r0) = attitude_read(model, &rot);
+            euler_rates_matrix(x, &read) * r0.transpose()
         } else {
             DMat3::IDENTITY
         };
@@ -183,7 +196,7 @@ impl Prepared<'_> {
             let v_r = v - wind_body;
             let va = v_r.length();
             let gain = if va > 0.0 {
-                self.airspeed_weight / va
+                self.airspeed_weight * airspeed_gain(model, va) / va
             } else {
                 0.0
             };
@@ -513,6 +526,26 @@ mod tests {
                 20.0,
             ),
             (VehicleKind::PointMass, vec!["drag"], vec!["drag"], 50.0),
+            // What the sensors read: a late navigation solution, biased gyros, a scaled
+            // airspeed, a misaligned attitude reference.
+            (
+                VehicleKind::FixedWing,
+                vec![],
+                vec![
+                    "nav_delay:delay_s=0.23",
+                    "gyro_bias:p_dps=0.5,r_dps=-0.3",
+                    "airspeed_scale:factor=0.93",
+                    "airspeed_bias:bias_mps=0.8",
+                    "attitude_offset:roll_deg=4,pitch_deg=-3",
+                ],
+                50.0,
+            ),
+            (
+                VehicleKind::PointMass,
+                vec!["drag"],
+                vec!["drag", "nav_delay:delay_s=0.3"],
+                50.0,
+            ),
         ] {
             let truth = model(kind, &truth_effects);
             let spec = SimSpec {

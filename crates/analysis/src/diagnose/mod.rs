@@ -413,15 +413,25 @@ pub fn add_fitted(
 }
 
 /// The candidates of a diagnosis: every catalogue effect that applies and is not in the model
-/// yet, plus the user's.
-fn candidate_effects(base: &Model, extra: &[Box<dyn Effect>]) -> Vec<Box<dyn Effect>> {
+/// yet, plus the user's; a measurement effect only where the flight records a channel it
+/// changes (a gyro's bias cannot show in rates differentiated from the attitude).
+fn candidate_effects(
+    base: &Model,
+    prep: &Prepared,
+    extra: &[Box<dyn Effect>],
+) -> Vec<Box<dyn Effect>> {
     let ctx = base.effect_context();
     let kind = base.vehicle.kind();
+    let measured = prep.measured.for_vehicle(base);
     CATALOGUE
         .iter()
         .map(|info| info.build(&ctx))
         .chain(extra.iter().cloned())
         .filter(|e| e.applies_to(kind) && !base.has_effect(e.name()))
+        .filter(|e| {
+            let channels = e.channels();
+            channels.is_empty() || channels.iter().any(|&c| measured.records(c, prep.data))
+        })
         .collect()
 }
 
@@ -443,7 +453,7 @@ pub fn promising_numbers(model: &Model, prep: &Prepared, cfg: &DiagnoseConfig) -
     }
     let baseline = Baseline::of(model, prep);
     let scores = score_aircraft(model, prep, &baseline);
-    let k = candidate_effects(model, &[]).len() + scores.len();
+    let k = candidate_effects(model, prep, &[]).len() + scores.len();
     scores
         .into_iter()
         .filter(|s| could_be_significant(&baseline.comparison, s.reduction, cfg, k))
@@ -462,7 +472,7 @@ fn screen_round(
     (taken, rescreen): (&[&'static str], bool),
     cfg: &DiagnoseConfig,
 ) -> (Vec<Candidate>, Vec<KeyScore>, usize) {
-    let effects = candidate_effects(model, extra);
+    let effects = candidate_effects(model, prep, extra);
     let scores: Vec<KeyScore> = score_aircraft(model, prep, baseline)
         .into_iter()
         .filter(|s| !taken.contains(&s.key.name))

@@ -16,6 +16,10 @@
 //!    acceleration, summed), [`Effect::force_moment_body`] (body-frame force and moment,
 //!    summed), [`Effect::induced_drag_factor`] (multiplied).
 //!
+//! A **measurement effect** ([`sensors`]: a delay, a bias, a scale factor) acts on none of
+//! these but on what the sensors read of the flight: [`Effect::measure`] and
+//! [`Effect::nav_delay`], applied by the comparison after the model has flown.
+//!
 //! What every implementation says the same way — its [`EffectInfo`], where its parameter
 //! values are stored, whether it varies in time or space — is written by [`effect_basics!`],
 //! so an effect's file holds only its own physics.
@@ -29,6 +33,7 @@ mod gravity_model;
 mod ground_effect;
 mod gyroscopic;
 mod prop_torque;
+pub mod sensors;
 mod wind;
 
 pub use actuator_lag::{ActuatorLag, MIN_ACTUATOR_TAU};
@@ -40,9 +45,12 @@ pub use gravity_model::{wgs84_gravity, GravityModel};
 pub use ground_effect::GroundEffect;
 pub use gyroscopic::Gyroscopic;
 pub use prop_torque::PropTorque;
+pub use sensors::{
+    AccelBias, AirspeedBias, AirspeedScale, AttitudeOffset, GyroBias, NavDelay, MAX_NAV_DELAY,
+};
 pub use wind::Wind;
 
-use glam::{DMat3, DVec3};
+use glam::{DMat3, DQuat, DVec3};
 
 use super::{Controls, VehicleKind};
 
@@ -247,6 +255,12 @@ pub static CATALOGUE: &[&EffectInfo] = &[
     &ground_effect::INFO,
     &actuator_lag::INFO,
     &gyroscopic::INFO,
+    &sensors::NAV_DELAY,
+    &sensors::GYRO_BIAS,
+    &sensors::AIRSPEED_SCALE,
+    &sensors::AIRSPEED_BIAS,
+    &sensors::ACCEL_BIAS,
+    &sensors::ATTITUDE_OFFSET,
 ];
 
 /// The catalogue entry of that name.
@@ -454,6 +468,41 @@ impl EffectInfo {
     }
 }
 
+/// A channel a flight records: what a measurement effect changes ([`Effect::channels`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Channel {
+    /// Position, NED.
+    Position,
+    /// Velocity, NED.
+    Velocity,
+    /// Attitude angles.
+    Attitude,
+    /// Body rates.
+    Rates,
+    /// Airspeed.
+    Airspeed,
+    /// Specific force, body axes.
+    Accelerometer,
+}
+
+/// What the sensors read at one sample, as the model predicts it: the channels a flight
+/// records, in the data's frames. Measurement effects change it ([`Effect::measure`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reading {
+    /// Position, NED, m.
+    pub pos_ned: DVec3,
+    /// Velocity, NED, m/s.
+    pub vel_ned: DVec3,
+    /// Attitude, body → NED.
+    pub quat: DQuat,
+    /// Body rates p, q, r, rad/s.
+    pub rates: DVec3,
+    /// Airspeed, m/s.
+    pub airspeed: f64,
+    /// Specific force (what an accelerometer reads), body axes, m/s².
+    pub specific_force: DVec3,
+}
+
 /// What an effect sees at one instant.
 #[derive(Clone, Copy, Debug)]
 pub struct Sample {
@@ -562,6 +611,25 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     /// Factor on the induced-drag term of the fixed-wing drag polar (multiplied).
     fn induced_drag_factor(&self, _s: &Sample) -> f64 {
         1.0
+    }
+    /// Whether the effect acts on what the sensors read rather than on the flight
+    /// ([`sensors`]): then every hook above keeps its default, and the equations of motion
+    /// pass it by.
+    fn is_measurement(&self) -> bool {
+        false
+    }
+    /// What the sensors read, changed in place (a bias, a scale factor, a misalignment):
+    /// affine in each channel it changes, since the comparison's linearisation takes a
+    /// reading's change per unit of the truth from two evaluations.
+    fn measure(&self, _r: &mut Reading) {}
+    /// How late the navigation solution (position and NED velocity) is read, s.
+    fn nav_delay(&self) -> Option<f64> {
+        None
+    }
+    /// The channels a measurement effect changes: on a flight that records none of them it
+    /// can show nothing, and is no candidate.
+    fn channels(&self) -> &'static [Channel] {
+        &[]
     }
 
     /// The effect's name.
@@ -687,7 +755,7 @@ mod tests {
 
     /// A fixed wing in flight (turning, climbing, rolling) and commands for it: where the
     /// effects' derivatives are compared.
-    fn flying() -> (crate::model::State, crate::Controls) {
+    pub(crate) fn flying() -> (crate::model::State, crate::Controls) {
         let mut x = crate::model::State::default();
         x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
         x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
@@ -741,10 +809,22 @@ mod tests {
                     "{} at its absent values",
                     info.name
                 );
+                let truth = sensors::tests::reading();
+                let mut read = truth;
+                with.measure(&mut read);
+                assert_eq!(read, truth, "{} at its absent values", info.name);
+                assert_eq!(with.nav_delay(), 0.0, "{}", info.name);
                 tried.push(info.name);
             }
         }
-        for name in ["wind", "drag", "gyroscopic", "prop_torque"] {
+        for name in [
+            "wind",
+            "drag",
+            "gyroscopic",
+            "prop_torque",
+            "gyro_bias",
+            "nav_delay",
+        ] {
             assert!(tried.contains(&name), "{name} has no absent values");
         }
     }
