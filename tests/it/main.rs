@@ -31,6 +31,7 @@ mod pictures;
 mod plots;
 mod readme;
 mod report;
+mod sensors;
 mod several_causes;
 mod view;
 mod view_gimbal;

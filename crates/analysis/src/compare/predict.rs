@@ -6,8 +6,9 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::sensors::apply_sensors;
+use super::sensors::delay_weights;
 use wireflight_flight::data::FlightData;
+use wireflight_flight::effects::Reading;
 use wireflight_flight::model::{air_angles, AirData, HeldCommands, Model, State, Vehicle};
 use wireflight_flight::Controls;
 use wireflight_geometry::euler::EulerZyx;
@@ -50,12 +51,17 @@ impl Predicted {
         self.airspeed
     }
 
-    /// Airspeed, angle of attack and sideslip in the model's air (zero for a point mass).
+    /// Airspeed, angle of attack and sideslip in the model's air (zero for a point mass); the
+    /// airspeed as the sensor reads it (the truth's without measurement effects), the rest
+    /// as the air is.
     pub fn air(&self) -> AirData {
         if self.rho == 0.0 && self.air_velocity_body == DVec3::ZERO {
             return AirData::default();
         }
-        air_angles(self.air_velocity_body, self.rho)
+        AirData {
+            airspeed: self.airspeed,
+            ..air_angles(self.air_velocity_body, self.rho)
+        }
     }
 }
 
@@ -101,7 +107,7 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
 /// step's stages: the integration steps no longer double with the data rate. A diverging
 /// model holds its last finite prediction (scored as the large error it is) and its states
 /// stop there. The predictions are what the sensors read, under the model's measurement
-/// effects ([`super::sensors`]); the states are the truth.
+/// effects ([`apply_sensors`]); the states are the truth.
 pub fn fly_window(
     model: &Model,
     d: &FlightData,
@@ -172,6 +178,45 @@ fn fly_truth(
             states.push(x);
         }
         i = j;
+    }
+}
+
+/// The reading of a prediction (the specific force is not predicted yet: zero).
+fn reading_of(p: &Predicted) -> Reading {
+    Reading {
+        pos_ned: p.pos_ned,
+        vel_ned: p.vel_ned,
+        quat: p.quat,
+        rates: p.rates,
+        airspeed: p.airspeed,
+        specific_force: DVec3::ZERO,
+    }
+}
+
+/// Turn a window's predictions of the truth (sampled at `time`) into what the sensors read
+/// under the model's measurement effects: the navigation delay first, then every effect's
+/// [`Reading`] change. Nothing to do for a model without them.
+fn apply_sensors(model: &Model, time: &[f64], out: &mut [Predicted]) {
+    if !model.has_measurement_effects() || out.is_empty() {
+        return;
+    }
+    let delay = model.nav_delay();
+    if delay > 0.0 && time.len() == out.len() {
+        let truth: Vec<(DVec3, DVec3)> = out.iter().map(|p| (p.pos_ned, p.vel_ned)).collect();
+        for (k, p) in out.iter_mut().enumerate() {
+            let w = delay_weights(time, k, delay);
+            p.pos_ned = w.iter().map(|&(j, c)| truth[j].0 * c).sum();
+            p.vel_ned = w.iter().map(|&(j, c)| truth[j].1 * c).sum();
+        }
+    }
+    for p in out.iter_mut() {
+        let mut r = reading_of(p);
+        model.measure(&mut r);
+        p.pos_ned = r.pos_ned;
+        p.vel_ned = r.vel_ned;
+        p.quat = r.quat;
+        p.rates = r.rates;
+        p.airspeed = r.airspeed;
     }
 }
 

@@ -1,6 +1,7 @@
 //! What the sensors read of a predicted flight: the model's measurement effects
 //! ([`wireflight_flight::effects::sensors`]) applied to a window's predictions after it is
-//! flown, and the same change of the readings' derivatives for the tangent-linear Jacobian.
+//! flown ([`super::predict::fly_window`]), and the same change of the readings' derivatives
+//! for the tangent-linear Jacobian.
 //!
 //! A delayed navigation solution reads, at sample time t, the position and velocity of
 //! t − delay: the predictions are interpolated linearly between the window's samples (the
@@ -11,7 +12,6 @@
 
 use glam::{DMat3, DQuat};
 
-use super::predict::Predicted;
 use wireflight_flight::effects::Reading;
 use wireflight_flight::model::Model;
 
@@ -51,46 +51,6 @@ pub(crate) fn delay_weights(time: &[f64], k: usize, delay: f64) -> Weights {
     let l1 = (tau - t0) * (tau - t2) / ((t1 - t0) * (t1 - t2));
     let l2 = (tau - t0) * (tau - t1) / ((t2 - t0) * (t2 - t1));
     [(i0, l0), (i1, l1), (i2, l2)]
-}
-
-/// The reading of a prediction (the specific force is not predicted yet: zero).
-fn reading_of(p: &Predicted) -> Reading {
-    Reading {
-        pos_ned: p.pos_ned,
-        vel_ned: p.vel_ned,
-        quat: p.quat,
-        rates: p.rates,
-        airspeed: p.airspeed,
-        specific_force: glam::DVec3::ZERO,
-    }
-}
-
-/// Turn a window's predictions of the truth (sampled at `time`) into what the sensors read
-/// under the model's measurement effects: the navigation delay first, then every effect's
-/// [`Reading`] change. Nothing to do for a model without them.
-pub(crate) fn apply_sensors(model: &Model, time: &[f64], out: &mut [Predicted]) {
-    if !model.has_measurement_effects() || out.is_empty() {
-        return;
-    }
-    let delay = model.nav_delay();
-    if delay > 0.0 && time.len() == out.len() {
-        let truth: Vec<(glam::DVec3, glam::DVec3)> =
-            out.iter().map(|p| (p.pos_ned, p.vel_ned)).collect();
-        for (k, p) in out.iter_mut().enumerate() {
-            let w = delay_weights(time, k, delay);
-            p.pos_ned = w.iter().map(|&(j, c)| truth[j].0 * c).sum();
-            p.vel_ned = w.iter().map(|&(j, c)| truth[j].1 * c).sum();
-        }
-    }
-    for p in out.iter_mut() {
-        let mut r = reading_of(p);
-        model.measure(&mut r);
-        p.pos_ned = r.pos_ned;
-        p.vel_ned = r.vel_ned;
-        p.quat = r.quat;
-        p.rates = r.rates;
-        p.airspeed = r.airspeed;
-    }
 }
 
 /// The airspeed read per metre per second of true airspeed at `airspeed` (1 without
@@ -137,7 +97,7 @@ pub(crate) fn attitude_read(model: &Model, rot: &DMat3) -> (DMat3, DMat3) {
 /// Apply the navigation delay to the rows of a window's Jacobian (column-major, `m` rows a
 /// column, `per_sample` rows a sample, the window sampled at `time`): the rows at each
 /// offset in `channels` (position, and velocity where measured) become the combination of
-/// the undelayed rows that [`apply_sensors`] makes of the predictions.
+/// the undelayed rows that [`delay_weights`] make of the predictions.
 pub(crate) fn delay_rows(
     time: &[f64],
     delay: f64,
