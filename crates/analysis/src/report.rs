@@ -212,11 +212,13 @@ pub fn noise_json(n: &NoiseEstimate) -> Value {
         "attitude_deg": n.att_rad.to_degrees(),
         "rate_dps": n.rate_radps.to_degrees(),
         "airspeed_mps": n.airspeed_mps,
+        "accel_mps2": n.accel_mps2,
         "axes": {
             "position_m": n.pos_axes,
             "velocity_mps": n.vel_axes,
             "attitude_deg": deg(n.att_axes),
             "rate_dps": deg(n.rate_axes),
+            "accel_mps2": n.accel_axes,
         },
     })
 }
@@ -391,6 +393,9 @@ pub fn noise_text(n: &NoiseEstimate) -> String {
     }
     if n.airspeed_mps > 0.0 {
         parts.push(format!("airspeed {} m/s", fmt_number(n.airspeed_mps)));
+    }
+    if n.accel_mps2 > 0.0 {
+        parts.push(format!("accelerometer {} m/s²", fmt_number(n.accel_mps2)));
     }
     format!("measurement noise (1σ per axis): {}", parts.join(", "))
 }

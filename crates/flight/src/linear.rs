@@ -151,6 +151,42 @@ impl Model {
     }
 }
 
+impl Model {
+    /// ∂f/∂e, the specific force's ([`Model::specific_force`]) change per error-state
+    /// component at time `t`, state `x`, commands `cmd`: 3 rows of `error_dim` columns, by
+    /// forward differences like the force rows of [`Model::error_jacobian`]. Its position
+    /// columns are zero where nothing depends on the position, and so are its rotation
+    /// columns on the bare airframe (only gravity turns with the body, and the specific force
+    /// leaves gravity out).
+    pub fn specific_force_jacobian(
+        &self,
+        t: f64,
+        x: &State,
+        cmd: &Controls,
+    ) -> [[f64; ERROR_MAX]; 3] {
+        let n = self.error_dim();
+        let mut out = [[0.0; ERROR_MAX]; 3];
+        let f0 = self.specific_force(t, x, cmd);
+        let first = if self.varies_in_space() { 0 } else { 3 };
+        let bare = self.effects.iter().all(|e| e.is_measurement())
+            && matches!(self.vehicle, Vehicle::FixedWing(_));
+        let mut e = [0.0; ERROR_MAX];
+        for j in first..n {
+            if bare && (6..9).contains(&j) {
+                continue;
+            }
+            let h = STEPS[j / 3];
+            e[j] = h;
+            let f = self.specific_force(t, &self.perturbed(x, &e[..n]), cmd);
+            e[j] = 0.0;
+            for (r, row) in out.iter_mut().enumerate() {
+                row[j] = (f[r] - f0[r]) / h;
+            }
+        }
+        out
+    }
+}
+
 /// How many leading columns of `a` (the position block at most) are zero: the equations do
 /// not depend on those error components, and products may skip them.
 pub fn free_columns(a: &ErrorMatrix, n: usize) -> usize {

@@ -477,6 +477,7 @@ impl Recorder {
             vel_body: None,
             rates_body: fixed_wing.then_some(self.rates),
             airspeed: fixed_wing.then_some(self.airspeed),
+            accel_body: None,
             controls: fixed_wing.then_some(self.controls),
             derived: Vec::new(),
         }

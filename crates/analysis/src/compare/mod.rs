@@ -53,7 +53,7 @@ use wireflight_geometry::euler::EulerZyx;
 
 /// Smallest noise deviation a channel is weighted with: position m, velocity m/s, attitude
 /// rad, rates rad/s, airspeed m/s. Noise-free data would otherwise get infinite weights.
-pub const SIGMA_MIN: [f64; 5] = [1e-3, 1e-3, 1e-5, 1e-5, 1e-3];
+pub const SIGMA_MIN: [f64; 6] = [1e-3, 1e-3, 1e-5, 1e-5, 1e-3, 1e-4];
 
 /// Settings of a comparison.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,6 +115,8 @@ pub struct Measured {
     pub rates: bool,
     /// Airspeed.
     pub airspeed: bool,
+    /// Accelerometer (specific force, body axes).
+    pub accel: bool,
 }
 
 impl Measured {
@@ -125,6 +127,7 @@ impl Measured {
             attitude: d.attitude.is_some(),
             rates: d.rates_body.is_some() && !d.is_derived("rates_body"),
             airspeed: d.airspeed.is_some(),
+            accel: d.accel_body.is_some(),
         }
     }
 
@@ -137,7 +140,7 @@ impl Measured {
             Channel::Attitude => self.attitude && data.attitude.is_some(),
             Channel::Rates => self.rates && data.rates_body.is_some(),
             Channel::Airspeed => self.airspeed && data.airspeed.is_some(),
-            Channel::Accelerometer => false,
+            Channel::Accelerometer => self.accel && data.accel_body.is_some(),
         }
     }
 
@@ -148,6 +151,7 @@ impl Measured {
                 attitude: false,
                 rates: false,
                 airspeed: false,
+                accel: false,
                 ..self
             },
             Vehicle::FixedWing(_) => self,
@@ -240,6 +244,9 @@ pub struct Prediction {
     pub rates: Vec<DVec3>,
     /// Predicted airspeed, α, β; zero for a point mass.
     pub air: Vec<AirData>,
+    /// Predicted accelerometer reading (specific force, body axes), m/s²; zero where the
+    /// data have no accelerometer.
+    pub specific_force: Vec<DVec3>,
 }
 
 impl Prediction {
@@ -253,6 +260,7 @@ impl Prediction {
             attitude: Vec::with_capacity(n),
             rates: Vec::with_capacity(n),
             air: Vec::with_capacity(n),
+            specific_force: Vec::with_capacity(n),
         }
     }
 
@@ -265,6 +273,7 @@ impl Prediction {
         self.attitude.push(p.attitude());
         self.rates.push(p.rates);
         self.air.push(air);
+        self.specific_force.push(p.specific_force);
     }
 }
 
@@ -361,6 +370,8 @@ pub struct Prepared<'a> {
     /// yaw), rates, and airspeed.
     weights: [[f64; 3]; 4],
     airspeed_weight: f64,
+    /// 1/σ per axis of the accelerometer.
+    pub(crate) accel_weights: [f64; 3],
     cfg: CompareConfig,
 }
 
@@ -438,6 +449,7 @@ impl<'a> Prepared<'a> {
             measured: Measured::of(data),
             weights,
             airspeed_weight: 1.0 / noise.airspeed_mps.max(SIGMA_MIN[4]),
+            accel_weights: w(noise.accel_axes, SIGMA_MIN[5]),
             cfg,
         }
     }
@@ -463,6 +475,7 @@ impl<'a> Prepared<'a> {
             measured: self.measured,
             weights: self.weights,
             airspeed_weight: self.airspeed_weight,
+            accel_weights: self.accel_weights,
             cfg,
         }
     }

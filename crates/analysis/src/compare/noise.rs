@@ -37,6 +37,8 @@ pub struct NoiseEstimate {
     pub rate_axes: [f64; 3],
     /// Airspeed, m/s.
     pub airspeed_mps: f64,
+    /// Accelerometer (specific force), m/s², per body axis (x, y, z).
+    pub accel_axes: [f64; 3],
     /// Position, m: RMS of the axes.
     pub pos_m: f64,
     /// Velocity, m/s: RMS of the axes.
@@ -45,6 +47,8 @@ pub struct NoiseEstimate {
     pub att_rad: f64,
     /// Body rates, rad/s: RMS of the axes.
     pub rate_radps: f64,
+    /// Accelerometer, m/s²: RMS of the axes.
+    pub accel_mps2: f64,
 }
 
 /// Robust noise deviation of one sampled signal (see the module docs); 0 for fewer than 16
@@ -97,7 +101,29 @@ fn rms3(a: [f64; 3]) -> f64 {
 /// Measurement noise of every measured channel of the data (derived channels read 0).
 pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
     // Channels side by side: each is a median of every sample's difference, twice.
-    let ((pos_axes, vel_axes), (att_axes, (rate_axes, airspeed_mps))) = rayon::join(
+    let (((pos_axes, vel_axes), (att_axes, (rate_axes, airspeed_mps))), accel_axes) = rayon::join(
+        || estimate_kinematics(d),
+        || d.accel_body.as_deref().map_or([0.0; 3], axes3),
+    );
+    NoiseEstimate {
+        pos_m: rms3(pos_axes),
+        vel_mps: rms3(vel_axes),
+        att_rad: rms3(att_axes),
+        rate_radps: rms3(rate_axes),
+        accel_mps2: rms3(accel_axes),
+        pos_axes,
+        vel_axes,
+        att_axes,
+        rate_axes,
+        airspeed_mps,
+        accel_axes,
+    }
+}
+
+/// The noise of position, velocity, attitude, rates and airspeed.
+#[allow(clippy::type_complexity)]
+fn estimate_kinematics(d: &FlightData) -> (([f64; 3], [f64; 3]), ([f64; 3], ([f64; 3], f64))) {
+    rayon::join(
         || {
             rayon::join(
                 || axes3(&d.pos_ned),
@@ -133,18 +159,7 @@ pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
                 },
             )
         },
-    );
-    NoiseEstimate {
-        pos_m: rms3(pos_axes),
-        vel_mps: rms3(vel_axes),
-        att_rad: rms3(att_axes),
-        rate_radps: rms3(rate_axes),
-        pos_axes,
-        vel_axes,
-        att_axes,
-        rate_axes,
-        airspeed_mps,
-    }
+    )
 }
 
 /// The RMS error per channel (position m, velocity m/s, attitude deg, rates deg/s) that a

@@ -37,6 +37,9 @@ pub struct Predicted {
     /// What the airspeed sensor reads, m/s: the length of the air-relative velocity, changed
     /// by the model's measurement effects ([`apply_sensors`]).
     pub airspeed: f64,
+    /// What the accelerometer reads (specific force, body axes), m/s²: predicted only where
+    /// the data have an accelerometer (zero elsewhere).
+    pub specific_force: DVec3,
 }
 
 impl Predicted {
@@ -93,6 +96,7 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
                 air_velocity_body,
                 rho,
                 airspeed: air_velocity_body.length(),
+                specific_force: DVec3::ZERO,
             }
         }
     }
@@ -135,6 +139,16 @@ fn fly_truth(
 ) {
     out.clear();
     states.clear();
+    // The accelerometer costs one more evaluation of the forces per sample: only where the
+    // data have one.
+    let accel = d.accel_body.is_some() && matches!(model.vehicle, Vehicle::FixedWing(_));
+    let read = |i: usize, x: &State| {
+        let mut p = read_out(model, d.time[i], x);
+        if accel {
+            p.specific_force = model.specific_force(d.time[i], x, &controls_at(d, i));
+        }
+        p
+    };
     // A sample each, and a state each where steps span samples (more where they are
     // sub-stepped): room for them at once, not grown and copied flight after flight.
     let samples = end.saturating_sub(start);
@@ -144,7 +158,7 @@ fn fly_truth(
     states.push(x);
     let mut i = start;
     while i < end {
-        let p = read_out(model, d.time[i], &x);
+        let p = read(i, &x);
         out.push(p);
         if i + 1 >= end {
             break;
@@ -171,7 +185,7 @@ fn fly_truth(
             }
             for k in i + 1..j {
                 let inside = step.at(model, &held, d.time[k] - d.time[i]);
-                out.push(read_out(model, d.time[k], &inside));
+                out.push(read(k, &inside));
                 states.push(inside);
             }
             x = step.end;
@@ -181,7 +195,7 @@ fn fly_truth(
     }
 }
 
-/// The reading of a prediction (the specific force is not predicted yet: zero).
+/// The reading of a prediction.
 fn reading_of(p: &Predicted) -> Reading {
     Reading {
         pos_ned: p.pos_ned,
@@ -189,7 +203,7 @@ fn reading_of(p: &Predicted) -> Reading {
         quat: p.quat,
         rates: p.rates,
         airspeed: p.airspeed,
-        specific_force: DVec3::ZERO,
+        specific_force: p.specific_force,
     }
 }
 
@@ -217,6 +231,7 @@ fn apply_sensors(model: &Model, time: &[f64], out: &mut [Predicted]) {
         p.quat = r.quat;
         p.rates = r.rates;
         p.airspeed = r.airspeed;
+        p.specific_force = r.specific_force;
     }
 }
 

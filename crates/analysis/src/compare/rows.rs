@@ -29,12 +29,18 @@ impl Prepared<'_> {
         if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
             out.push((p.airspeed() - s[i]) * self.airspeed_weight);
         }
+        if let (true, Some(a)) = (m.accel, &d.accel_body) {
+            let e = p.specific_force - a[i];
+            let w = &self.accel_weights;
+            out.extend([e.x * w[0], e.y * w[1], e.z * w[2]]);
+        }
     }
 
     /// The change of the residual rows over `span` (laid out as `out`, [`Self::residual_rows`]
     /// per sample) when every predicted position drifts along NED `axis` by the time since
     /// the span's start and every predicted NED velocity by one along it: the read-out of a
-    /// frame moving at unit speed. False when `out` is not the span's rows.
+    /// frame moving at unit speed (the air, the attitude, the rates and the accelerometer do
+    /// not change). False when `out` is not the span's rows.
     pub(crate) fn drift_rows(
         &self,
         model: &Model,
@@ -54,7 +60,8 @@ impl Prepared<'_> {
             .iter()
             .filter(|&&b| b)
             .count()
-            + usize::from(m.airspeed && d.airspeed.is_some());
+            + usize::from(m.airspeed && d.airspeed.is_some())
+            + 3 * usize::from(m.accel && d.accel_body.is_some());
         let samples = end.saturating_sub(start);
         if axis > 2 || samples == 0 || out.len() != count * samples {
             return false;

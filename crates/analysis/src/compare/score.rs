@@ -156,6 +156,12 @@ fn axis_errors(model: &Model, prep: &Prepared, p: &Prediction) -> Vec<AxisError>
         let term = move |j: usize, i: usize| p.air[j].airspeed - s[i];
         axes.push(("air", "airspeed", "m/s", Box::new(term)));
     }
+    if let (true, Some(a)) = (m.accel, &d.accel_body) {
+        for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+            let term = move |j: usize, i: usize| p.specific_force[j][k] - a[i][k];
+            axes.push(("accel", axis, "m/s^2", Box::new(term)));
+        }
+    }
     if !measured_air.is_empty() {
         let air = &measured_air;
         let alpha = move |j: usize, _: usize| (p.air[j].alpha - air[j].alpha).to_degrees();

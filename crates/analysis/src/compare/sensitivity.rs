@@ -19,6 +19,10 @@ use wireflight_flight::linear::{free_columns, propagate, transition, ErrorMatrix
 use wireflight_flight::model::{Model, State, Vehicle};
 use wireflight_flight::Controls;
 
+/// Most residual rows of one sample: position, velocity, attitude, rates and the
+/// accelerometer (3 each) and the airspeed.
+const ROWS_MAX: usize = 16;
+
 /// Step of the wind's position derivative, m.
 const WIND_STEP: f64 = 1e-2;
 
@@ -163,9 +167,14 @@ impl Prepared<'_> {
         let attitude = fixed_wing && m.attitude && d.attitude.is_some();
         let rates = fixed_wing && m.rates && d.rates_body.is_some();
         let airspeed = fixed_wing && m.airspeed && d.airspeed.is_some();
-        let count = 3 * (1 + [velocity, attitude, rates].iter().filter(|&&b| b).count())
+        let accel = fixed_wing && m.accel && d.accel_body.is_some();
+        let count = 3
+            * (1 + [velocity, attitude, rates, accel]
+                .iter()
+                .filter(|&&b| b)
+                .count())
             + usize::from(airspeed);
-        if count != per_sample || np == 0 || count > 13 {
+        if count != per_sample || np == 0 || count > ROWS_MAX {
             return None;
         }
         let rot = x.rot();
@@ -205,7 +214,7 @@ impl Prepared<'_> {
         // Each residual row is a combination of rows of the sensitivity (all its columns at
         // once, twelve lanes wide): rows[r] = Σₖ c·s[k] over the (k, c) of that row, summed
         // in registers and stored once.
-        let mut out = [[0.0; ERROR_MAX]; 13];
+        let mut out = [[0.0; ERROR_MAX]; ROWS_MAX];
         let mut k = 0;
         let mut row = |terms: &[(usize, f64)]| {
             out[k] = combine(s, terms);
@@ -262,6 +271,19 @@ impl Prepared<'_> {
                     (7, dir.x * u.z - dir.z * u.x),
                     (8, dir.y * u.x - dir.x * u.y),
                 ]);
+            }
+            if accel {
+                // ∂f/∂e of the specific force, by differences of the model's own forces
+                // (an accelerometer's bias or any measurement effect adds a constant).
+                let jf = model.specific_force_jacobian(d.time[i], x, &controls_at(d, i));
+                let n = model.error_dim();
+                for (a, &c) in self.accel_weights.iter().enumerate() {
+                    let mut terms = [(0, 0.0); ERROR_MAX];
+                    for (k, t) in terms.iter_mut().enumerate().take(n) {
+                        *t = (k, c * jf[a][k]);
+                    }
+                    row(&terms[..n]);
+                }
             }
         }
         let finite = out[..count].iter().flatten().all(|v| v.is_finite());
@@ -503,7 +525,23 @@ mod tests {
         worst
     }
 
-    /// On flight tests with every channel measured (airspeed included), under an autopilot
+    /// What an accelerometer reads along a flight, from its recorded (noisy) states: values
+    /// the size and shape of a real one's.
+    fn accelerometer(truth: &Model, d: &wireflight_flight::data::FlightData) -> Vec<DVec3> {
+        (0..d.len())
+            .map(|i| {
+                let mut x = State::default();
+                let att = d.attitude.as_ref().unwrap()[i];
+                x.set_pos_ned(d.pos_ned[i]);
+                x.set_attitude(att);
+                x.set_vel(att.to_matrix().transpose() * d.vel_ned.as_ref().unwrap()[i]);
+                x.set_omega(d.rates_body.as_ref().unwrap()[i]);
+                truth.specific_force(d.time[i], &x, &controls_at(d, i))
+            })
+            .collect()
+    }
+
+    /// On flight tests with every channel measured (airspeed and the accelerometer included), under an autopilot
     /// and through control steps, with wind, actuator lag and effects that vary with height,
     /// the tangent-linear Jacobian is the forward-difference one to within 2% of each
     /// column's largest entry (measured: 1.5e-2 at worst, at 50 Hz through a control step,
@@ -511,21 +549,29 @@ mod tests {
     /// error in any read-out or kinematic term gives 0.09 or more).
     #[test]
     fn tangent_jacobian_matches_differences() {
-        for (kind, truth_effects, model_effects, rate) in [
-            (VehicleKind::FixedWing, vec![], vec![], 50.0),
+        for (kind, truth_effects, model_effects, rate, accel) in [
+            (VehicleKind::FixedWing, vec![], vec![], 50.0, false),
             (
                 VehicleKind::FixedWing,
                 vec!["wind:north_mps=4,east_mps=-3"],
                 vec!["wind:north_mps=4,east_mps=-3", "actuator_lag:tau_s=0.12"],
                 100.0,
+                true,
             ),
             (
                 VehicleKind::FixedWing,
                 vec![],
                 vec!["gyroscopic", "density_altitude", "ground_effect"],
                 20.0,
+                true,
             ),
-            (VehicleKind::PointMass, vec!["drag"], vec!["drag"], 50.0),
+            (
+                VehicleKind::PointMass,
+                vec!["drag"],
+                vec!["drag"],
+                50.0,
+                false,
+            ),
             // What the sensors read: a late navigation solution, biased gyros, a scaled
             // airspeed, a misaligned attitude reference.
             (
@@ -537,14 +583,17 @@ mod tests {
                     "airspeed_scale:factor=0.93",
                     "airspeed_bias:bias_mps=0.8",
                     "attitude_offset:roll_deg=4,pitch_deg=-3",
+                    "accel_bias:x_mps2=0.2",
                 ],
                 50.0,
+                true,
             ),
             (
                 VehicleKind::PointMass,
                 vec!["drag"],
                 vec!["drag", "nav_delay:delay_s=0.3"],
                 50.0,
+                false,
             ),
         ] {
             let truth = model(kind, &truth_effects);
@@ -564,7 +613,10 @@ mod tests {
                     30.0,
                 )
             };
-            let data = simulate(&truth, &spec).unwrap();
+            let mut data = simulate(&truth, &spec).unwrap();
+            if accel {
+                data.accel_body = Some(accelerometer(&truth, &data));
+            }
             let prep = Prepared::new(&data, CompareConfig::default());
             let m = model(kind, &model_effects);
             for &w in prep.windows.iter().take(3) {

@@ -826,9 +826,9 @@ fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<Strin
     let n = &prep.noise;
     let sigma = |channel: &str, axis: &str| -> Option<f64> {
         let k = match axis {
-            "north" | "roll" | "p" => 0,
-            "east" | "pitch" | "q" => 1,
-            "down" | "yaw" | "r" => 2,
+            "north" | "roll" | "p" | "x" => 0,
+            "east" | "pitch" | "q" | "y" => 1,
+            "down" | "yaw" | "r" | "z" => 2,
             _ => return (channel == "air" && axis == "airspeed").then_some(n.airspeed_mps),
         };
         match channel {
@@ -836,6 +836,7 @@ fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<Strin
             "velocity" => Some(n.vel_axes[k]),
             "attitude" => Some(n.att_axes[k].to_degrees()),
             "rates" => Some(n.rate_axes[k].to_degrees()),
+            "accel" => Some(n.accel_axes[k]),
             _ => None,
         }
     };

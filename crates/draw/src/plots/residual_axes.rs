@@ -1,6 +1,6 @@
 //! `residuals_per_axis.png`: predicted − measured against time for every axis of every channel
 //! the data have — position N/E/D, velocity N/E/D, roll/pitch/yaw, body rates p/q/r,
-//! airspeed, α, β — the same axes and signs as the per-axis table of `compare`. The model as
+//! airspeed, the accelerometer's x/y/z, α, β — the same axes and signs as the per-axis table of `compare`. The model as
 //! given is drawn light, the model with the added effects solid on top of it; each axis is
 //! symmetric about zero and reaches the largest error drawn (no peak is cut off).
 //!
@@ -131,6 +131,21 @@ fn axes<'f>(d: &'f FlightData, cmp: &Comparison) -> Vec<Axis<'f>> {
                 residual: Box::new(move |p: &Prediction, j, i| p.air[j].airspeed - s[i]),
                 noise: Some(noise.airspeed_mps),
             });
+        }
+    }
+    if let Some(a) = &d.accel_body {
+        for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
+            if has("accel", axis) {
+                out.push(Axis {
+                    channel: "accel",
+                    axis,
+                    unit: "m/s²",
+                    residual: Box::new(move |p: &Prediction, j, i| {
+                        p.specific_force[j][k] - a[i][k]
+                    }),
+                    noise: Some(noise.accel_axes[k]),
+                });
+            }
         }
     }
     if has("air", "alpha") {

@@ -127,6 +127,9 @@ pub struct FlightData {
     pub rates_body: Option<Vec<DVec3>>,
     /// Airspeed, m/s.
     pub airspeed: Option<Vec<f64>>,
+    /// Specific force (what an accelerometer at the centre of gravity reads), body axes
+    /// (FRD), m/s²: a level, unaccelerated airplane reads about (0, 0, −g).
+    pub accel_body: Option<Vec<DVec3>>,
     /// Control commands: throttle 0..1, surfaces in radians; held from each sample to the next.
     pub controls: Option<Vec<Controls>>,
     /// Channels derived rather than read: [`DERIVED_VEL_NED`], [`DERIVED_VEL_BODY`],

@@ -561,6 +561,7 @@ fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightDa
         vel_body,
         rates_body,
         airspeed,
+        accel_body: None,
         controls,
         derived: Vec::new(),
     }
