@@ -23,6 +23,7 @@ pub mod linear;
 pub mod model;
 pub mod numeric;
 pub mod params;
+pub mod sensing;
 pub mod simulate;
 pub mod spec;
 pub mod trim;
