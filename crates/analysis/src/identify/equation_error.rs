@@ -1,7 +1,10 @@
 //! The equation-error starting point of an identification: the measured body accelerations
 //! and angular accelerations (smoothing differentiator) regressed on the model's at the
-//! measured states, by Gauss–Newton with the same prior as the output-error fit. Biased by
-//! noise in the regressors, by actuator lag and by wind — a start, never the answer.
+//! measured states, by Gauss–Newton with the same prior as the output-error fit. Where a
+//! flight has an accelerometer, the force equations take its specific force instead of the
+//! differentiated body velocity: the most direct measurement of force a log has, with no
+//! differentiation's lag or noise. Biased by noise in the regressors, by actuator lag and by
+//! wind — a start, never the answer.
 
 use rayon::prelude::*;
 
@@ -17,12 +20,15 @@ use wireflight_flight::Controls;
 const EE_SAMPLES: usize = 4000;
 
 /// One sample of the regression: the measured state, the controls, and the measured
-/// derivatives of the body velocity and the body rates.
+/// derivatives of the body velocity (or the accelerometer's specific force) and the body
+/// rates.
 struct EeSample {
     t: f64,
     state: State,
     controls: Controls,
     measured: [f64; 6],
+    /// The first three of `measured` are the accelerometer's.
+    accelerometer: bool,
 }
 
 /// Equation-error estimate of the free parameters (module docs); None when no flight has the
@@ -43,7 +49,12 @@ pub(super) fn equation_error(
             .par_iter()
             .map(|s| {
                 let d = m.derivative(s.t, &s.state, &s.controls);
-                let (v, w) = (d.vel(), d.omega());
+                let v = if s.accelerometer {
+                    m.specific_force(s.t, &s.state, &s.controls)
+                } else {
+                    d.vel()
+                };
+                let w = d.omega();
                 let f = [v.x, v.y, v.z, w.x, w.y, w.z];
                 std::array::from_fn(|c| s.measured[c] - f[c])
             })
@@ -141,7 +152,11 @@ fn ee_samples(d: &FlightData) -> Vec<EeSample> {
     if n <= 2 * half + 1 || diff.len() != n {
         return Vec::new();
     }
-    let dv = diff.apply_vec3(vb);
+    let accel = d.accel_body.as_ref().filter(|a| a.len() == n);
+    let dv = match accel {
+        Some(a) => a.clone(),
+        None => diff.apply_vec3(vb),
+    };
     let dw = diff.apply_vec3(rates);
     let stride = ((n - 2 * half) / EE_SAMPLES).max(1);
     (half..n - half)
@@ -160,6 +175,7 @@ fn ee_samples(d: &FlightData) -> Vec<EeSample> {
                 state: x,
                 controls: c,
                 measured,
+                accelerometer: accel.is_some(),
             })
         })
         .collect()
