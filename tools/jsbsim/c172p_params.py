@@ -3,6 +3,8 @@
 
     python3 tools/jsbsim/c172p_params.py                      # writes assets/aircraft/c172p.toml
     python3 tools/jsbsim/c172p_params.py --out /tmp/x.toml --airspeed 50 --altitude 1000
+    python3 tools/jsbsim/c172p_params.py --compare --scale Clda=0.75   # true change of the set
+    python3 tools/jsbsim/c172p_params.py --compare --payload-kg 80 --out /tmp/heavy.toml
 
 Sources, in order:
 * mass, inertia about the CG: JSBSim's mass balance after loading (empty weight + pilot + fuel
@@ -50,6 +52,7 @@ import jsbsim  # noqa: E402
 from c172p_sim import (  # noqa: E402
     C172P, FT, IN, JSBSIM_VERSION, LBF, air_state_ic,
 )
+from c172p_variant import Variant, parse_scale, xml_path  # noqa: E402
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
@@ -163,10 +166,10 @@ def cl_bm(alpha, cl0, cla, m, a0):
 
 
 # ------------------------------------------------------------------------------ propulsion
-def thrust_grid(base: dict, throttles, speeds, settle_s=6.0):
+def thrust_grid(base: dict, throttles, speeds, settle_s=6.0, root=None):
     """Steady JSBSim thrust (N) and propulsion moments (N m) at (throttle, Va): the airframe
     is frozen (integrators 0) while the engine and propeller run to a steady state."""
-    sim = C172P()
+    sim = C172P(root=root)
     sim.trim(base["va"], base["alt_m"], base["lat"], base["lon"])
     sim["propulsion/fuel_freeze"] = 1
     for k in ("rate/rotational", "rate/translational", "position/rotational",
@@ -258,12 +261,14 @@ def write_atomic(path: str, text: str) -> None:
         raise
 
 
-def build(args) -> tuple[dict, dict, str]:
-    xml = aircraft_xml_path()
+def build(args, root=None) -> tuple[dict, dict, str]:
+    """The parameter set of the c172p in the JSBSim root `root` (default: the package's;
+    c172p_variant.Variant.build() makes a changed one)."""
+    xml = aircraft_xml_path() if root is None else xml_path(root)
     geo = read_metrics(xml)
     ar = geo["b"] ** 2 / geo["s"]
 
-    sim = C172P()
+    sim = C172P(root=root)
     base = sim.trim(args.airspeed, args.altitude, args.latitude, args.longitude)
     base.update(alt_m=args.altitude)
     mp = sim.mass_props()
@@ -341,9 +346,9 @@ def build(args) -> tuple[dict, dict, str]:
 
     # Propulsion.
     prop_rows = thrust_grid(base, [0.45 + 0.05 * i for i in range(11)],
-                            [40.0 + 2.5 * i for i in range(9)])
+                            [40.0 + 2.5 * i for i in range(9)], root=root)
     wide_rows = thrust_grid(base, [0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0],
-                            [35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0])
+                            [35.0, 40.0, 45.0, 50.0, 55.0, 60.0, 65.0], root=root)
     A, B = fit_thrust(prop_rows, dt_t, va, trim_info["thrust"])
     Af, Bf = fit_thrust_free(prop_rows)
     s_prop = math.pi * (geo["prop_diameter"] / 2) ** 2
@@ -558,22 +563,89 @@ def report(p: dict, info: dict) -> None:
           "-> catalogue effect gyroscopic")
 
 
+# Which keys of the set a change of the XML is meant to move (the headline of --compare).
+TARGET_KEYS = {
+    "ClDa": ["c_ell_delta_a"], "Cnr": ["c_n_r"], "Cmalpha": ["c_m_alpha"], "Clp": ["c_ell_p"],
+    "Cmq": ["c_m_q"], "Cmde": ["c_m_delta_e"], "Cnb": ["c_n_beta"], "Clb": ["c_ell_beta"],
+    "Cndr": ["c_n_delta_r"], "Cnda": ["c_n_delta_a"], "Cldr": ["c_ell_delta_r"],
+    "CLDe": ["c_l_delta_e"], "CLq": ["c_l_q"], "CLwbh": ["c_l_alpha", "c_l_0"],
+    "CYb": ["c_y_beta"], "Cnp": ["c_n_p"], "Clr": ["c_ell_r"], "CYdr": ["c_y_delta_r"],
+}
+
+
+def compare(p0: dict, p1: dict, variant: Variant, threshold: float = 0.005) -> list:
+    """Print the true change of the set (every key that moves by more than `threshold`
+    relative, the target keys always) and return [(key, before, after)]."""
+    targets = [k for n in variant.scales for k in TARGET_KEYS.get(n, [])]
+    if variant.payload_kg:
+        targets.append("mass_kg")
+    print(f"True change of the parameter set for: {variant.describe()}")
+    print(f"  {'key':<15}{'unchanged':>12}{'changed':>12}{'change':>12}{'ratio':>9}")
+    out = []
+    for table in p0:
+        for k, v0 in p0[table].items():
+            v1 = p1[table][k]
+            rel = abs(v1 - v0) / abs(v0) if v0 != 0 else (0.0 if v1 == 0 else math.inf)
+            tiny = max(abs(v0), abs(v1)) < 1e-7  # written as 0 in the TOML (fmt)
+            if k in targets or (rel > threshold and not tiny):
+                ratio = f"{v1 / v0:9.4f}" if v0 != 0 else f"{'-':>9}"
+                mark = "  <- target" if k in targets else ""
+                print(f"  {k:<15}{fmt(v0, 5):>12}{fmt(v1, 5):>12}{v1 - v0:>+12.4g}{ratio}{mark}")
+                out.append((k, v0, v1))
+    print(f"  (others change by less than {100 * threshold:g} %)")
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--out", default=os.path.join(REPO, "assets", "aircraft", "c172p.toml"))
+    ap.add_argument("--out", default=None,
+                    help="TOML to write (default: assets/aircraft/c172p.toml for the unchanged "
+                         "aircraft; nothing for a changed one)")
     ap.add_argument("--airspeed", type=float, default=50.0, help="trim true airspeed, m/s")
     ap.add_argument("--altitude", type=float, default=1000.0, help="trim altitude, m")
     ap.add_argument("--latitude", type=float, default=47.4)
     ap.add_argument("--longitude", type=float, default=8.5)
     ap.add_argument("--fold-torque", action="store_true",
                     help="fold the engine torque at trim into c_ell_0")
+    ap.add_argument("--scale", action="append", default=[], metavar="NAME=F",
+                    help="derive the set of a changed c172p: aero/coefficient/NAME times F "
+                         "(repeatable; as fly.py --scale)")
+    ap.add_argument("--payload-kg", type=float, default=0.0,
+                    help="derive the set of a c172p with this payload at the CG, kg")
+    ap.add_argument("--compare", action="store_true",
+                    help="with --scale/--payload-kg: print only the true change of the set "
+                         "(changed vs unchanged aircraft), not the full report")
     ap.add_argument("--dry-run", action="store_true", help="report only, write nothing")
     args = ap.parse_args(argv)
-    p, info, _ = build(args)
-    report(p, info)
-    if not args.dry_run:
-        write_atomic(args.out, toml_text(p, info, args))
+    try:
+        scales = dict(parse_scale(x) for x in args.scale)
+    except ValueError as e:
+        ap.error(str(e))
+    variant = Variant(scales, args.payload_kg)
+    if not variant.changed:
+        if args.compare:
+            ap.error("--compare needs --scale or --payload-kg")
+        p, info, _ = build(args)
+        report(p, info)
+        out = args.out or os.path.join(REPO, "assets", "aircraft", "c172p.toml")
+        if not args.dry_run:
+            write_atomic(out, toml_text(p, info, args))
+            print(f"\nwrote {out}")
+        return 0
+    root = variant.build()
+    print(f"changed c172p: {variant.describe()} (checked in JSBSim)")
+    p, info, _ = build(args, root)
+    if args.compare:
+        p0, _, _ = build(args)
+        compare(p0, p, variant)
+    else:
+        report(p, info)
+    if args.out and not args.dry_run:
+        text = toml_text(p, info, args).replace(
+            '# Cessna 172P parameter set', f'# Changed ({variant.describe()}) Cessna 172P '
+            'parameter set', 1)
+        write_atomic(args.out, text)
         print(f"\nwrote {args.out}")
     return 0
 

@@ -131,9 +131,11 @@ def as_vec(m):
 class C172P:
     """One JSBSim c172p instance with the project's conventions."""
 
-    def __init__(self, dt: float = DT):
+    def __init__(self, dt: float = DT, root: str | None = None):
+        """root: a JSBSim root folder (default: the package's; c172p_variant.py makes one
+        with a changed aircraft)."""
         with quiet():
-            self.fdm = jsbsim.FGFDMExec(jsbsim.get_default_root_dir())
+            self.fdm = jsbsim.FGFDMExec(root or jsbsim.get_default_root_dir())
             self.fdm.set_debug_level(0)
             if not self.fdm.load_model("c172p"):
                 raise RuntimeError("JSBSim could not load c172p")

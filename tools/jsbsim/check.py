@@ -437,6 +437,38 @@ def wind_check(wind=(5.0, -3.0, 0.0), duration=30.0):
 
 
 # ------------------------------------------------------------------------------ main
+def variant_checks():
+    """Changed aircraft (c172p_variant.py) and turbulence: the coefficient checks, the
+    aileron's roll acceleration per degree with ClDa x 0.75 vs unchanged (doublets at 400 Hz,
+    the aileron step at 13 s), the payload's mass, and that a turbulence seed reproduces."""
+    import fly
+    from c172p_variant import Variant, check_scales
+    out = {}
+    for name, f in (("Clda", 0.75), ("Cnr", 1.4), ("Cmalpha", 0.85)):
+        v = Variant({name: f})
+        root = v.build()
+        (n, (o, c)), = check_scales(root, v.scales).items()
+        out[n] = (f, o, c)
+
+    def pdot_jump(variant):
+        rows, _ = fly.fly("doublets", 13.5, 400.0, 50.0, 1000.0, 47.4, 8.5, 0.0,
+                          variant=variant)
+        k = 13 * 400
+        pd = lambda i: (rows[i + 1]["p"] - rows[i]["p"]) * 400.0  # noqa: E731
+        return (pd(k) - pd(k - 1)) / (rows[k]["da"] - rows[k - 1]["da"])
+    j0, j1 = pdot_jump(None), pdot_jump(Variant({"Clda": 0.75}))
+    rows, info = fly.fly("doublets", 1.0, 25.0, 50.0, 1000.0, 47.4, 8.5, 0.0,
+                         variant=Variant(payload_kg=80.0))
+    rows0, _ = fly.fly("doublets", 1.0, 25.0, 50.0, 1000.0, 47.4, 8.5, 0.0)
+    mass = (rows0[0]["mass_kg"], rows[0]["mass_kg"])
+    turb = [fly.fly("sequence", 5.0, 25.0, 50.0, 1000.0, 47.4, 8.5, 0.0, turbulence="light",
+                    turbulence_seed=sd, inputs_seed=8)[0] for sd in (8, 8, 9)]
+    same = all(a["turb"] == b["turb"] and a["phi"] == b["phi"] for a, b in zip(turb[0], turb[1]))
+    differ = any(a["turb"] != b["turb"] for a, b in zip(turb[0], turb[2]))
+    gmax = max(abs(x) for r in turb[0] for x in r["turb"][:3])
+    return out, (j0, j1), mass, (same, differ, gmax)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--toml", default=os.path.join(REPO, "assets", "aircraft", "c172p.toml"))
@@ -532,6 +564,17 @@ def main(argv=None) -> int:
             f"{n} {a:.2e} ({b:.2e})" for n, a, b in zip(("roll", "pitch", "yaw"), km, kx)))
         print("  position differences - velocity RMS (max) m/s: " + ", ".join(
             f"{n} {a:.2e} ({b:.2e})" for n, a, b in zip(("N", "E", "D"), pm, px)))
+        print("\n== 7. Changed aircraft and turbulence (c172p_variant.py, fly.py --turbulence)")
+        sc, (j0, j1), mass, (same, differ, gmax) = variant_checks()
+        for n, (f, o, c) in sc.items():
+            print(f"  aero/coefficient/{n} x {f:g} at the probe state: {o:.6g} -> {c:.6g} "
+                  f"(ratio {c / o:.12f})")
+        print(f"  pdot jump per aileron degree at 13 s: unchanged {j0:+.2f}, ClDa x 0.75 "
+              f"{j1:+.2f} deg/s^2 per deg (ratio {j1 / j0:.4f})")
+        print(f"  payload 80 kg: mass at the start {mass[0]:.3f} -> {mass[1]:.3f} kg "
+              f"(+{mass[1] - mass[0]:.6f})")
+        print(f"  light turbulence, 5 s: same seed reproduces: {same}; another seed differs: "
+              f"{differ}; max |gust| {gmax:.2f} m/s")
     return 0
 
 

@@ -5,6 +5,10 @@
     python3 tools/jsbsim/fly.py steps      --rate 25 --duration 50 --out tests/data/jsbsim-c172p-steps.csv
     python3 tools/jsbsim/fly.py validation --rate 25 --duration 50 --out tests/data/jsbsim-c172p-validation.csv
     python3 tools/jsbsim/fly.py doublets --noise --seed 7 --wind 5,-3,0 --out /tmp/windy.csv
+    python3 tools/jsbsim/fly.py sequence --inputs-seed 4 --seed 4 --noise --rate 25 \
+        --scale Clda=0.75 --out /tmp/clda075.csv          # a changed c172p (c172p_variant.py)
+    python3 tools/jsbsim/fly.py sequence --inputs-seed 8 --turbulence light --turbulence-seed 8 \
+        --out /tmp/turb.csv                               # + turb_* gust truth columns
 
 Manoeuvres (all start from a full trim in still air at --airspeed/--altitude, heading
 --heading; with --wind the aircraft is restarted from that trim with ground velocity = air
@@ -19,6 +23,16 @@ velocity + wind, so it starts steady relative to the air):
 * validation: open loop, for held-out validation: elevator 3-2-1-1 (+-2 deg, 0.5 s unit) at
               3 s, rudder doublet +-4 deg at 16 s, aileron 3-2-1-1 (+-2 deg, 0.5 s unit) at
               28 s, throttle step -0.12 from 38 s.
+* sequence:   open loop, drawn from --inputs-seed (different seeds, different flights): one
+              doublet or 3-2-1-1 on each of elevator, aileron and rudder in a random order, a
+              fourth on a random surface, then a throttle step (see class Sequence).
+
+A changed aircraft: --scale NAME=F multiplies aero/coefficient/NAME of c172p.xml by F
+(checked in JSBSim before flying), --payload-kg adds a payload at the CG (c172p_variant.py).
+--turbulence light|moderate|severe (with --turbulence-seed) switches on JSBSim's Dryden
+milspec turbulence and writes the gusts as extra turb_* columns. Such flights, and every
+sequence flight, carry `# jsbsim_change`, `# jsbsim_turbulence`, `# jsbsim_mass_kg` and
+`# jsbsim_manoeuvre` metadata lines.
 
 All inputs are relative to the trim values. Controls are zero-order hold from each row's time:
 each row's command is set one integration step before the row's time (a command set before
@@ -46,6 +60,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from c172p_sim import C172P, DT, JSBSIM_VERSION  # noqa: E402
+from c172p_variant import Variant, parse_scale  # noqa: E402
 
 D2R = math.pi / 180.0
 R2D = 180.0 / math.pi
@@ -150,7 +165,58 @@ class Steps:
                 lim(dr, -15 * D2R, 15 * D2R), lim(dt, 0.0, 1.0))
 
 
-MANOEUVRES = {m.name: m for m in (Doublets, Steps, Validation)}
+class Sequence:
+    """Open loop, drawn from --inputs-seed: one input on each of elevator, aileron and rudder
+    in a random order, a fourth on a random surface, then a throttle step. Each input is a
+    doublet (unit 0.6..1.2 s) or a 3-2-1-1 (unit 0.3..0.6 s) with a random sign and amplitude
+    (elevator 1.5..3 deg, aileron and rudder 2..4 deg); inputs start 8.5..9.5 s apart from
+    2..3 s; the throttle step (+-0.08..0.15, 6..10 s long) follows the last one. Times are
+    multiples of 0.1 s so that the inputs switch on rows at 10, 20, 25 or 50 Hz. Different
+    seeds give different flights of the same aircraft."""
+
+    name = "sequence"
+    AMP = {"elevator": (1.5, 3.0), "aileron": (2.0, 4.0), "rudder": (2.0, 4.0)}
+
+    def __init__(self, trim, rate, seed=1):
+        self.trim = trim
+        rng = random.Random(seed)
+        r01 = lambda x: round(x, 1)  # noqa: E731
+        axes = ["elevator", "aileron", "rudder"]
+        rng.shuffle(axes)
+        axes.append(rng.choice([a for a in self.AMP if a != axes[-1]]))
+        t = r01(rng.uniform(2.0, 3.0))
+        self.inputs = []  # (axis, start, pieces, text)
+        for ax in axes:
+            lo, hi = self.AMP[ax]
+            amp = round(rng.uniform(lo, hi), 1) * rng.choice((1, -1))
+            if rng.random() < 0.5:
+                u = r01(rng.uniform(0.6, 1.2))
+                pieces = [(u, amp), (u, -amp)]
+                shape = f"doublet {amp:+g}/{-amp:+g} deg, {u:g} s each way"
+            else:
+                u = r01(rng.uniform(0.3, 0.6))
+                pieces = [(3 * u, amp), (2 * u, -amp), (u, amp), (u, -amp)]
+                shape = f"3-2-1-1 {amp:+g} deg, {u:g} s unit"
+            self.inputs.append((ax, t, [(d, v * D2R) for d, v in pieces],
+                                f"{ax} {shape} at {t:g} s"))
+            t = r01(t + rng.uniform(8.5, 9.5))
+        dthr = round(rng.uniform(0.08, 0.15), 2) * rng.choice((1, -1))
+        dur = r01(rng.uniform(6.0, 10.0))
+        self.throttle = (t, dur, dthr)
+        self.description = (f"inputs seed {seed}: " + "; ".join(x[3] for x in self.inputs)
+                            + f"; throttle {dthr:+g} from {t:g} s for {dur:g} s")
+
+    def controls(self, t, s):
+        tr = self.trim
+        d = {"elevator": 0.0, "aileron": 0.0, "rudder": 0.0}
+        for ax, start, pieces, _ in self.inputs:
+            d[ax] += pulse_train(t, start, pieces)
+        t0, dur, dthr = self.throttle
+        dt = tr["throttle"] + pulse_train(t, t0, [(dur, dthr)])
+        return (tr["de"] + d["elevator"], tr["da"] + d["aileron"], tr["dr"] + d["rudder"], dt)
+
+
+MANOEUVRES = {m.name: m for m in (Doublets, Steps, Validation, Sequence)}
 
 
 # ------------------------------------------------------------------------------ flying
@@ -161,15 +227,27 @@ def quantise_command(cmd):
     return q(de), q(da), q(dr), round(dt, 4)
 
 
+TURBULENCE = {  # MIL-F-8785C reference values (FGWinds.h): W20 (ft/s), severity index
+    "light": (25.0, 3), "moderate": (50.0, 4), "severe": (75.0, 6),
+}
+
+
 def fly(manoeuvre: str, duration: float, rate: float, airspeed: float, altitude: float,
-        lat: float, lon: float, heading: float, wind=(0.0, 0.0, 0.0)):
-    """Fly and return (rows, info). rows: list of sample dicts (SI, radians) with the command."""
+        lat: float, lon: float, heading: float, wind=(0.0, 0.0, 0.0), variant=None,
+        turbulence=None, turbulence_seed=1, inputs_seed=1):
+    """Fly and return (rows, info). rows: list of sample dicts (SI, radians) with the command.
+
+    variant: a c172p_variant.Variant (scaled coefficients, payload) or None; turbulence:
+    None or a key of TURBULENCE (Dryden milspec, switched on after the trim and the restart,
+    seeded with turbulence_seed); the gusts are recorded in each row as `turb`."""
     steps_per_row = round(1.0 / (rate * DT))
     if abs(steps_per_row * rate * DT - 1.0) > 1e-9:
         raise SystemExit(f"--rate must divide {1 / DT:.0f} Hz (got {rate})")
-    sim = C172P()
+    root = variant.build() if variant is not None else None
+    sim = C172P(root=root)
     trim = sim.trim(airspeed, altitude, lat, lon, heading)
-    man = MANOEUVRES[manoeuvre](trim, rate)
+    cls = MANOEUVRES[manoeuvre]
+    man = cls(trim, rate, inputs_seed) if cls is Sequence else cls(trim, rate)
     n_rows = int(round(duration * rate)) + 1
 
     # Row 0: its command is in place before the (re)start computes the first derivatives.
@@ -177,9 +255,23 @@ def fly(manoeuvre: str, duration: float, rate: float, airspeed: float, altitude:
     cmd = quantise_command(man.controls(0.0, s))
     sim.command(*cmd)
     sim.restart(trim, wind)
+    if turbulence:
+        w20, sev = TURBULENCE[turbulence]
+        sim["simulation/randomseed"] = turbulence_seed
+        sim["atmosphere/turb-type"] = 3
+        sim["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = w20
+        sim["atmosphere/turbulence/milspec/severity"] = sev
     origin = sim.set_origin()
+
+    def sample():
+        st = sim.sample()
+        if turbulence:
+            st["turb"] = turbulence_truth(sim)
+        return st
+
     rows = []
-    s = sim.sample()
+    s = sample()
+    s["mass_kg"] = sim.mass_props()["mass_kg"]
     s["cmd"] = cmd
     rows.append(s)
     for k in range(1, n_rows):
@@ -190,21 +282,39 @@ def fly(manoeuvre: str, duration: float, rate: float, airspeed: float, altitude:
                 cmd = quantise_command(man.controls(t_k, sim.sample()))
                 sim.command(*cmd)
             sim.fdm.run()
-        s = sim.sample()
+        s = sample()
         if abs(s["t"] - t_k) > 1e-6:
             raise RuntimeError(f"time mismatch {s['t']} vs {t_k}")
         s["t"] = t_k
         s["cmd"] = cmd
         rows.append(s)
-    info = dict(trim=trim, origin=origin, man=man, mass_end=sim["inertia/mass-slugs"],
-                fuel_end=sim["propulsion/total-fuel-lbs"])
+    info = dict(trim=trim, origin=origin, man=man, mass_start=rows[0]["mass_kg"],
+                mass_end=sim["inertia/mass-slugs"],
+                fuel_end=sim["propulsion/total-fuel-lbs"],
+                variant=variant, turbulence=turbulence, turbulence_seed=turbulence_seed)
     return rows, info
+
+
+def turbulence_truth(sim):
+    """JSBSim's gust velocity (m/s, local NED at the aircraft, which differs from the flat
+    frame by the angle travelled over the Earth: < 0.03 deg per 3 km) and gust rates
+    (deg/s, body axes)."""
+    f = sim.fdm
+    return (f["atmosphere/turb-north-fps"] * 0.3048, f["atmosphere/turb-east-fps"] * 0.3048,
+            f["atmosphere/turb-down-fps"] * 0.3048, f["atmosphere/p-turb-rad_sec"] * R2D,
+            f["atmosphere/q-turb-rad_sec"] * R2D, f["atmosphere/r-turb-rad_sec"] * R2D)
 
 
 # ------------------------------------------------------------------------------ CSV
 COLUMNS = ["time_s", "north_m", "east_m", "down_m", "roll_deg", "pitch_deg", "yaw_deg",
            "vn_mps", "ve_mps", "vd_mps", "p_dps", "q_dps", "r_dps", "airspeed_mps",
            "throttle", "elevator_deg", "aileron_deg", "rudder_deg"]
+
+
+# Gust truth (JSBSim's turbulence, not read by wireflight): velocity of the air's gust, m/s,
+# north/east/down (JSBSim's local NED at the aircraft), and gust rates, deg/s, body axes.
+TURB_COLUMNS = ["turb_north_mps", "turb_east_mps", "turb_down_mps", "turb_p_dps",
+                "turb_q_dps", "turb_r_dps"]
 
 
 def wrap180(x):
@@ -236,19 +346,40 @@ def csv_text(rows, info, args, noise) -> str:
                  f"noise (1 sigma) {npos:g} m, {nang:g} deg, {nvel:g} m/s, {nrate:g} deg/s, "
                  f"seed {args.seed}")
     tr = info["trim"]
+    var = info["variant"]
+    change = var.describe() if var is not None else "none"
+    turb = info["turbulence"]
+    if turb:
+        w20, sev = TURBULENCE[turb]
+        turb_txt = (f"Dryden milspec turbulence {turb} (windspeed_at_20ft_AGL {w20:g} ft/s, "
+                    f"severity {sev}), seed {info['turbulence_seed']}")
+    else:
+        turb_txt = "none"
+    aircraft_txt = "c172p" if change == "none" else f"c172p changed ({change})"
     lines = [
-        f"# source: JSBSim {JSBSIM_VERSION} c172p {man.name}: {man.description}; from full trim "
+        f"# source: JSBSim {JSBSIM_VERSION} {aircraft_txt} {man.name}: {man.description}; "
+        f"from full trim "
         f"at {tr['va']:.1f} m/s true airspeed, {args.altitude:g} m, heading {args.heading:g} deg "
         f"(alpha {tr['alpha'] * R2D:.3f} deg, elevator {tr['de'] * R2D:.3f} deg, throttle "
-        f"{tr['throttle']:.4f}); {wind_txt}; dt 1/400 s, AB2 rotational integrators; "
-        f"{noise_txt}; made by tools/jsbsim/fly.py",
+        f"{tr['throttle']:.4f}); {wind_txt}"
+        + ("" if not turb else f"; {turb_txt} (truth in the turb_* columns)")
+        + f"; dt 1/400 s, AB2 rotational integrators; {noise_txt}; made by tools/jsbsim/fly.py",
         "# vehicle: fixed-wing",
         f"# aircraft: {aircraft_meta(args)}",
         f"# latitude_deg: {o['lat']:.8f}",
         f"# longitude_deg: {o['lon']:.8f}",
         f"# altitude_m: {o['alt']:.3f}",
-        ",".join(COLUMNS),
     ]
+    # The flights of tests/data (fixed manoeuvres, unchanged, calm) keep their exact text.
+    if change != "none" or turb or man.name == "sequence":
+        lines += [
+            f"# jsbsim_change: {change}",
+            f"# jsbsim_turbulence: {turb_txt}",
+            f"# jsbsim_mass_kg: {info['mass_start']:.3f}",
+            f"# jsbsim_manoeuvre: {man.name}"
+            + (f" (inputs seed {args.inputs_seed})" if man.name == "sequence" else ""),
+        ]
+    lines.append(",".join(COLUMNS + (TURB_COLUMNS if turb else [])))
     for s in rows:
         de, da, dr = s["de"], s["da"], s["dr"]
         vals = [
@@ -264,6 +395,8 @@ def csv_text(rows, info, args, noise) -> str:
             num(s["cmd"][3], 4),
             num(de * R2D, 4), num(da * R2D, 4), num(dr * R2D, 4),
         ]
+        if turb:
+            vals += [num(x, 4) for x in s["turb"]]
         lines.append(",".join(vals))
     return "\n".join(lines) + "\n"
 
@@ -332,14 +465,32 @@ def main(argv=None) -> int:
                     help="value of the `# aircraft:` metadata (default: the path of "
                          "assets/aircraft/c172p.toml relative to the output file's folder, "
                          "which is where wireflight resolves it from)")
+    ap.add_argument("--inputs-seed", type=int, default=1,
+                    help="seed of the `sequence` manoeuvre's inputs (default 1)")
+    ap.add_argument("--scale", action="append", default=[], metavar="NAME=F",
+                    help="fly a changed c172p: aero/coefficient/NAME times F (repeatable; "
+                         "NAME as in c172p.xml, any case: Clda, Cnr, Cmalpha, ...)")
+    ap.add_argument("--payload-kg", type=float, default=0.0,
+                    help="fly a changed c172p: this payload at the CG, kg")
+    ap.add_argument("--turbulence", choices=sorted(TURBULENCE),
+                    help="JSBSim's Dryden (milspec) turbulence from the start; the gusts are "
+                         "written as extra turb_* columns")
+    ap.add_argument("--turbulence-seed", type=int, default=1,
+                    help="JSBSim's simulation/randomseed for the turbulence (default 1)")
     args = ap.parse_args(argv)
+    try:
+        scales = dict(parse_scale(x) for x in args.scale)
+    except ValueError as e:
+        ap.error(str(e))
+    variant = Variant(scales, args.payload_kg) if scales or args.payload_kg else None
 
     base = (0.05, 0.05, 0.05, 0.2) if args.noise else (0.0, 0.0, 0.0, 0.0)
     noise = tuple(v if v is not None else b for v, b in zip(
         (args.noise_pos, args.noise_angle, args.noise_vel, args.noise_rate), base))
     out = args.out or f"jsbsim-c172p-{args.manoeuvre}.csv"
     rows, info = fly(args.manoeuvre, args.duration, args.rate, args.airspeed, args.altitude,
-                     args.latitude, args.longitude, args.heading, args.wind)
+                     args.latitude, args.longitude, args.heading, args.wind, variant,
+                     args.turbulence, args.turbulence_seed, args.inputs_seed)
     text = csv_text(rows, info, args, noise)
     write_atomic(out, text)
     last = rows[-1]
@@ -347,6 +498,12 @@ def main(argv=None) -> int:
           f"N {last['north']:.1f} E {last['east']:.1f} D {last['down']:.1f} m, "
           f"Va {last['va']:.2f} m/s, roll {last['phi'] * R2D:.1f} pitch {last['theta'] * R2D:.1f} "
           f"yaw {last['psi'] * R2D:.1f} deg; fuel left {info['fuel_end']:.2f} lb")
+    if variant is not None:
+        print(f"changed c172p: {variant.describe()} (checked in JSBSim); the true change of the "
+              f"parameter set: python3 tools/jsbsim/c172p_params.py --compare "
+              + " ".join([f"--scale {n}={f:g}" for n, f in variant.scales.items()]
+                         + ([f"--payload-kg {variant.payload_kg:g}"] if variant.payload_kg
+                            else [])))
     return 0
 
 
