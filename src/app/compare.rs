@@ -78,8 +78,20 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let base = args.model.choice().build(&args.flight, &data)?;
-    let cfg = args.windows.config(base.vehicle.kind());
+    let mut cfg = args.windows.config(base.vehicle.kind());
     args.windows.check_fits(&args.flight, &data, &cfg)?;
+    let references =
+        crate::app::diagnose::load_references(&args.reference, &args.flight, &data, &args.data)?;
+    let reference_floor = if references.is_empty() {
+        None
+    } else {
+        let named: Vec<(&str, &crate::flight::data::FlightData)> =
+            references.iter().map(|(n, d)| (n.as_str(), d)).collect();
+        let f = crate::analysis::reference::model_floor(&base, &named, cfg)?;
+        cfg.model_error = Some(f.model_error);
+        Some((named.iter().map(|(n, _)| n.to_string()).collect::<Vec<_>>(), f))
+    };
+    let unit = if reference_floor.is_some() { "floor" } else { "noise" };
     let prep = Prepared::new(&data, cfg);
     if prep.windows.is_empty() {
         anyhow::bail!(
@@ -246,7 +258,12 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "model": base.effect_names(),
             "error": comparison_json(&before.comparison),
             "noise_floor": floor,
-            "noise": noise_json(&prep.noise),
+            "noise": noise_json(&prep.measured_noise),
+            "reference": reference_floor.as_ref().map(|(names, f)| json!({
+                "flights": names,
+                "noise_units": f.noise_units,
+                "model_error": noise_json(&f.model_error),
+            })),
             "windows": windows_json(&before.comparison),
             "conditions": conditions_json(&before.conditions),
             "growth_exponent": before.growth,
@@ -272,7 +289,20 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         cfg.window_s,
         model_label(&base)
     );
-    println!("  {}", noise_text(&prep.noise));
+    println!("  {}", noise_text(&prep.measured_noise));
+    if let Some((names, f)) = &reference_floor {
+        let flights: Vec<String> = names
+            .iter()
+            .zip(&f.noise_units)
+            .map(|(n, u)| format!("{n} ({} × its noise)", fixed(*u, 2)))
+            .collect();
+        println!(
+            "  judged against {}: {}\n  the model's own error on them (1σ per axis, added to the noise): {}",
+            count(names.len(), "reference flight"),
+            flights.join(", "),
+            noise_text(&f.model_error).trim_start_matches("measurement noise (1σ per axis): ")
+        );
+    }
     println!();
     let a = after.as_ref().map(|a| &a.comparison);
     let mut t = match a {
@@ -294,7 +324,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         t.row(row);
     }
     let mut total = vec!["total".to_string(), fixed(b.total, 3)];
-    let mut units = vec!["× noise".to_string(), fixed(b.noise_units(), 2)];
+    let mut units = vec![format!("× {unit}"), fixed(b.noise_units(), 2)];
     if let Some(a) = a {
         total.push(fixed(a.total, 3));
         units.push(fixed(a.noise_units(), 2));
@@ -302,10 +332,18 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     t.row(total);
     t.row(units);
     print!("{}", t.render(2));
-    println!(
-        "  noise floor {} (the total a right model leaves on these data)",
-        fixed(floor, 3)
-    );
+    if reference_floor.is_some() {
+        println!(
+            "  floor {} (the total the model leaves on these data when it errs as on the \
+             reference flights)",
+            fixed(floor, 3)
+        );
+    } else {
+        println!(
+            "  noise floor {} (the total a right model leaves on these data)",
+            fixed(floor, 3)
+        );
+    }
     for f in &fitted {
         let params = fmt_params(f);
         if params.is_empty() {
@@ -322,7 +360,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         None => format!("{what}:"),
     };
     println!("\n{}", title("worst windows"));
-    let mut t = Table::new(["window", "score", "× noise", "dominated by"]);
+    let unit_header = format!("× {unit}");
+    let mut t = Table::new(["window", "score", unit_header.as_str(), "dominated by"]);
     for w in last.comparison.worst_windows().iter().take(3) {
         t.row([
             format!("{}–{} s", fixed(w.t0, 1), fixed(w.t1, 1)),
@@ -344,8 +383,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let promising = promising_numbers(final_model, &prep, &dcfg);
         if promising.is_empty() {
             println!(
-                "\nthe error is at the noise floor ({} × the noise), and the score test finds no \
-                 number of the aircraft's set that could explain what is left; `wireflight \
+                "\nthe error is at the {unit} floor ({} × the {unit}), and the score test finds \
+                 no number of the aircraft's set that could explain what is left; `wireflight \
                  diagnose` also tries the catalogue's effects",
                 fixed(final_units, 2)
             );
@@ -356,7 +395,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
                 .map(|s| format!("{} ({})", s.key.name, s.key.term))
                 .collect();
             println!(
-                "\nthe error is {} × the noise, near the floor, but the score test says {} could \
+                "\nthe error is {} × the {unit}, near the floor, but the score test says {} could \
                  still explain a significant part of it: run `wireflight diagnose` to fit and test",
                 fixed(final_units, 2),
                 named.join(", ")

@@ -29,12 +29,20 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         let prep = Prepared::new(&data, cfg.compare);
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg)?;
     }
+    let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     let progress = crate::progress::Progress::spinner(
         &format!("diagnosing {:.0} s of data", data.duration()),
         args.json,
     );
-    let d = diagnose::diagnose(&base, &data, &[], &cfg)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?;
+    let d = if references.is_empty() {
+        diagnose::diagnose(&base, &data, &[], &cfg)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
+    } else {
+        let named: Vec<(&str, &crate::flight::data::FlightData)> =
+            references.iter().map(|(n, d)| (n.as_str(), d)).collect();
+        diagnose::reference::diagnose_against(&base, &data, &named, &[], &cfg)
+            .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
+    };
     drop(progress);
     if args.json {
         let mut v = diagnosis_json(&d);
@@ -51,7 +59,11 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         data.len(),
         data.duration(),
         model_label(&base),
-        crate::analysis::report::noise_text(&d.base_noise)
+        crate::analysis::report::noise_text(
+            d.reference
+                .as_ref()
+                .map_or(&d.base_noise, |r| &r.measured_noise)
+        )
     );
     if args.iterate {
         print!("{}", steps_text(&d));
@@ -59,6 +71,31 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         print!("{}", diagnosis_text(&d));
     }
     keep(args, &data, &base, &d, &cfg)
+}
+
+/// The `--reference` flights, read as the test flight is and each checked to be one
+/// ([`crate::analysis::reference::check_reference`]): refused with the reason otherwise.
+pub(crate) fn load_references(
+    paths: &[std::path::PathBuf],
+    flight: &std::path::Path,
+    data: &crate::flight::data::FlightData,
+    how: &crate::app::cli::DataArgs,
+) -> anyhow::Result<Vec<(String, crate::flight::data::FlightData)>> {
+    paths
+        .iter()
+        .map(|p| {
+            if p == flight {
+                anyhow::bail!(
+                    "{}: the test flight cannot be its own reference",
+                    crate::app::shown(p)
+                );
+            }
+            let r = crate::app::data::load_flight(p, how)?;
+            let name = crate::app::shown(p).to_string();
+            crate::analysis::reference::check_reference(data, &r, &name)?;
+            Ok((name, r))
+        })
+        .collect()
 }
 
 /// `--out` and `--report`: the model with the causes found, and the page that shows them.

@@ -13,6 +13,7 @@ mod free;
 pub mod identify;
 mod lm;
 mod profile;
+pub mod reference;
 pub mod report;
 
 pub use free::KeyError;

@@ -8,6 +8,7 @@ use serde_json::{json, Map, Value};
 
 use crate::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
 use crate::conditions::Condition;
+use crate::diagnose::reference::ReferenceVerdict;
 use crate::diagnose::{Candidate, Diagnosis, Verdict};
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
@@ -366,8 +367,31 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
         "ladder": ladder_json(d, false),
         "evidence": d.evidence,
         "alternatives": d.alternatives,
+        "reference": d.reference.as_ref().map(reference_json),
         "aircraft_scores": d.aircraft_scores.iter().take(10).map(|s| json!({
             "key": s.key.name, "term": s.key.term, "reduction_chi2": s.reduction,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// A diagnosis's reference flights: their floor, and each cause's parameters on the test
+/// flight against them.
+fn reference_json(r: &ReferenceVerdict) -> Value {
+    json!({
+        "flights": r.names,
+        "noise_units": r.floor.noise_units,
+        "model_error": noise_json(&r.floor.model_error),
+        "measured_noise": noise_json(&r.measured_noise),
+        "z_critical": r.z_critical,
+        "shared": r.shared,
+        "changes": r.params.iter().map(|p| json!({
+            "cause": p.cause,
+            "param": p.param,
+            "test": {"value": p.test.0, "sigma": p.test.1},
+            "reference": {"value": p.reference.0, "sigma": p.reference.1},
+            "percent": p.percent().map(|(v, s)| json!({"value": v, "sigma": s})),
+            "z": p.z,
+            "changed": p.z > r.z_critical,
         })).collect::<Vec<_>>(),
     })
 }
@@ -440,11 +464,11 @@ fn removed_cell(c: &Candidate) -> String {
     }
 }
 
-/// A ranking of candidates as a table.
-fn ranking_table(ranking: &[Candidate]) -> String {
+/// A ranking of candidates as a table, misfits in units of the `unit` (noise or floor).
+fn ranking_table(ranking: &[Candidate], unit: &str) -> String {
     let mut t = Table::new([
         "candidate",
-        "× noise",
+        if unit == "floor" { "× floor" } else { "× noise" },
         "removed",
         "significant",
         "fitted parameters (±1σ)",
@@ -495,9 +519,14 @@ fn causes_table(causes: &[Candidate]) -> String {
 /// The ranking table and verdict of a diagnosis, as text.
 pub fn diagnosis_text(d: &Diagnosis) -> String {
     let mut out = String::new();
+    if let Some(r) = &d.reference {
+        out.push_str(&reference_floor_text(r));
+    }
+    let unit = floor_word(d);
     let _ = writeln!(
         out,
-        "  error {} (noise floor {}; {} × the noise), {}{}",
+        "  error {} ({} {}; {} × the {unit}), {}{}",
+        if unit == "floor" { "floor" } else { "noise floor" },
         fixed(d.base_error, 3),
         fixed(d.noise_floor, 3),
         fixed(d.noise_units, 2),
@@ -508,11 +537,17 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
             String::new()
         }
     );
-    out.push_str("  each candidate alone (\"removed\": of the misfit above the noise):\n");
-    out.push_str(&ranking_table(&d.ranking));
+    let _ = writeln!(
+        out,
+        "  each candidate alone (\"removed\": of the misfit above the {unit}):"
+    );
+    out.push_str(&ranking_table(&d.ranking, unit));
     if d.found.len() > 1 {
         out.push_str("  the causes kept, fitted together:\n");
         out.push_str(&causes_table(&d.found));
+    }
+    if let Some(r) = &d.reference {
+        out.push_str(&reference_changes_text(r));
     }
     let _ = writeln!(out, "  verdict: {}", verdict_text(d));
     if !d.alternatives.is_empty() {
@@ -583,7 +618,7 @@ pub fn steps_text(d: &Diagnosis) -> String {
             fixed(s.error, 3),
             fixed(s.noise_units, 2)
         );
-        out.push_str(&ranking_table(&s.ranking));
+        out.push_str(&ranking_table(&s.ranking, floor_word(d)));
         match &s.added {
             Some(added) => {
                 let _ = write!(out, "  added {added}");
@@ -689,14 +724,156 @@ fn cause_text(c: &Candidate) -> String {
     )
 }
 
+/// What a diagnosis's misfit is in units of: `noise`, or against reference flights `floor`
+/// (noise and the model's own error).
+fn floor_word(d: &Diagnosis) -> &'static str {
+    if d.reference.is_some() {
+        "floor"
+    } else {
+        "noise"
+    }
+}
+
+/// The reference flights and the model's own error they measured, two lines.
+fn reference_floor_text(r: &ReferenceVerdict) -> String {
+    let flights: Vec<String> = r
+        .names
+        .iter()
+        .zip(&r.floor.noise_units)
+        .map(|(n, u)| format!("{n} ({} × its noise)", fixed(*u, 2)))
+        .collect();
+    format!(
+        "  judged against {}: {}\n  the model's own error on them (1σ per axis, added to the \
+         noise): {}\n",
+        count(r.names.len(), "reference flight"),
+        flights.join(", "),
+        noise_text(&r.floor.model_error).trim_start_matches("measurement noise (1σ per axis): ")
+    )
+}
+
+/// Each cause's parameters on the test flight against the references, and the causes the
+/// references share.
+fn reference_changes_text(r: &ReferenceVerdict) -> String {
+    let mut out = String::new();
+    if !r.params.is_empty() {
+        let _ = writeln!(
+            out,
+            "  each cause on the test flight and on the reference flights:"
+        );
+        let mut t = Table::new([
+            "cause",
+            "parameter",
+            "test (±1σ)",
+            "references (±1σ)",
+            "change",
+            "σ apart",
+        ]);
+        for p in &r.params {
+            let change = match p.percent() {
+                Some((v, s)) => format!("{}% ± {}%", signed(v, 1), fixed(s, 1)),
+                None => fmt_number(p.test.0 - p.reference.0),
+            };
+            let apart = format!(
+                "{} {} {}",
+                fixed(p.z, 1),
+                if p.z > r.z_critical { ">" } else { "≤" },
+                fixed(r.z_critical, 1)
+            );
+            t.row([
+                p.cause.clone(),
+                p.param.clone(),
+                format!("{}±{}", fmt_number(p.test.0), fmt_number(p.test.1)),
+                format!(
+                    "{}±{}",
+                    fmt_number(p.reference.0),
+                    fmt_number(p.reference.1)
+                ),
+                change,
+                apart,
+            ]);
+        }
+        out.push_str(&t.render(2));
+    }
+    if !r.shared.is_empty() {
+        let names: Vec<String> = r.shared.iter().map(|s| format!("`{s}`")).collect();
+        let _ = writeln!(
+            out,
+            "  {} the reference flights as well: the model's own error, not a change",
+            if names.len() == 1 {
+                format!("{} fits", names[0])
+            } else {
+                format!("{} fit", names.join(", "))
+            }
+        );
+    }
+    out
+}
+
+/// A cause as a change from the reference flights: its parameters, test vs references.
+fn change_text(c: &Candidate, r: &ReferenceVerdict) -> String {
+    let parts: Vec<String> = r
+        .params
+        .iter()
+        .filter(|p| p.cause == c.effect && p.z > r.z_critical)
+        .map(|p| {
+            let change = match p.percent() {
+                Some((v, s)) => format!("{}% ± {}%", signed(v, 1), fixed(s, 1)),
+                None => format!(
+                    "{} ± {}",
+                    fmt_number(p.test.0 - p.reference.0),
+                    fmt_number(p.test.1.hypot(p.reference.1))
+                ),
+            };
+            format!(
+                "{} {} vs {} ({change})",
+                p.param,
+                fmt_number(p.test.0),
+                fmt_number(p.reference.0)
+            )
+        })
+        .collect();
+    format!(
+        "`{}` differs from the reference flights: {}",
+        c.effect,
+        parts.join(", ")
+    )
+}
+
 /// The verdict in a sentence.
 pub fn verdict_text(d: &Diagnosis) -> String {
+    let unit = floor_word(d);
     let fall = format!(
-        "{} → {} ({} × the noise)",
+        "{} → {} ({} × the {unit})",
         fixed(d.base_error, 3),
         fixed(d.found_error, 3),
         fixed(d.found_noise_units, 2)
     );
+    match (&d.verdict, &d.reference) {
+        (Verdict::Found(_), Some(r)) => {
+            let parts: Vec<String> = d.found.iter().map(|c| change_text(c, r)).collect();
+            format!(
+                "{}; with {} the error falls {fall}",
+                parts.join("; "),
+                if parts.len() == 1 {
+                    "it"
+                } else {
+                    "them, fitted together,"
+                }
+            )
+        }
+        (Verdict::None, Some(_)) => format!(
+            "none — the error is at the reference flights' floor ({} × it): nothing differs \
+             from them that these data can show",
+            fixed(d.noise_units, 2)
+        ),
+        _ => verdict_against_noise(d, &fall),
+    }
+}
+
+/// [`verdict_text`] of a diagnosis against the noise (or an unexplained one against
+/// references).
+fn verdict_against_noise(d: &Diagnosis, fall: &str) -> String {
+    let unit = floor_word(d);
     match &d.verdict {
         Verdict::Found(_) if d.found.len() == 1 => {
             format!(
@@ -719,9 +896,19 @@ pub fn verdict_text(d: &Diagnosis) -> String {
         ),
         Verdict::Unexplained if !d.found.is_empty() => {
             let names: Vec<String> = d.found.iter().map(|c| format!("`{}`", c.effect)).collect();
+            // Most of what can be removed is, and much is left: what a model that is never
+            // exact leaves, which reference flights would measure.
+            let removed = (d.noise_units - d.found_noise_units) / (d.noise_units - 1.0).max(1e-9);
+            let floor_hint = if d.reference.is_none() && removed >= 0.5 && d.found_noise_units > 1.5
+            {
+                "; the model's own error is probably the rest: give reference flights \
+                 (--reference) to test a change against them"
+            } else {
+                ""
+            };
             format!(
-                "unexplained — with {}{} the error falls {fall}, still above the noise, and no \
-                 further candidate is significant: part of the answer",
+                "unexplained — with {}{} the error falls {fall}, still above the {unit}, and no \
+                 further candidate is significant: part of the answer{floor_hint}",
                 names.join(" + "),
                 if names.len() > 1 {
                     " (fitted together)"
@@ -731,7 +918,7 @@ pub fn verdict_text(d: &Diagnosis) -> String {
             )
         }
         Verdict::Unexplained => format!(
-            "unexplained — the error stays {} × the noise and no candidate is significant",
+            "unexplained — the error stays {} × the {unit} and no candidate is significant",
             fixed(d.noise_units, 2)
         ),
     }

@@ -34,6 +34,11 @@ pub struct CompareArgs {
     /// How the flight is cut into windows.
     #[command(flatten)]
     pub windows: WindowArgs,
+    /// A reference flight (repeatable): the same aircraft, sensors and model, believed
+    /// normal. The flight is judged against the error the model leaves on them (its own, as
+    /// well as the noise).
+    #[arg(long, value_name = "FILE")]
+    pub reference: Vec<std::path::PathBuf>,
     /// Write plots (PNG) into this directory.
     #[arg(long, value_name = "DIR")]
     pub plots: Option<std::path::PathBuf>,
@@ -70,6 +75,7 @@ Examples:
   wireflight diagnose --flight two-effects.csv --iterate
   wireflight diagnose --flight tests/data/jsbsim-mk82.csv --iterate --json
   wireflight diagnose --flight a.csv --report report.html --out model.toml
+  wireflight diagnose --flight test.csv --aircraft identified.toml --reference r1.csv --reference r2.csv
 
 Every catalogue effect that applies to the vehicle, and every promising number of the
 aircraft's set, is added in turn, its parameters fitted, and ranked by how much error it
@@ -95,6 +101,11 @@ pub struct DiagnoseArgs {
     /// How the flight is cut into windows.
     #[command(flatten)]
     pub windows: WindowArgs,
+    /// A reference flight (repeatable): the same aircraft, sensors and model, believed
+    /// normal. The flight is judged against the error the model leaves on them (its own, as
+    /// well as the noise), and causes are reported as changes from them.
+    #[arg(long, value_name = "FILE")]
+    pub reference: Vec<std::path::PathBuf>,
     /// Show every step of the search: the candidates at each step, what was added and
     /// dropped, and the causes' joint values after it.
     #[arg(long)]

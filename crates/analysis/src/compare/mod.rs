@@ -74,6 +74,10 @@ pub struct CompareConfig {
     pub start_span_s: Option<f64>,
     /// Levenberg–Marquardt iterations of each start fit (0: keep the warm start).
     pub start_iterations: usize,
+    /// The model's own error per axis, measured on reference flights
+    /// ([`crate::reference`]): residuals are weighted by noise and it together. None: by the
+    /// measured noise alone.
+    pub model_error: Option<NoiseEstimate>,
 }
 
 impl CompareConfig {
@@ -100,6 +104,7 @@ impl Default for CompareConfig {
             offset_s: 0.0,
             start_span_s: None,
             start_iterations: 8,
+            model_error: None,
         }
     }
 }
@@ -362,8 +367,11 @@ pub struct Prepared<'a> {
     attitude_trig: Arc<[[f64; 6]]>,
     /// Window sample ranges.
     pub windows: Vec<(usize, usize)>,
-    /// The measurement noise.
+    /// The residuals' standard deviations per axis: the measurement noise, or with reference
+    /// flights noise and the model's own error together ([`CompareConfig::model_error`]).
     pub noise: NoiseEstimate,
+    /// The measurement noise alone, as estimated from the data.
+    pub measured_noise: NoiseEstimate,
     /// The measured channels.
     pub measured: Measured,
     /// Weights of the residuals: 1/σ per axis of position, velocity, attitude (roll, pitch,
@@ -433,6 +441,11 @@ impl<'a> Prepared<'a> {
             },
             || estimate_noise(data),
         );
+        let measured_noise = noise;
+        let noise = match &cfg.model_error {
+            Some(e) => crate::reference::combined(&noise, e),
+            None => noise,
+        };
         let w = |s: [f64; 3], min: f64| s.map(|v| 1.0 / v.max(min));
         let weights = [
             w(noise.pos_axes, SIGMA_MIN[0]),
@@ -446,6 +459,7 @@ impl<'a> Prepared<'a> {
             attitude_trig,
             windows: cut_windows(&data.time, &cfg),
             noise,
+            measured_noise,
             measured: Measured::of(data),
             weights,
             airspeed_weight: 1.0 / noise.airspeed_mps.max(SIGMA_MIN[4]),
@@ -472,6 +486,7 @@ impl<'a> Prepared<'a> {
             attitude_trig: Arc::clone(&self.attitude_trig),
             windows: cut_windows(&self.data.time, &cfg),
             noise: self.noise,
+            measured_noise: self.measured_noise,
             measured: self.measured,
             weights: self.weights,
             airspeed_weight: self.airspeed_weight,

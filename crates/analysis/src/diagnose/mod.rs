@@ -42,6 +42,7 @@
 
 mod fit;
 mod joint;
+pub mod reference;
 pub mod screen;
 
 use std::fmt;
@@ -310,6 +311,9 @@ pub struct Diagnosis {
     /// [`EQUIVALENT`] of it): these data cannot tell them apart, e.g. ground effect at one
     /// constant height and a smaller induced-drag factor.
     pub alternatives: Vec<String>,
+    /// Against reference flights ([`reference::diagnose_against`]): the floor they measured
+    /// and each cause's change from them. None for a diagnosis against the noise alone.
+    pub reference: Option<reference::ReferenceVerdict>,
 }
 
 /// Two candidates whose misfits left differ by less than this fraction explain the data
@@ -791,6 +795,7 @@ pub fn diagnose(
         aircraft_scores: scores,
         evidence,
         alternatives,
+        reference: None,
     })
 }
 
