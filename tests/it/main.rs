@@ -30,6 +30,7 @@ mod overlay;
 mod pictures;
 mod plots;
 mod readme;
+mod reference_flights;
 mod report;
 mod sensors;
 mod several_causes;
