@@ -468,7 +468,11 @@ fn removed_cell(c: &Candidate) -> String {
 fn ranking_table(ranking: &[Candidate], unit: &str) -> String {
     let mut t = Table::new([
         "candidate",
-        if unit == "floor" { "× floor" } else { "× noise" },
+        if unit == "floor" {
+            "× floor"
+        } else {
+            "× noise"
+        },
         "removed",
         "significant",
         "fitted parameters (±1σ)",
@@ -526,7 +530,11 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     let _ = writeln!(
         out,
         "  error {} ({} {}; {} × the {unit}), {}{}",
-        if unit == "floor" { "floor" } else { "noise floor" },
+        if unit == "floor" {
+            "floor"
+        } else {
+            "noise floor"
+        },
         fixed(d.base_error, 3),
         fixed(d.noise_floor, 3),
         fixed(d.noise_units, 2),

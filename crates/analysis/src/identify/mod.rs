@@ -145,6 +145,9 @@ pub struct Identification {
     pub started_from_equation_error: bool,
     /// The identified model.
     pub model: Model,
+    /// Numbers asked for but held at the starting set's value, and why (the stall blend on
+    /// flights that never approach the stall).
+    pub held: Vec<(&'static str, String)>,
 }
 
 impl Identification {
@@ -248,6 +251,12 @@ pub fn identify(
     keys: &[&'static AircraftKey],
     cfg: &IdentifyConfig,
 ) -> Result<Identification, IdentifyError> {
+    let held = stall_held(base, flights, keys);
+    let keys: Vec<&'static AircraftKey> = keys
+        .iter()
+        .copied()
+        .filter(|k| !held.iter().any(|(h, _)| *h == k.name))
+        .collect();
     let names: Vec<&'static str> = keys.iter().map(|k| k.name).collect();
     let free = aircraft_free(base, &names)?;
     if free.is_empty() {
@@ -388,7 +397,59 @@ pub fn identify(
         after,
         started_from_equation_error: from_ee,
         model,
+        held,
     })
+}
+
+/// The largest angle of attack the flights reach (their 99.5th percentile, rad): from the
+/// measured NED velocity and attitude (still air), where a flight has both.
+pub fn flown_alpha(flights: &[FlightData]) -> Option<f64> {
+    let mut alpha: Vec<f64> = flights
+        .iter()
+        .filter_map(|d| Some((d.vel_ned.as_ref()?, d.attitude.as_ref()?)))
+        .flat_map(|(v, a)| {
+            v.iter().zip(a).map(|(v, a)| {
+                let b = a.to_matrix().transpose() * *v;
+                b.z.atan2(b.x)
+            })
+        })
+        .filter(|a| a.is_finite())
+        .collect();
+    if alpha.is_empty() {
+        return None;
+    }
+    alpha.sort_by(f64::total_cmp);
+    Some(alpha[((alpha.len() - 1) as f64 * 0.995).round() as usize])
+}
+
+/// The stall blend's numbers (`alpha0`, `m_blend`) among `keys`, held when the flights never
+/// come near the stall: their largest α stays below where the starting set's blend begins
+/// (α₀ − 3/M, the blend 5% on). There the data cannot say where a stall is, and a fit moves
+/// the blend into the flown range to absorb what the linear terms miss.
+fn stall_held(base: &Model, flights: &[FlightData], keys: &[&'static AircraftKey]) -> Vec<(&'static str, String)> {
+    let (Some(alpha0), Some(m)) = (base.aircraft("alpha0"), base.aircraft("m_blend")) else {
+        return Vec::new();
+    };
+    let begins = alpha0 - 3.0 / m.max(1e-9);
+    let Some(flown) = flown_alpha(flights) else {
+        return Vec::new();
+    };
+    if flown >= begins {
+        return Vec::new();
+    }
+    keys.iter()
+        .filter(|k| k.name == "alpha0" || k.name == "m_blend")
+        .map(|k| {
+            (
+                k.name,
+                format!(
+                    "held: the flights reach α {:.1}°, the stall blend begins near {:.1}°",
+                    flown.to_degrees(),
+                    begins.to_degrees()
+                ),
+            )
+        })
+        .collect()
 }
 
 /// The variance of the weighted residuals, in noise units squared: χ²/ν (at least 1),
