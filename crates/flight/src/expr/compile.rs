@@ -4,7 +4,10 @@
 //! operand first (Sethi–Ullman order, with the operands' order recorded in the instruction,
 //! so every operation still gets the same operands), which bounds the stack by
 //! log₂(leaves) + 1: 12 for the longest expression accepted, within [`STACK`]. A last pass
-//! fuses a push into the operation that follows it (`k*thrust` is two instructions).
+//! fuses a push into the operation that follows it, and the commonest of those — a product
+//! or a sum with a variable, a coefficient or a number, a square — have an instruction of
+//! their own: `k*thrust` is two instructions, `k*alpha*beta*qbar` four, each one dispatch.
+//! The top of the stack is held apart from the rest, so most instructions touch only it.
 //!
 //! Three evaluators walk the program: the value alone; the value and its derivatives with
 //! respect to the coefficients (forward mode: each stack entry carries its gradient, as wide
@@ -33,7 +36,8 @@ pub enum Leaf {
     Coef(u8),
 }
 
-/// One instruction.
+/// One instruction. The top of the stack is held apart (in a register), so most
+/// instructions touch only it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Instr {
     /// Push a value.
@@ -42,14 +46,28 @@ pub enum Instr {
     Neg,
     /// top ← f(top).
     Call(Func),
-    /// Pop b, then top ← top op b.
+    /// Pop a, then top ← a op top.
     Bin(Bin),
-    /// Pop a, then top ← a op top (the right operand was computed first).
+    /// Pop b, then top ← top op b (the right operand was computed first).
     BinRev(Bin),
     /// top ← top op leaf.
     BinLeaf(Bin, Leaf),
     /// top ← leaf op top.
     LeafBin(Bin, Leaf),
+    /// top ← top · variable (the commonest fused operations, with one dispatch each).
+    MulVar(u8),
+    /// top ← top · coefficient.
+    MulCoef(u8),
+    /// top ← top · constant.
+    MulConst(f64),
+    /// top ← top + variable.
+    AddVar(u8),
+    /// top ← top + coefficient.
+    AddCoef(u8),
+    /// top ← top + constant.
+    AddConst(f64),
+    /// top ← top².
+    Square,
 }
 
 /// A compiled expression.
@@ -217,18 +235,28 @@ fn bin_problem(op: Bin, a: f64, b: f64, y: f64) -> EvalProblem {
     }
 }
 
-/// A push followed by a binary operation becomes one instruction.
+/// A push followed by a binary operation becomes one instruction; the commonest become
+/// specialised ones. (`a + b` and `b + a` are the same number in floating point, as are
+/// `a * b` and `b * a`, so a reversed sum or product is an ordinary one.)
 fn fuse(plain: &[Instr]) -> Vec<Instr> {
     let mut out: Vec<Instr> = Vec::with_capacity(plain.len());
     for &ins in plain {
         let fused = match (out.last(), ins) {
             // The push must not be the program's first value: the operation needs another
             // operand below it.
-            (Some(&Instr::Push(leaf)), Instr::Bin(op)) if out.len() >= 2 => {
-                Some(Instr::BinLeaf(op, leaf))
-            }
-            (Some(&Instr::Push(leaf)), Instr::BinRev(op)) if out.len() >= 2 => {
-                Some(Instr::LeafBin(op, leaf))
+            (Some(&Instr::Push(leaf)), Instr::Bin(op) | Instr::BinRev(op)) if out.len() >= 2 => {
+                let reversed = matches!(ins, Instr::BinRev(_));
+                Some(match (op, leaf) {
+                    (Bin::Mul, Leaf::Var(i)) => Instr::MulVar(i),
+                    (Bin::Mul, Leaf::Coef(j)) => Instr::MulCoef(j),
+                    (Bin::Mul, Leaf::Const(c)) => Instr::MulConst(c),
+                    (Bin::Add, Leaf::Var(i)) => Instr::AddVar(i),
+                    (Bin::Add, Leaf::Coef(j)) => Instr::AddCoef(j),
+                    (Bin::Add, Leaf::Const(c)) => Instr::AddConst(c),
+                    (Bin::Pow, Leaf::Const(c)) if c == 2.0 && !reversed => Instr::Square,
+                    _ if reversed => Instr::LeafBin(op, leaf),
+                    _ => Instr::BinLeaf(op, leaf),
+                })
             }
             _ => None,
         };
@@ -376,29 +404,39 @@ impl Code {
     /// The value.
     #[inline]
     pub fn eval(&self, vars: &VarValues, coeffs: &[f64]) -> f64 {
+        // `s[..n]` holds the values below the top.
         let mut s = [0.0f64; STACK];
         let mut n = 0usize;
+        let mut top = 0.0f64;
         for &ins in &self.fast {
             match ins {
                 Instr::Push(l) => {
-                    s[n] = leaf(l, vars, coeffs);
+                    s[n] = top;
                     n += 1;
+                    top = leaf(l, vars, coeffs);
                 }
-                Instr::Neg => s[n - 1] = -s[n - 1],
-                Instr::Call(f) => s[n - 1] = f.apply(s[n - 1]),
+                Instr::MulVar(i) => top *= vars[i as usize],
+                Instr::MulCoef(j) => top *= coeffs[j as usize],
+                Instr::MulConst(c) => top *= c,
+                Instr::AddVar(i) => top += vars[i as usize],
+                Instr::AddCoef(j) => top += coeffs[j as usize],
+                Instr::AddConst(c) => top += c,
+                Instr::Square => top *= top,
+                Instr::Neg => top = -top,
+                Instr::Call(f) => top = f.apply(top),
                 Instr::Bin(op) => {
                     n -= 1;
-                    s[n - 1] = op.apply(s[n - 1], s[n]);
+                    top = op.apply(s[n], top);
                 }
                 Instr::BinRev(op) => {
                     n -= 1;
-                    s[n - 1] = op.apply(s[n], s[n - 1]);
+                    top = op.apply(top, s[n]);
                 }
-                Instr::BinLeaf(op, l) => s[n - 1] = op.apply(s[n - 1], leaf(l, vars, coeffs)),
-                Instr::LeafBin(op, l) => s[n - 1] = op.apply(leaf(l, vars, coeffs), s[n - 1]),
+                Instr::BinLeaf(op, l) => top = op.apply(top, leaf(l, vars, coeffs)),
+                Instr::LeafBin(op, l) => top = op.apply(leaf(l, vars, coeffs), top),
             }
         }
-        s[0]
+        top
     }
 
     /// The value, and its derivative with respect to each coefficient in `grad[..n_coeffs]`.
@@ -415,39 +453,61 @@ impl Code {
     fn dual<const W: usize>(&self, vars: &VarValues, coeffs: &[f64], grad: &mut [f64]) -> f64 {
         let mut s = [Dual::<W>::ZERO; STACK];
         let mut n = 0usize;
+        let mut top = Dual::<W>::ZERO;
         for &ins in &self.fast {
             match ins {
                 Instr::Push(l) => {
-                    s[n] = Dual::leaf(l, vars, coeffs);
+                    s[n] = top;
                     n += 1;
+                    top = Dual::leaf(l, vars, coeffs);
+                }
+                Instr::MulVar(i) => {
+                    let x = vars[i as usize];
+                    top.d = scale(x, &top.d);
+                    top.v *= x;
+                }
+                Instr::MulCoef(j) => {
+                    let c = coeffs[j as usize];
+                    top.d = scale(c, &top.d);
+                    top.d[j as usize] += top.v;
+                    top.v *= c;
+                }
+                Instr::MulConst(c) => {
+                    top.d = scale(c, &top.d);
+                    top.v *= c;
+                }
+                Instr::AddVar(i) => top.v += vars[i as usize],
+                Instr::AddCoef(j) => {
+                    top.v += coeffs[j as usize];
+                    top.d[j as usize] += 1.0;
+                }
+                Instr::AddConst(c) => top.v += c,
+                Instr::Square => {
+                    top.d = scale(2.0 * top.v, &top.d);
+                    top.v *= top.v;
                 }
                 Instr::Neg => {
-                    let x = s[n - 1];
-                    s[n - 1] = Dual {
-                        v: -x.v,
-                        d: scale(-1.0, &x.d),
+                    top = Dual {
+                        v: -top.v,
+                        d: scale(-1.0, &top.d),
                     };
                 }
-                Instr::Call(f) => s[n - 1] = call_dual(f, s[n - 1]),
+                Instr::Call(f) => top = call_dual(f, top),
                 Instr::Bin(op) => {
                     n -= 1;
-                    s[n - 1] = bin_dual(op, s[n - 1], s[n]);
+                    top = bin_dual(op, s[n], top);
                 }
                 Instr::BinRev(op) => {
                     n -= 1;
-                    s[n - 1] = bin_dual(op, s[n], s[n - 1]);
+                    top = bin_dual(op, top, s[n]);
                 }
-                Instr::BinLeaf(op, l) => {
-                    s[n - 1] = bin_dual(op, s[n - 1], Dual::leaf(l, vars, coeffs));
-                }
-                Instr::LeafBin(op, l) => {
-                    s[n - 1] = bin_dual(op, Dual::leaf(l, vars, coeffs), s[n - 1]);
-                }
+                Instr::BinLeaf(op, l) => top = bin_dual(op, top, Dual::leaf(l, vars, coeffs)),
+                Instr::LeafBin(op, l) => top = bin_dual(op, Dual::leaf(l, vars, coeffs), top),
             }
         }
         let k = self.n_coeffs;
-        grad[..k].copy_from_slice(&s[0].d[..k]);
-        s[0].v
+        grad[..k].copy_from_slice(&top.d[..k]);
+        top.v
     }
 
     /// The value if it is finite; else the first operation (in evaluation order) to give a
@@ -507,7 +567,7 @@ impl Code {
                     s[n - 1] = y;
                 }
                 // The plain program has no fused instructions.
-                Instr::BinLeaf(..) | Instr::LeafBin(..) => {}
+                _ => {}
             }
         }
         match first {

@@ -340,29 +340,37 @@ fn the_stack_stays_small() {
 
 #[test]
 fn constants_fold_and_pushes_fuse() {
-    let e = Expr::parse("k*thrust").unwrap();
+    use ops::Bin::{Pow, Sub};
+    use Instr::*;
+    let program = |src: &str| Expr::parse(src).unwrap().code.fast().to_vec();
+    let thrust = Var::Thrust as u8;
+    assert_eq!(program("k*thrust"), [Push(Leaf::Coef(0)), MulVar(thrust)]);
+    assert_eq!(program("thrust*k"), [Push(Leaf::Var(thrust)), MulCoef(0)]);
     assert_eq!(
-        e.code.fast(),
-        [
-            Instr::Push(Leaf::Coef(0)),
-            Instr::BinLeaf(ops::Bin::Mul, Leaf::Var(Var::Thrust as u8))
-        ]
+        program("k * (2*3 - sqrt(4)) ^ 2"),
+        [Push(Leaf::Coef(0)), MulConst(16.0)]
     );
-    let e = Expr::parse("k * (2*3 - sqrt(4)) ^ 2").unwrap();
     assert_eq!(
-        e.code.fast(),
-        [
-            Instr::Push(Leaf::Coef(0)),
-            Instr::BinLeaf(ops::Bin::Mul, Leaf::Const(16.0))
-        ]
+        program("k*(alpha+beta)"),
+        [Push(Leaf::Var(0)), AddVar(1), MulCoef(0)]
     );
-    let e = Expr::parse("k*(alpha+beta)").unwrap();
     assert_eq!(
-        e.code.fast(),
+        program("k1*throttle^2"),
+        [Push(Leaf::Var(Var::Throttle as u8)), Square, MulCoef(0)]
+    );
+    // The right operand first when it needs more of the stack; the order is kept in the
+    // instruction.
+    assert_eq!(
+        program("k - alpha*beta"),
+        [Push(Leaf::Var(0)), MulVar(1), LeafBin(Sub, Leaf::Coef(0))]
+    );
+    assert_eq!(
+        program("2^(k*alpha) - k2"),
         [
-            Instr::Push(Leaf::Var(0)),
-            Instr::BinLeaf(ops::Bin::Add, Leaf::Var(1)),
-            Instr::LeafBin(ops::Bin::Mul, Leaf::Coef(0)),
+            Push(Leaf::Coef(0)),
+            MulVar(0),
+            LeafBin(Pow, Leaf::Const(2.0)),
+            BinLeaf(Sub, Leaf::Coef(1))
         ]
     );
 }
