@@ -22,6 +22,9 @@ use super::vars::{Var, VarValues, VARIABLES};
 /// The stack's depth: more than any accepted expression needs (see the module's notes).
 pub const STACK: usize = 16;
 
+/// The stack of the gradient's evaluator for the usual short terms.
+const SHORT: usize = 4;
+
 // At most MAX_LEN / 2 + 1 leaves, so a need of log₂ of that + 1; variables in a u32 mask.
 const _: () = assert!(STACK >= 13 && super::MAX_LEN <= 1 << 13 && super::vars::N_VARS <= 32);
 
@@ -81,6 +84,8 @@ pub struct Code {
     columns: Vec<usize>,
     /// How many coefficients.
     n_coeffs: usize,
+    /// How many values the program holds at once (the top included).
+    need: usize,
     /// Bit i set if variable i is used.
     uses: u32,
 }
@@ -127,6 +132,7 @@ pub fn compile(ast: &Ast, n_coeffs: usize) -> Result<Code, ParseError> {
         plain,
         columns,
         n_coeffs,
+        need: piece.need,
         uses,
     })
 }
@@ -404,7 +410,7 @@ impl Code {
     /// The value.
     #[inline]
     pub fn eval(&self, vars: &VarValues, coeffs: &[f64]) -> f64 {
-        // `s[..n]` holds the values below the top.
+        // `s[1..n]` holds the values below the top (`s[0]` what was the top before the first).
         let mut s = [0.0f64; STACK];
         let mut n = 0usize;
         let mut top = 0.0f64;
@@ -442,16 +448,30 @@ impl Code {
     /// The value, and its derivative with respect to each coefficient in `grad[..n_coeffs]`.
     #[inline]
     pub fn eval_with_gradient(&self, vars: &VarValues, coeffs: &[f64], grad: &mut [f64]) -> f64 {
-        match self.n_coeffs {
-            0 | 1 => self.dual::<1>(vars, coeffs, grad),
-            2 => self.dual::<2>(vars, coeffs, grad),
-            3 | 4 => self.dual::<4>(vars, coeffs, grad),
-            _ => self.dual::<{ super::MAX_COEFFS }>(vars, coeffs, grad),
+        // A short stack for the usual terms: nothing to clear but a few entries.
+        if self.need <= SHORT {
+            match self.n_coeffs {
+                0 | 1 => self.dual::<1, SHORT>(vars, coeffs, grad),
+                2 => self.dual::<2, SHORT>(vars, coeffs, grad),
+                3 | 4 => self.dual::<4, SHORT>(vars, coeffs, grad),
+                _ => self.dual::<{ super::MAX_COEFFS }, SHORT>(vars, coeffs, grad),
+            }
+        } else {
+            match self.n_coeffs {
+                0..=4 => self.dual::<4, STACK>(vars, coeffs, grad),
+                _ => self.dual::<{ super::MAX_COEFFS }, STACK>(vars, coeffs, grad),
+            }
         }
     }
 
-    fn dual<const W: usize>(&self, vars: &VarValues, coeffs: &[f64], grad: &mut [f64]) -> f64 {
-        let mut s = [Dual::<W>::ZERO; STACK];
+    /// The gradient's evaluator, `W` wide, for programs that hold at most `S` values.
+    fn dual<const W: usize, const S: usize>(
+        &self,
+        vars: &VarValues,
+        coeffs: &[f64],
+        grad: &mut [f64],
+    ) -> f64 {
+        let mut s = [Dual::<W>::ZERO; S];
         let mut n = 0usize;
         let mut top = Dual::<W>::ZERO;
         for &ins in &self.fast {

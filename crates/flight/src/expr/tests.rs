@@ -325,6 +325,12 @@ fn the_stack_stays_small() {
             e.eval(&vars, &[1.1]),
             reference(&p.ast, &vars, &[1.1])
         ));
+        let mut g = [0.0];
+        let v = e.eval_with_gradient(&vars, &[1.1], &mut g);
+        assert!(same(v, e.eval(&vars, &[1.1])));
+        if op == "+" {
+            assert_eq!(g[0], 512.0);
+        }
     }
     // Deep on the right: evaluated right operand first.
     let src = format!("{}k{}", "alpha-(".repeat(30), ")".repeat(30));
@@ -633,4 +639,28 @@ proptest! {
             prop_assert!((g[j] - d1).abs() <= 1e-3 * scale, "{}: d/d{} = {} but differences give {}", src, e.coefficients()[j], g[j], d1);
         }
     }
+}
+
+#[test]
+fn the_documented_examples_read() {
+    for term in [
+        "X = k*thrust",
+        "m = k*thrust",
+        "m = k*qbar*alpha*beta",
+        "n = k1*throttle^2 + k2*r*throttle",
+        "Z = k*qbar*max(0, 1 - height/10)",
+        "l = k*qbar*sin(2*beta)",
+        "m = c_m_ab * qbar * 0.55 * 0.19 * alpha * beta",
+        "m = k * 2E+4 * .5 * -alpha^2",
+    ] {
+        assert!(Term::parse(term).is_ok(), "{term}");
+    }
+    for name in ["G", "ro", "eta", "zeta", "q_bar", "phat", "throtle"] {
+        assert!(Expr::parse(&format!("k*{name}")).is_err(), "{name}");
+    }
+    for name in ["thrust_k", "c_alpha", "theta", "gamma", "delta", "mass"] {
+        assert!(Expr::parse(&format!("k*{name}")).is_ok(), "{name}");
+    }
+    let e = Expr::parse("max(0, -1/thrust) + k").unwrap();
+    assert_eq!(e.eval_checked(&[0.0; N_VARS], &[0.5]), Ok(0.5));
 }
