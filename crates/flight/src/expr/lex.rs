@@ -64,12 +64,10 @@ pub fn tokens(src: &str, offset: usize) -> Result<Vec<Token<'_>>, ParseError> {
                     if e < bytes.len() && (bytes[e] == b'+' || bytes[e] == b'-') {
                         e += 1;
                     }
-                    let digits = e;
                     while e < bytes.len() && bytes[e].is_ascii_digit() {
                         e += 1;
                     }
                     // Without digits (`2e`, `2e+`) the number is malformed, not 2 times `e`.
-                    let _ = digits;
                     end = e;
                 }
                 let text = &src[start..end];
