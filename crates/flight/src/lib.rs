@@ -19,6 +19,7 @@ pub mod autopilot;
 pub mod data;
 pub mod derive;
 pub mod effects;
+pub mod expr;
 pub mod linear;
 pub mod model;
 pub mod numeric;
