@@ -530,12 +530,12 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     let _ = writeln!(
         out,
         "  error {} ({} {}; {} × the {unit}), {}{}",
+        fixed(d.base_error, 3),
         if unit == "floor" {
             "floor"
         } else {
             "noise floor"
         },
-        fixed(d.base_error, 3),
         fixed(d.noise_floor, 3),
         fixed(d.noise_units, 2),
         count(d.windows.0, "window"),

@@ -403,9 +403,9 @@ pub fn identify(
 
 /// The largest angle of attack the flights reach (their 99.5th percentile, rad): from the
 /// measured NED velocity and attitude (still air), where a flight has both.
-pub fn flown_alpha(flights: &[FlightData]) -> Option<f64> {
+pub fn flown_alpha<'a>(flights: impl IntoIterator<Item = &'a FlightData>) -> Option<f64> {
     let mut alpha: Vec<f64> = flights
-        .iter()
+        .into_iter()
         .filter_map(|d| Some((d.vel_ned.as_ref()?, d.attitude.as_ref()?)))
         .flat_map(|(v, a)| {
             v.iter().zip(a).map(|(v, a)| {
@@ -422,21 +422,30 @@ pub fn flown_alpha(flights: &[FlightData]) -> Option<f64> {
     Some(alpha[((alpha.len() - 1) as f64 * 0.995).round() as usize])
 }
 
+/// Where the flights never come near the stall of `base`'s set: (the largest α flown, where
+/// the blend begins), rad. None where they do, or where it cannot be told.
+pub(crate) fn stall_out_of_reach<'a>(
+    base: &Model,
+    flights: impl IntoIterator<Item = &'a FlightData>,
+) -> Option<(f64, f64)> {
+    let (alpha0, m) = (base.aircraft("alpha0")?, base.aircraft("m_blend")?);
+    let begins = alpha0 - 3.0 / m.max(1e-9);
+    let flown = flown_alpha(flights)?;
+    (flown < begins).then_some((flown, begins))
+}
+
 /// The stall blend's numbers (`alpha0`, `m_blend`) among `keys`, held when the flights never
 /// come near the stall: their largest α stays below where the starting set's blend begins
 /// (α₀ − 3/M, the blend 5% on). There the data cannot say where a stall is, and a fit moves
 /// the blend into the flown range to absorb what the linear terms miss.
-fn stall_held(base: &Model, flights: &[FlightData], keys: &[&'static AircraftKey]) -> Vec<(&'static str, String)> {
-    let (Some(alpha0), Some(m)) = (base.aircraft("alpha0"), base.aircraft("m_blend")) else {
+fn stall_held(
+    base: &Model,
+    flights: &[FlightData],
+    keys: &[&'static AircraftKey],
+) -> Vec<(&'static str, String)> {
+    let Some((flown, begins)) = stall_out_of_reach(base, flights) else {
         return Vec::new();
     };
-    let begins = alpha0 - 3.0 / m.max(1e-9);
-    let Some(flown) = flown_alpha(flights) else {
-        return Vec::new();
-    };
-    if flown >= begins {
-        return Vec::new();
-    }
     keys.iter()
         .filter(|k| k.name == "alpha0" || k.name == "m_blend")
         .map(|k| {

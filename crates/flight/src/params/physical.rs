@@ -5,8 +5,9 @@
 //! fit on noisy or incomplete data may not wander there unnoticed. A fit that ends on one of
 //! these bounds has not found a value: the data pushed it to the edge of what is physical,
 //! which says the model lacks something else, and it is reported as "at its limit".
-//! Damping derivatives keep their physical sign; slopes, efficiencies and densities stay in
-//! the span of real aircraft; sizes stay within a factor of the set's own value.
+//! Damping derivatives and the main control powers keep their physical sign; slopes,
+//! efficiencies and densities stay in the span of real aircraft; sizes stay within a factor
+//! of the set's own value.
 
 use super::keys::{find, AircraftKey};
 
@@ -47,6 +48,12 @@ pub fn fit_bounds(name: &str) -> Option<FitBounds> {
         "m_blend" => A(1.0, 500.0),
         // The stall angle of attack, rad (≈ 6°–46°).
         "alpha0" => A(0.1, 0.8),
+        // Control powers whose sign the surfaces' conventions fix (Beard & McLain): the
+        // elevator down lifts the tail (more lift, nose down), the aileron rolls right,
+        // the rudder yaws left with a side force to the right; deflecting a surface adds
+        // drag at trim.
+        "c_l_delta_e" | "c_ell_delta_a" | "c_y_delta_r" | "c_d_delta_e" => A(0.0, 5.0),
+        "c_m_delta_e" | "c_n_delta_r" => A(-5.0, 0.0),
         "s_prop" | "c_prop" | "k_motor" => R(0.2, 5.0),
         // Every other coefficient: a control power or cross term, a few per radian at most.
         _ => A(-5.0, 5.0),
@@ -88,9 +95,13 @@ mod tests {
             );
             assert!(lo <= v && v <= hi, "{}: {v} outside [{lo}, {hi}]", key.name);
         }
-        for damping in ["c_m_q", "c_ell_p", "c_n_r"] {
+        for damping in ["c_m_q", "c_ell_p", "c_n_r", "c_m_delta_e", "c_n_delta_r"] {
             let (_, hi) = fit_range(find(damping).unwrap(), -1.0);
             assert_eq!(hi, 0.0, "{damping}");
+        }
+        for power in ["c_l_delta_e", "c_ell_delta_a", "c_y_delta_r", "c_d_delta_e"] {
+            let (lo, _) = fit_range(find(power).unwrap(), 0.1);
+            assert_eq!(lo, 0.0, "{power}");
         }
         let (lo, hi) = fit_range(find("c_l_alpha").unwrap(), 5.61);
         assert_eq!((lo, hi), (1.0, 8.0));
