@@ -70,6 +70,7 @@ const PAGES: &[&str] = &[
     "docs/jsbsim.md",
     "docs/reliability.md",
     "docs/rendering.md",
+    "docs/reference-flights.md",
     "docs/report.md",
     "docs/testing.md",
     "docs/validation.md",
@@ -510,6 +511,7 @@ page_tests! {
     docs_jsbsim_commands => "docs/jsbsim.md";
     docs_reliability_commands => "docs/reliability.md";
     docs_rendering_commands => "docs/rendering.md";
+    docs_reference_flights_commands => "docs/reference-flights.md";
     docs_report_commands => "docs/report.md";
     docs_testing_commands => "docs/testing.md";
     docs_validation_commands => "docs/validation.md";
