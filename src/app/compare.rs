@@ -89,9 +89,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             references.iter().map(|(n, d)| (n.as_str(), d)).collect();
         let f = crate::analysis::reference::model_floor(&base, &named, cfg)?;
         cfg.model_error = Some(f.model_error);
-        Some((named.iter().map(|(n, _)| n.to_string()).collect::<Vec<_>>(), f))
+        Some((
+            named.iter().map(|(n, _)| n.to_string()).collect::<Vec<_>>(),
+            f,
+        ))
     };
-    let unit = if reference_floor.is_some() { "floor" } else { "noise" };
+    let unit = if reference_floor.is_some() {
+        "floor"
+    } else {
+        "noise"
+    };
     let prep = Prepared::new(&data, cfg);
     if prep.windows.is_empty() {
         anyhow::bail!(

@@ -150,7 +150,62 @@ pub struct Identification {
     pub held: Vec<(&'static str, String)>,
 }
 
+/// What a pair of numbers the flights cannot separate does determine: the combination
+/// `first + coefficient × second` of least variance (the posterior's direction the data pin
+/// down), with its value and σ.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Combination {
+    /// The first number's index in the estimates.
+    pub first: usize,
+    /// The second's.
+    pub second: usize,
+    /// The second's coefficient.
+    pub coefficient: f64,
+    /// The combination's identified value.
+    pub value: f64,
+    /// Its standard deviation.
+    pub sigma: f64,
+}
+
 impl Identification {
+    /// For every pair the flights cannot separate ([`Self::confounded`]), the combination
+    /// they do determine.
+    pub fn determined_combinations(&self) -> Vec<Combination> {
+        self.confounded()
+            .into_iter()
+            .filter_map(|(i, k, rho)| {
+                let (a, b) = (&self.estimates[i], &self.estimates[k]);
+                let (si, sk) = (a.sigma, b.sigma);
+                if !(si > 0.0 && sk > 0.0 && si.is_finite() && sk.is_finite()) {
+                    return None;
+                }
+                // Least-variance direction of the 2×2 covariance [[si², c], [c, sk²]].
+                let c = rho * si * sk;
+                let (p, q) = (si * si, sk * sk);
+                let mean = 0.5 * (p + q);
+                let lambda = mean - (0.25 * (p - q) * (p - q) + c * c).sqrt();
+                // Eigenvector (c, λ − p) or (λ − q, c); the better conditioned one.
+                let (x, y) = if (lambda - p).abs() > (lambda - q).abs() {
+                    (c, lambda - p)
+                } else {
+                    (lambda - q, c)
+                };
+                if x.abs() < 1e-300 {
+                    return None;
+                }
+                let coefficient = y / x;
+                let sigma = (lambda.max(0.0)).sqrt() * (1.0 + coefficient * coefficient).sqrt();
+                Some(Combination {
+                    first: i,
+                    second: k,
+                    coefficient,
+                    value: a.value + coefficient * b.value,
+                    sigma,
+                })
+            })
+            .collect()
+    }
+
     /// Pairs (i, k, correlation) with |correlation| > [`CONFOUNDED`].
     pub fn confounded(&self) -> Vec<(usize, usize, f64)> {
         let n = self.estimates.len();
