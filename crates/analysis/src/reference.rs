@@ -310,24 +310,3 @@ pub fn model_floor(
         noise_units,
     })
 }
-
-/// Noise and model error together, per axis: √(σ²_noise + σ²_model).
-pub fn combined(noise: &NoiseEstimate, model: &NoiseEstimate) -> NoiseEstimate {
-    let add = |a: f64, b: f64| a.hypot(b);
-    let add3 = |a: [f64; 3], b: [f64; 3]| std::array::from_fn(|k| add(a[k], b[k]));
-    let mut c = NoiseEstimate {
-        pos_axes: add3(noise.pos_axes, model.pos_axes),
-        vel_axes: add3(noise.vel_axes, model.vel_axes),
-        att_axes: add3(noise.att_axes, model.att_axes),
-        rate_axes: add3(noise.rate_axes, model.rate_axes),
-        accel_axes: add3(noise.accel_axes, model.accel_axes),
-        airspeed_mps: add(noise.airspeed_mps, model.airspeed_mps),
-        ..NoiseEstimate::default()
-    };
-    c.pos_m = rms3(c.pos_axes);
-    c.vel_mps = rms3(c.vel_axes);
-    c.att_rad = rms3(c.att_axes);
-    c.rate_radps = rms3(c.rate_axes);
-    c.accel_mps2 = rms3(c.accel_axes);
-    c
-}

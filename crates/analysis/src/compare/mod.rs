@@ -41,7 +41,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 use attitude::attitude_error_at;
-pub use noise::{estimate_noise, expected_channel_errors, NoiseEstimate};
+pub use noise::{combined, estimate_noise, expected_channel_errors, NoiseEstimate};
 pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
 use score::{assemble, assemble_as};
 use start::{Scratch, StartFit};
@@ -443,7 +443,7 @@ impl<'a> Prepared<'a> {
         );
         let measured_noise = noise;
         let noise = match &cfg.model_error {
-            Some(e) => crate::reference::combined(&noise, e),
+            Some(e) => combined(&noise, e),
             None => noise,
         };
         let w = |s: [f64; 3], min: f64| s.map(|v| 1.0 / v.max(min));
