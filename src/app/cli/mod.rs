@@ -426,6 +426,9 @@ pub struct SimulateArgs {
     /// Body-rate noise, degrees/s.
     #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
     pub noise_rate: f64,
+    /// Accelerometer noise (each axis of the specific force, body FRD), m/s² (fixed wing).
+    #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
+    pub noise_acc: f64,
     /// Output and autopilot rate, Hz.
     #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]
     pub rate: f64,
