@@ -407,7 +407,11 @@ fn full_sample() -> FlightData {
         vel_body: Some((0..n).map(|i| v(i, 5.0)).collect()),
         rates_body: Some((0..n).map(|i| v(i, 0.01) / 30.0).collect()),
         airspeed: Some((0..n).map(|i| f(i, 20.0)).collect()),
-        accel_body: Some((0..n).map(|i| v(i, 0.4) - DVec3::new(0.0, 0.0, 9.8)).collect()),
+        accel_body: Some(
+            (0..n)
+                .map(|i| v(i, 0.4) - DVec3::new(0.0, 0.0, 9.8))
+                .collect(),
+        ),
         controls: Some(
             (0..n)
                 .map(|i| Controls {

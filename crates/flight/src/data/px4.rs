@@ -360,8 +360,9 @@ pub fn from_ulog(
         ],
     )? {
         Some(a) => Some((a, "accelerometer_m_s2[0..3]")),
-        None => get("vehicle_acceleration", &["xyz[0]", "xyz[1]", "xyz[2]"])?
-            .map(|a| (a, "xyz[0..3]")),
+        None => {
+            get("vehicle_acceleration", &["xyz[0]", "xyz[1]", "xyz[2]"])?.map(|a| (a, "xyz[0..3]"))
+        }
     };
     match accel {
         Some((a, fields)) => {

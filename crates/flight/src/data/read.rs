@@ -670,8 +670,11 @@ mod tests {
     #[test]
     fn accelerometer_columns_come_as_a_set_within_fifty_g() {
         let head = "time_s,north_m,east_m,down_m,ax_mps2,ay_mps2,az_mps2\n";
-        let d = parse(&format!("{head}0,0,0,0,0.5,-0.25,-9.81\n1,1,0,0,0,0,-9.8\n"), "a.csv")
-            .unwrap();
+        let d = parse(
+            &format!("{head}0,0,0,0,0.5,-0.25,-9.81\n1,1,0,0,0,0,-9.8\n"),
+            "a.csv",
+        )
+        .unwrap();
         let a = d.accel_body.as_ref().unwrap();
         assert_eq!(a[0], DVec3::new(0.5, -0.25, -9.81));
         assert_eq!(a.len(), 2);
@@ -694,7 +697,10 @@ mod tests {
         for (cell, want) in [
             ("NaN", "not a finite number: `NaN`"),
             ("inf", "not a finite number: `inf`"),
-            ("-491", "`-491` is outside the range of a flight: ±490.3 m/s² (50 g)"),
+            (
+                "-491",
+                "`-491` is outside the range of a flight: ±490.3 m/s² (50 g)",
+            ),
         ] {
             let text = format!("{head}0,0,0,0,0,0,-9.8\n1,0,0,0,0,{cell},-9.8\n");
             let e = parse(&text, "r.csv").unwrap_err();

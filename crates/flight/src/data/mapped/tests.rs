@@ -218,12 +218,14 @@ fn accelerometer_in_m_s2_g_and_ft_s2() {
     // A set comes whole; a unit of another kind is refused.
     let e = ColumnMap::parse("time=t,north=n,east=e,down=d,ax=fx").unwrap_err();
     assert!(
-        e.to_string().contains("accelerometer comes as a set: `ax` is mapped, so map ay, az too"),
+        e.to_string()
+            .contains("accelerometer comes as a set: `ax` is mapped, so map ay, az too"),
         "{e}"
     );
     let e = ColumnMap::parse("time=t,north=n,east=e,down=d,ax=a:m/s,ay=b,az=c").unwrap_err();
     assert!(
-        e.to_string().contains("`m/s` is a speed but ax is an acceleration"),
+        e.to_string()
+            .contains("`m/s` is a speed but ax is an acceleration"),
         "{e}"
     );
     // 60 g read as g: beyond the 50 g of every reader, naming the line and column.
