@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 
-use glam::{DMat3, DQuat, DVec3};
+use glam::{DQuat, DVec3};
 use wireflight::flight::data::mapped::ColumnMap;
 use wireflight::flight::data::px4::{self, UlogOptions};
 use wireflight::flight::data::ulog::UlogFile;
@@ -470,7 +470,7 @@ fn simulate_accelerometer_is_refsims_force_over_mass_at_every_sample() {
     let a = d.accel_body.as_ref().unwrap();
     let mut worst = 0.0f64;
     let mut largest = 0.0f64;
-    for i in 0..d.len() {
+    for (i, reading) in a.iter().enumerate() {
         let c = d.controls.as_ref().unwrap()[i];
         let cmd = refsim::Controls {
             throttle: c.throttle,
@@ -480,8 +480,8 @@ fn simulate_accelerometer_is_refsims_force_over_mass_at_every_sample() {
         };
         let (f, _) = model.force_moment(&refsim_state(&d, i), &cmd);
         let theirs = DVec3::from_array(f) / mass;
-        worst = worst.max((a[i] - theirs).length());
-        largest = largest.max((a[i] + DVec3::Z * G0).length());
+        worst = worst.max((*reading - theirs).length());
+        largest = largest.max((*reading + DVec3::Z * G0).length());
     }
     // A manoeuvring flight: the reading moves well away from level flight's.
     assert!(largest > 2.0, "largest departure from −g·z: {largest} m/s²");
@@ -691,7 +691,7 @@ fn identify_reads_a_px4_ulog() {
         let t = 1_000_000 + (d.time[i] * 1e6).round() as u64;
         let (p, v) = (d.pos_ned[i], d.vel_ned.as_ref().unwrap()[i]);
         w.data_f32(ids[0], t, &[p.x, p.y, p.z, v.x, v.y, v.z].map(|x| x as f32));
-        let q = DQuat::from_mat3(&DMat3::from(d.attitude.as_ref().unwrap()[i].to_matrix()));
+        let q = DQuat::from_mat3(&d.attitude.as_ref().unwrap()[i].to_matrix());
         w.data_f32(ids[1], t, &[q.w, q.x, q.y, q.z].map(|x| x as f32));
         let r = d.rates_body.as_ref().unwrap()[i];
         w.data_f32(ids[2], t, &[r.x, r.y, r.z].map(|x| x as f32));
