@@ -59,6 +59,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             vel_mps: args.noise_vel,
             rate_dps: args.noise_rate,
         },
+        accelerometer: args.noise_acc,
         seed: args.seed,
         source: format!(
             "wireflight simulate --manoeuvre {manoeuvre} --seed {}",

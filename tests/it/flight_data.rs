@@ -352,6 +352,7 @@ fn close(a: &FlightData, b: &FlightData, tol: f64) {
     v3(&a.vel_ned, &b.vel_ned, "vel_ned");
     v3(&a.vel_body, &b.vel_body, "vel_body");
     v3(&a.rates_body, &b.rates_body, "rates_body");
+    v3(&a.accel_body, &b.accel_body, "accel_body");
     let att = |x: &Option<Vec<EulerZyx>>| {
         x.as_ref().map(|v| {
             v.iter()
@@ -406,7 +407,11 @@ fn full_sample() -> FlightData {
         vel_body: Some((0..n).map(|i| v(i, 5.0)).collect()),
         rates_body: Some((0..n).map(|i| v(i, 0.01) / 30.0).collect()),
         airspeed: Some((0..n).map(|i| f(i, 20.0)).collect()),
-        accel_body: None,
+        accel_body: Some(
+            (0..n)
+                .map(|i| v(i, 0.4) - DVec3::new(0.0, 0.0, 9.8))
+                .collect(),
+        ),
         controls: Some(
             (0..n)
                 .map(|i| Controls {
@@ -436,8 +441,8 @@ fn round_trip_all_channels() {
     );
     assert!(text.contains(
         "\ntime_s,north_m,east_m,down_m,roll_deg,pitch_deg,yaw_deg,vn_mps,ve_mps,vd_mps,\
-         u_mps,v_mps,w_mps,p_dps,q_dps,r_dps,airspeed_mps,throttle,elevator_deg,aileron_deg,\
-         rudder_deg\n"
+         u_mps,v_mps,w_mps,p_dps,q_dps,r_dps,airspeed_mps,ax_mps2,ay_mps2,az_mps2,throttle,\
+         elevator_deg,aileron_deg,rudder_deg\n"
     ));
     let back = data::read(&path).unwrap();
     close(&d, &back, 1e-14);
@@ -445,6 +450,7 @@ fn round_trip_all_channels() {
     assert_eq!(d.time, back.time);
     assert_eq!(d.pos_ned, back.pos_ned);
     assert_eq!(d.vel_ned, back.vel_ned);
+    assert_eq!(d.accel_body, back.accel_body);
     // No temporaries left behind.
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }

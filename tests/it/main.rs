@@ -7,6 +7,7 @@
 
 mod support;
 
+mod accelerometer;
 mod cli;
 mod clip;
 mod diagnose;

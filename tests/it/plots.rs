@@ -46,6 +46,7 @@ fn flight(truth: &Model, manoeuvre: Manoeuvre, duration_s: f64) -> FlightData {
             vel_mps: 0.1,
             rate_dps: 0.2,
         },
+        accelerometer: None,
         seed: 7,
         source: format!("simulated {manoeuvre}"),
         aircraft: None,

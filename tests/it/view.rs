@@ -292,6 +292,7 @@ fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
             vel_mps: 0.05,
             rate_dps: 0.2,
         },
+        accelerometer: None,
         seed: 5,
         source: "tests/view.rs".into(),
         aircraft: Some("aerosonde".into()),

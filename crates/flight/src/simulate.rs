@@ -16,7 +16,8 @@ use super::trim::{trim_level, TrimError};
 use super::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
-/// Standard deviations of the Gaussian measurement noise per channel.
+/// Standard deviations of the Gaussian measurement noise per channel (the accelerometer's is
+/// [`SimSpec::accelerometer`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Noise {
     /// Position, m (each axis).
@@ -46,6 +47,10 @@ pub struct SimSpec {
     pub launch_speed_mps: f64,
     /// Measurement noise.
     pub noise: Noise,
+    /// Record an accelerometer (a fixed wing's specific force) with this noise (Gaussian, each
+    /// axis), m/s²; None: no accelerometer. Drawn from the same generator after every other
+    /// channel's noise, so the other channels of a flight are the same whatever it is.
+    pub accelerometer: Option<f64>,
     /// Noise seed.
     pub seed: u64,
     /// Free text for the `source` metadata.
@@ -69,6 +74,7 @@ impl SimSpec {
             height_m: 200.0,
             launch_speed_mps: 150.0,
             noise: Noise::default(),
+            accelerometer: None,
             seed: 1,
             source: format!("wireflight simulate --manoeuvre {manoeuvre}"),
             aircraft: None,
@@ -155,7 +161,7 @@ pub enum SimulateError {
         noise_option(.channel), num(*.sigma)
     )]
     Noise {
-        /// `position`, `attitude`, `velocity` or `rate`.
+        /// `position`, `attitude`, `velocity`, `rate` or `acceleration`.
         channel: &'static str,
         /// The standard deviation given.
         sigma: f64,
@@ -276,6 +282,7 @@ pub fn simulate_bounded(
         ("attitude", nz.att_deg),
         ("velocity", nz.vel_mps),
         ("rate", nz.rate_dps),
+        ("acceleration", spec.accelerometer.unwrap_or(0.0)),
     ] {
         if !(sigma.is_finite() && sigma >= 0.0) {
             return Err(SimulateError::Noise {
@@ -335,7 +342,10 @@ pub fn simulate_bounded(
                 let t = k as f64 * dt_out;
                 let air = model.air_data(t, &x);
                 let cmd = pilot.commands(t, dt_out, x.attitude(), x.omega().to_array(), &air);
-                truth.push_fixed_wing(t, &x, air.airspeed, cmd);
+                // What an accelerometer reads now, under the commands given now (those held
+                // until the next sample, as the controls column records them).
+                let accel = model.specific_force(t, &x, &cmd);
+                truth.push_fixed_wing(t, &x, air.airspeed, cmd, accel);
                 x = model.advance(t, &x, &cmd, t + dt_out, max_dt);
                 check_finite(&x, t)?;
             }
@@ -357,7 +367,7 @@ pub fn simulate_bounded(
             vec![("effects".to_string(), spec.listed_effects.join(","))]
         },
     };
-    Ok(truth.finish(meta, &spec.noise, spec.seed))
+    Ok(truth.finish(model, meta, &spec.noise, spec.accelerometer, spec.seed))
 }
 
 /// The option of a noise channel's level (`position` → `pos`, as in `--noise-pos`).
@@ -366,6 +376,7 @@ fn noise_option(channel: &str) -> &str {
         "position" => "pos",
         "attitude" => "att",
         "velocity" => "vel",
+        "acceleration" => "acc",
         other => other,
     }
 }
@@ -397,6 +408,7 @@ struct Recorder {
     attitude: Vec<EulerZyx>,
     rates: Vec<DVec3>,
     airspeed: Vec<f64>,
+    accel: Vec<DVec3>,
     controls: Vec<Controls>,
 }
 
@@ -410,6 +422,7 @@ impl Recorder {
             attitude: Vec::with_capacity(n),
             rates: Vec::with_capacity(n),
             airspeed: Vec::with_capacity(n),
+            accel: Vec::with_capacity(if kind == VehicleKind::FixedWing { n } else { 0 }),
             controls: Vec::with_capacity(n),
         }
     }
@@ -420,18 +433,45 @@ impl Recorder {
         self.vel_ned.push(x.vel());
     }
 
-    fn push_fixed_wing(&mut self, t: f64, x: &State, airspeed: f64, cmd: Controls) {
+    fn push_fixed_wing(&mut self, t: f64, x: &State, airspeed: f64, cmd: Controls, accel: DVec3) {
         self.time.push(t);
         self.pos.push(x.pos_ned());
         self.vel_ned.push(x.rot() * x.vel());
         self.attitude.push(x.attitude());
         self.rates.push(x.omega());
         self.airspeed.push(airspeed);
+        self.accel.push(accel);
         self.controls.push(cmd);
     }
 
     /// Add noise (controls are exact: they are what the aircraft was given) and package.
-    fn finish(mut self, meta: Metadata, noise: &Noise, seed: u64) -> FlightData {
+    /// What the sensors read of the flight (the model's measurement effects,
+    /// [`crate::sensing`]), then noise added (controls are exact: they are what the aircraft
+    /// was given), packaged.
+    fn finish(
+        self,
+        model: &Model,
+        meta: Metadata,
+        noise: &Noise,
+        accelerometer: Option<f64>,
+        seed: u64,
+    ) -> FlightData {
+        let acc = accelerometer.unwrap_or(0.0);
+        let fixed_wing = self.kind == VehicleKind::FixedWing;
+        let mut d = FlightData {
+            meta,
+            time: self.time,
+            pos_ned: self.pos,
+            attitude: fixed_wing.then_some(self.attitude),
+            vel_ned: Some(self.vel_ned),
+            vel_body: None,
+            rates_body: fixed_wing.then_some(self.rates),
+            airspeed: fixed_wing.then_some(self.airspeed),
+            accel_body: (fixed_wing && accelerometer.is_some()).then_some(self.accel),
+            controls: fixed_wing.then_some(self.controls),
+            derived: Vec::new(),
+        };
+        crate::sensing::sense(model, &mut d);
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut gauss = |sigma: f64| -> f64 {
             // `simulate_limited` checked every σ finite and ≥ 0, and `Normal::new` fails for
@@ -444,42 +484,33 @@ impl Recorder {
         };
         let att = noise.att_deg.to_radians();
         let rate = noise.rate_dps.to_radians();
-        for p in &mut self.pos {
+        for p in &mut d.pos_ned {
             *p += DVec3::new(gauss(noise.pos_m), gauss(noise.pos_m), gauss(noise.pos_m));
         }
-        for v in &mut self.vel_ned {
+        for v in d.vel_ned.iter_mut().flatten() {
             *v += DVec3::new(
                 gauss(noise.vel_mps),
                 gauss(noise.vel_mps),
                 gauss(noise.vel_mps),
             );
         }
-        for e in &mut self.attitude {
+        for e in d.attitude.iter_mut().flatten() {
             *e = EulerZyx::new(
                 e.yaw + gauss(att),
                 e.pitch + gauss(att),
                 e.roll + gauss(att),
             );
         }
-        for w in &mut self.rates {
+        for w in d.rates_body.iter_mut().flatten() {
             *w += DVec3::new(gauss(rate), gauss(rate), gauss(rate));
         }
-        for a in &mut self.airspeed {
+        for a in d.airspeed.iter_mut().flatten() {
             *a += gauss(noise.vel_mps);
         }
-        let fixed_wing = self.kind == VehicleKind::FixedWing;
-        FlightData {
-            meta,
-            time: self.time,
-            pos_ned: self.pos,
-            attitude: fixed_wing.then_some(self.attitude),
-            vel_ned: Some(self.vel_ned),
-            vel_body: None,
-            rates_body: fixed_wing.then_some(self.rates),
-            airspeed: fixed_wing.then_some(self.airspeed),
-            accel_body: None,
-            controls: fixed_wing.then_some(self.controls),
-            derived: Vec::new(),
+        // Last, so that adding the accelerometer changed no other channel's noise.
+        for a in d.accel_body.iter_mut().flatten() {
+            *a += DVec3::new(gauss(acc), gauss(acc), gauss(acc));
         }
+        d
     }
 }

@@ -383,8 +383,10 @@ Examples:
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
 figure-eight, flight-test (fixed-wing); ballistic (point-mass).
 Effects: wind, drag, density_altitude, gravity_model, earth_rotation, earth_curvature,
-prop_torque, ground_effect, actuator_lag, gyroscopic (see docs/flight-model.md).
---hidden effects fly in the truth but nothing about them is written to the file.";
+prop_torque, ground_effect, actuator_lag, gyroscopic; and what the sensors read: nav_delay,
+gyro_bias, airspeed_scale, airspeed_bias, accel_bias, attitude_offset (see
+docs/flight-model.md). --hidden effects fly in the truth (the sensors' change what the file
+records) but nothing about them is written to the file.";
 
 /// `wireflight simulate` options.
 #[derive(Debug, Args)]
@@ -426,6 +428,10 @@ pub struct SimulateArgs {
     /// Body-rate noise, degrees/s.
     #[arg(long, default_value_t = 0.0, value_parser = noise_sigma)]
     pub noise_rate: f64,
+    /// Record an accelerometer (the specific force, body FRD; fixed wing) with this noise on
+    /// each axis, m/s² (0: exact); without it the file has no accelerometer.
+    #[arg(long, value_name = "M/S²", value_parser = noise_sigma)]
+    pub noise_acc: Option<f64>,
     /// Output and autopilot rate, Hz.
     #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]
     pub rate: f64,

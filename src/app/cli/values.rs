@@ -21,7 +21,7 @@ pub(super) fn parse_vehicle(s: &str) -> Result<VehicleKind, String> {
         .map_err(|e: crate::flight::UnknownVehicle| e.to_string())
 }
 
-/// Largest noise `simulate` adds, in the option's unit (m, deg, m/s, deg/s): beyond it the
+/// Largest noise `simulate` adds, in the option's unit (m, deg, m/s, deg/s, m/s²): beyond it the
 /// "measurements" are not of a flight (and would leave the readers' ranges).
 const MAX_NOISE: f64 = 1e4;
 

@@ -123,8 +123,65 @@ pub fn fly_window(
 ) {
     fly_truth(model, d, (start, end), x0, max_dt, out, states);
     if let Some(time) = d.time.get(start..end) {
-        apply_sensors(model, time, out);
+        let delay = model.nav_delay();
+        let before = if delay > 0.0 && end > start {
+            fly_back(model, d, start, x0, max_dt, delay)
+        } else {
+            Vec::new()
+        };
+        apply_sensors(model, time, &before, out);
     }
+}
+
+/// The truth before a window's first sample that a navigation solution `delay` s late still
+/// reads inside it: the model flown backwards from the window's start `x0`, under the
+/// commands held then, to `delay` before it, recorded (position, NED velocity; earliest
+/// first) at the data's samples there. Before the flight's first sample nothing is known of
+/// it: the aircraft is taken to have flown straight on at its velocity there (as one that
+/// starts trimmed did, and as `simulate` records it). Empty where the backward flight does
+/// not stay finite (the readings then extrapolate the window's own,
+/// [`super::sensors::delay_weights`]).
+fn fly_back(
+    model: &Model,
+    d: &FlightData,
+    start: usize,
+    x0: &State,
+    max_dt: f64,
+    delay: f64,
+) -> Vec<(f64, DVec3, DVec3)> {
+    let t0 = d.time[start];
+    let spacing = d.time.get(start + 1).map_or(max_dt, |t1| t1 - t0).max(1e-6);
+    let mut out = Vec::new();
+    let (mut t, mut x, mut k) = (t0, *x0, start);
+    // Bounded: every step goes back at least `spacing` (or a sample), and no further than
+    // one sample beyond the delay.
+    let most = (delay / spacing).ceil() as usize + 2 + start.min(1 << 20);
+    for _ in 0..most {
+        if t <= t0 - delay {
+            break;
+        }
+        if k == 0 {
+            // Before the flight: straight on, back to the delay in one step.
+            let p = read_out(model, t, &x);
+            let earlier = t0 - delay;
+            out.push((earlier, p.pos_ned - p.vel_ned * (t - earlier), p.vel_ned));
+            break;
+        }
+        let (earlier, cmd) = (d.time[k - 1], controls_at(d, k - 1));
+        let (n, h) = Model::substeps(t - earlier, max_dt);
+        for i in 0..n {
+            x = model.step(t - i as f64 * h, &x, &cmd, -h);
+        }
+        if !x.is_finite() {
+            return Vec::new();
+        }
+        let p = read_out(model, earlier, &x);
+        out.push((earlier, p.pos_ned, p.vel_ned));
+        t = earlier;
+        k = k.saturating_sub(1);
+    }
+    out.reverse();
+    out
 }
 
 /// [`fly_window`] before the sensors: the predictions of the true flight.
@@ -207,18 +264,35 @@ fn reading_of(p: &Predicted) -> Reading {
     }
 }
 
-/// Turn a window's predictions of the truth (sampled at `time`) into what the sensors read
-/// under the model's measurement effects: the navigation delay first, then every effect's
-/// [`Reading`] change. Nothing to do for a model without them.
-fn apply_sensors(model: &Model, time: &[f64], out: &mut [Predicted]) {
+/// Turn a window's predictions of the truth (sampled at `time`, with `before` the truth the
+/// model flew back to before it, [`fly_back`]) into what the sensors read under the model's
+/// measurement effects: the navigation delay first, then every effect's [`Reading`] change.
+/// Nothing to do for a model without them.
+fn apply_sensors(
+    model: &Model,
+    time: &[f64],
+    before: &[(f64, DVec3, DVec3)],
+    out: &mut [Predicted],
+) {
     if !model.has_measurement_effects() || out.is_empty() {
         return;
     }
     let delay = model.nav_delay();
     if delay > 0.0 && time.len() == out.len() {
-        let truth: Vec<(DVec3, DVec3)> = out.iter().map(|p| (p.pos_ned, p.vel_ned)).collect();
+        // The truth on one time line: what was flown back to, then the window.
+        let times: Vec<f64> = before
+            .iter()
+            .map(|b| b.0)
+            .chain(time.iter().copied())
+            .collect();
+        let truth: Vec<(DVec3, DVec3)> = before
+            .iter()
+            .map(|b| (b.1, b.2))
+            .chain(out.iter().map(|p| (p.pos_ned, p.vel_ned)))
+            .collect();
+        let first = before.len();
         for (k, p) in out.iter_mut().enumerate() {
-            let w = delay_weights(time, k, delay);
+            let w = delay_weights(&times, first + k, delay);
             p.pos_ned = w.iter().map(|&(j, c)| truth[j].0 * c).sum();
             p.vel_ned = w.iter().map(|&(j, c)| truth[j].1 * c).sum();
         }

@@ -95,6 +95,9 @@ pub(super) enum Quantity {
     Lat,
     Lon,
     Alt,
+    Ax,
+    Ay,
+    Az,
 }
 
 impl Quantity {
@@ -119,6 +122,11 @@ impl Quantity {
             Q::Lat => (-FRAC_PI_2, FRAC_PI_2, "±90°"),
             Q::Lon => (-PI, TAU, "-180°..360°"),
             Q::Alt => (-1e5, 1e8, "-1e5..1e8 m"),
+            Q::Ax | Q::Ay | Q::Az => (
+                -super::MAX_ACCEL_MPS2,
+                super::MAX_ACCEL_MPS2,
+                "±490.3 m/s² (50 g)",
+            ),
         }
     }
 }
@@ -153,6 +161,9 @@ impl Quantity {
             "elevator" => Q::Elevator,
             "aileron" => Q::Aileron,
             "rudder" => Q::Rudder,
+            "ax" => Q::Ax,
+            "ay" => Q::Ay,
+            "az" => Q::Az,
             _ => return None,
         })
     }
@@ -165,8 +176,8 @@ impl Quantity {
 }
 
 /// Number of [`Quantity`] variants.
-pub(super) const N_QUANTITIES: usize = 24;
-const _: () = assert!(Quantity::Alt as usize + 1 == N_QUANTITIES);
+pub(super) const N_QUANTITIES: usize = 27;
+const _: () = assert!(Quantity::Az as usize + 1 == N_QUANTITIES);
 
 /// Every [`Quantity`], indexed by its value.
 pub(super) const QUANTITIES: [Quantity; N_QUANTITIES] = {
@@ -196,6 +207,9 @@ pub(super) const QUANTITIES: [Quantity; N_QUANTITIES] = {
         Q::Lat,
         Q::Lon,
         Q::Alt,
+        Q::Ax,
+        Q::Ay,
+        Q::Az,
     ]
 };
 const _: () = {
@@ -215,13 +229,16 @@ pub(super) const CONTROLS: [Quantity; 4] = [
     Quantity::Aileron,
     Quantity::Rudder,
 ];
+/// The accelerometer columns (a set).
+pub(super) const ACCELEROMETER: [Quantity; 3] = [Quantity::Ax, Quantity::Ay, Quantity::Az];
 /// Columns that come as a set, by name: a file has all of a set or none of it.
-pub(super) const GROUPS: [(&str, &[Quantity]); 5] = [
+pub(super) const GROUPS: [(&str, &[Quantity]); 6] = [
     ("attitude", &ATTITUDE),
     ("NED velocity", &[Quantity::Vn, Quantity::Ve, Quantity::Vd]),
     ("body velocity", &[Quantity::U, Quantity::V, Quantity::W]),
     ("body rates", &[Quantity::P, Quantity::Q, Quantity::R]),
     ("controls", &CONTROLS),
+    ("accelerometer", &ACCELEROMETER),
 ];
 
 /// The two kinds of file the reader accepts (see [`super`]).
@@ -283,6 +300,9 @@ pub(super) fn native_column(name: &str) -> Option<(Quantity, f64)> {
         "aileron_rad" => (Quantity::Aileron, 1.0),
         "rudder_deg" => (Quantity::Rudder, d),
         "rudder_rad" => (Quantity::Rudder, 1.0),
+        "ax_mps2" => (Quantity::Ax, 1.0),
+        "ay_mps2" => (Quantity::Ay, 1.0),
+        "az_mps2" => (Quantity::Az, 1.0),
         _ => return None,
     })
 }
@@ -369,6 +389,9 @@ pub(super) fn column_label(dialect: Dialect, q: Quantity) -> &'static str {
             Quantity::Elevator => "elevator_deg (or elevator_rad)",
             Quantity::Aileron => "aileron_deg (or aileron_rad)",
             Quantity::Rudder => "rudder_deg (or rudder_rad)",
+            Quantity::Ax => "ax_mps2",
+            Quantity::Ay => "ay_mps2",
+            Quantity::Az => "az_mps2",
             Quantity::Lat | Quantity::Lon | Quantity::Alt => "(geodetic position)",
         },
         Dialect::Jsbsim => match q {
@@ -396,6 +419,9 @@ pub(super) fn column_label(dialect: Dialect, q: Quantity) -> &'static str {
             Quantity::Aileron => "aileron (controls are not read from JSBSim output)",
             Quantity::Rudder => "rudder (controls are not read from JSBSim output)",
             Quantity::North | Quantity::East | Quantity::Down => "(NED position)",
+            Quantity::Ax | Quantity::Ay | Quantity::Az => {
+                "accelerometer (not read from JSBSim output)"
+            }
         },
     }
 }

@@ -21,14 +21,15 @@
 //!
 //! SCALE is a unit name ([`UNITS`]: `us`, `deg`, `ft`, `kt`, `deg/s`, `%`, …), a number, or
 //! both as `NUMBER*UNIT` (`1e-7*deg`); it converts the column to SI units (seconds, metres,
-//! radians, m/s, rad/s, throttle 0..1). OFFSET (SI, added after scaling) shifts a column, e.g.
+//! radians, m/s, rad/s, m/s², throttle 0..1). OFFSET (SI, added after scaling) shifts a column, e.g.
 //! the time: `time=t:s:-120` makes 120 s read as 0. A unit of the wrong kind for its quantity
 //! (`roll=phi:ft`) is an error.
 //!
 //! Quantities ([`QUANTITIES`]): `time`; the position as `north, east, down` (or `height` for
 //! −down) or geodetic `lat, lon, alt` (made local NED about the first row on a flat earth, the
 //! origin going into the metadata); `roll, pitch, yaw`; `vn, ve, vd`; `u, v, w`; `p, q, r`;
-//! `airspeed`; `throttle, elevator, aileron, rudder`. Sets come whole (all of
+//! `airspeed`; `throttle, elevator, aileron, rudder`; the accelerometer `ax, ay, az` (specific
+//! force in body axes FRD; units `m/s2`, `g`, `mg`, `ft/s2`). Sets come whole (all of
 //! `roll, pitch, yaw` or none), as in the project's CSV.
 //!
 //! # The file
@@ -59,6 +60,8 @@ pub enum Dimension {
     AngularRate,
     /// 0..1
     Fraction,
+    /// m/s²
+    Acceleration,
 }
 
 impl Dimension {
@@ -71,6 +74,7 @@ impl Dimension {
             Self::Speed => "a speed",
             Self::AngularRate => "an angular rate",
             Self::Fraction => "a fraction",
+            Self::Acceleration => "an acceleration",
         }
     }
 
@@ -110,6 +114,13 @@ pub const UNITS: &[(&str, f64, Dimension)] = &[
     ("deg/s", PI / 180.0, Dimension::AngularRate),
     ("dps", PI / 180.0, Dimension::AngularRate),
     ("%", 0.01, Dimension::Fraction),
+    ("m/s2", 1.0, Dimension::Acceleration),
+    ("m/s²", 1.0, Dimension::Acceleration),
+    ("mps2", 1.0, Dimension::Acceleration),
+    ("g", crate::G0, Dimension::Acceleration),
+    ("mg", 1e-3 * crate::G0, Dimension::Acceleration),
+    ("ft/s2", METRES_PER_FOOT, Dimension::Acceleration),
+    ("ft/s²", METRES_PER_FOOT, Dimension::Acceleration),
 ];
 
 /// Quantities a map may give: name, dimension, what it is.
@@ -139,6 +150,9 @@ pub const QUANTITIES: &[(&str, Dimension, &str)] = &[
     ("elevator", Dimension::Angle, "elevator"),
     ("aileron", Dimension::Angle, "aileron"),
     ("rudder", Dimension::Angle, "rudder"),
+    ("ax", Dimension::Acceleration, "accelerometer x (forward)"),
+    ("ay", Dimension::Acceleration, "accelerometer y (right)"),
+    ("az", Dimension::Acceleration, "accelerometer z (down)"),
 ];
 
 /// Sets that come whole.
@@ -148,6 +162,7 @@ const SETS: &[(&str, &[&str])] = &[
     ("body velocity", &["u", "v", "w"]),
     ("body rates", &["p", "q", "r"]),
     ("controls", &["throttle", "elevator", "aileron", "rudder"]),
+    ("accelerometer", &["ax", "ay", "az"]),
 ];
 
 /// A column map that cannot be used: the map's file, when it came from one, and what is wrong.

@@ -74,6 +74,11 @@ pub const MPS_PER_KNOT: f64 = 1852.0 / 3600.0;
 /// Earth radius of the flat-earth conversion of JSBSim geodetic positions, m.
 pub const EARTH_RADIUS_M: f64 = 6_371_000.0;
 
+/// Largest accelerometer reading a reader accepts on any axis, m/s²: 50 g. Airframes break
+/// long before (aerobatic aircraft are built for about 10 g, small drones survive crashes of
+/// more), so beyond it a number is a unit mistake (mg, raw counts) or a glitch, not a flight.
+pub const MAX_ACCEL_MPS2: f64 = 50.0 * crate::G0;
+
 /// Name recorded in [`FlightData::derived`] when the NED velocity was derived.
 pub const DERIVED_VEL_NED: &str = "vel_ned";
 /// Name recorded in [`FlightData::derived`] when the body velocity was derived.
@@ -127,8 +132,9 @@ pub struct FlightData {
     pub rates_body: Option<Vec<DVec3>>,
     /// Airspeed, m/s.
     pub airspeed: Option<Vec<f64>>,
-    /// Specific force (what an accelerometer at the centre of gravity reads), body axes
-    /// (FRD), m/s²: a level, unaccelerated airplane reads about (0, 0, −g).
+    /// Accelerometer: the specific force at the centre of gravity in body axes (FRD), m/s² —
+    /// the acceleration relative to inertial space less gravity, so a level, unaccelerated
+    /// airplane reads about (0, 0, −9.81). Within ±[`MAX_ACCEL_MPS2`] on every axis.
     pub accel_body: Option<Vec<DVec3>>,
     /// Control commands: throttle 0..1, surfaces in radians; held from each sample to the next.
     pub controls: Option<Vec<Controls>>,
@@ -353,6 +359,7 @@ impl FlightData {
         check_len("vel_body", self.vel_body.as_ref().map(Vec::len))?;
         check_len("rates_body", self.rates_body.as_ref().map(Vec::len))?;
         check_len("airspeed", self.airspeed.as_ref().map(Vec::len))?;
+        check_len("accel_body", self.accel_body.as_ref().map(Vec::len))?;
         check_len("controls", self.controls.as_ref().map(Vec::len))?;
         for (i, t) in self.time.iter().enumerate() {
             if !t.is_finite() {
@@ -376,6 +383,7 @@ impl FlightData {
         vecs("vel_ned", self.vel_ned.as_ref())?;
         vecs("vel_body", self.vel_body.as_ref())?;
         vecs("rates_body", self.rates_body.as_ref())?;
+        vecs("accel_body", self.accel_body.as_ref())?;
         if let Some(i) = self
             .attitude
             .as_ref()

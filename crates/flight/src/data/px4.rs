@@ -8,6 +8,7 @@
 //! | attitude | `vehicle_attitude` `q[0..4]` (w, x, y, z; FRD body → NED) → z-y-x angles | slerp |
 //! | body rates | `vehicle_angular_velocity` `xyz[0..3]`; older logs `vehicle_attitude` `rollspeed, pitchspeed, yawspeed` | linear |
 //! | airspeed | `airspeed` `true_airspeed_m_s`, else `airspeed_validated` | linear |
+//! | accelerometer | `sensor_combined` `accelerometer_m_s2[0..3]` (the sensor's specific force, FRD), else `vehicle_acceleration` `xyz[0..3]` (the estimator's, bias-corrected) | linear |
 //! | controls | `actuator_controls_0` `control[0..4]` (roll, pitch, yaw, throttle), else `vehicle_torque_setpoint` `xyz` with `vehicle_thrust_setpoint` `xyz[0]` | held (zero-order) |
 //!
 //! PX4's normalised commands (−1..1) become surface deflections of ±[`UlogOptions::surface_max_deg`]
@@ -26,7 +27,7 @@
 //! order are sorted and noted (more than 1 % of a topic's is an error: not a time series),
 //! repeated time stamps keep the last; a time stamp more than 1e9 s from the log's start is an
 //! error. Values are held to the CSV reader's ranges (positions ±1e8 m, velocities ±1e5 m/s,
-//! rates ±1e4 rad/s, latitude, longitude, altitude, surfaces ±90°), derived channels too, the
+//! rates ±1e4 rad/s, accelerations ±50 g, latitude, longitude, altitude, surfaces ±90°), derived channels too, the
 //! error naming the topic, field and time stamp. Attitude is used only when at least half its
 //! quaternions are near unit length (the report says how many are). The time base may hold
 //! at most [`MAX_SAMPLES_PER_SAMPLE`] samples per position and attitude sample of the log (at
@@ -72,7 +73,7 @@ pub const MIN_COVERAGE: f64 = 0.9;
 pub const GAP_NOTE_S: f64 = 1.0;
 
 /// The topics read (others are only counted).
-pub const TOPICS: [&str; 11] = [
+pub const TOPICS: [&str; 13] = [
     "vehicle_local_position",
     "vehicle_global_position",
     "vehicle_gps_position",
@@ -80,6 +81,8 @@ pub const TOPICS: [&str; 11] = [
     "vehicle_angular_velocity",
     "airspeed",
     "airspeed_validated",
+    "sensor_combined",
+    "vehicle_acceleration",
     "actuator_controls_0",
     "vehicle_torque_setpoint",
     "vehicle_thrust_setpoint",
@@ -347,6 +350,42 @@ pub fn from_ulog(
         None => report.channel("airspeed", "airspeed", 0, None, false, "not in the log"),
     }
 
+    // Accelerometer: the sensor's, else the estimator's; PX4's body axes are FRD already.
+    let accel = match get(
+        "sensor_combined",
+        &[
+            "accelerometer_m_s2[0]",
+            "accelerometer_m_s2[1]",
+            "accelerometer_m_s2[2]",
+        ],
+    )? {
+        Some(a) => Some((a, "accelerometer_m_s2[0..3]")),
+        None => {
+            get("vehicle_acceleration", &["xyz[0]", "xyz[1]", "xyz[2]"])?.map(|a| (a, "xyz[0..3]"))
+        }
+    };
+    match accel {
+        Some((a, fields)) => {
+            a.check_all(file, &[Quantity::Ax, Quantity::Ay, Quantity::Az])?;
+            if use_channel(&mut report, "accelerometer", &a, fields, span, "") {
+                let c = a.linear(&grid);
+                data.accel_body = Some(
+                    (0..grid.len())
+                        .map(|k| DVec3::new(c[0][k], c[1][k], c[2][k]))
+                        .collect(),
+                );
+            }
+        }
+        None => report.channel(
+            "accelerometer",
+            "sensor_combined",
+            0,
+            None,
+            false,
+            "not in the log",
+        ),
+    }
+
     // Controls.
     controls(file, &get, options, &grid, span, &mut data, &mut report)?;
     if let Some(o) = log.topic("actuator_outputs") {
@@ -498,7 +537,7 @@ fn derived_in_range(data: &FlightData, zero_us: f64) -> Result<(), String> {
         .map(|a| a.iter().map(|&v| DVec3::new(v, 0.0, 0.0)).collect());
     // (channel, its key in `derived`, values, their quantities)
     type Channel<'a> = (&'a str, &'a str, Option<&'a Vec<DVec3>>, [Q; 3]);
-    let channels: [Channel<'_>; 6] = [
+    let channels: [Channel<'_>; 7] = [
         (
             "position",
             "pos_ned",
@@ -530,6 +569,12 @@ fn derived_in_range(data: &FlightData, zero_us: f64) -> Result<(), String> {
             [Q::Roll, Q::Pitch, Q::Yaw],
         ),
         ("airspeed", "airspeed", air.as_ref(), [Q::Airspeed; 3]),
+        (
+            "accelerometer",
+            "accel_body",
+            data.accel_body.as_ref(),
+            [Q::Ax, Q::Ay, Q::Az],
+        ),
     ];
     for (name, key, values, qs) in channels {
         let Some(values) = values else { continue };

@@ -534,6 +534,7 @@ fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightDa
     let vel_ned = opt_vec3([Q::Vn, Q::Ve, Q::Vd]);
     let vel_body = opt_vec3([Q::U, Q::V, Q::W]);
     let rates_body = opt_vec3([Q::P, Q::Q, Q::R]);
+    let accel_body = opt_vec3([Q::Ax, Q::Ay, Q::Az]);
     let airspeed = header.has(Q::Airspeed).then(|| values.take(Q::Airspeed));
     let controls = header.has(Q::Throttle).then(|| {
         let t = values.take(Q::Throttle);
@@ -561,7 +562,7 @@ fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightDa
         vel_body,
         rates_body,
         airspeed,
-        accel_body: None,
+        accel_body,
         controls,
         derived: Vec::new(),
     }
@@ -664,6 +665,52 @@ mod tests {
         assert_eq!(line_of(b"a\rb\r\nc\n\rd\r"), 6);
         assert_eq!(line_of(b"a\rb\r\nc\n\rd"), 5);
         assert_eq!(line_of(b""), 1);
+    }
+
+    #[test]
+    fn accelerometer_columns_come_as_a_set_within_fifty_g() {
+        let head = "time_s,north_m,east_m,down_m,ax_mps2,ay_mps2,az_mps2\n";
+        let d = parse(
+            &format!("{head}0,0,0,0,0.5,-0.25,-9.81\n1,1,0,0,0,0,-9.8\n"),
+            "a.csv",
+        )
+        .unwrap();
+        let a = d.accel_body.as_ref().unwrap();
+        assert_eq!(a[0], DVec3::new(0.5, -0.25, -9.81));
+        assert_eq!(a.len(), 2);
+        // Without the columns there is no accelerometer (it is never derived).
+        let d = parse("time_s,north_m,east_m,down_m\n0,0,0,0\n", "a.csv").unwrap();
+        assert!(d.accel_body.is_none());
+        // Part of the set: the missing columns named, on the header's line.
+        let e = parse(
+            "# vehicle: point-mass\ntime_s,north_m,east_m,down_m,ax_mps2,az_mps2\n0,0,0,0,0,0\n",
+            "p.csv",
+        )
+        .unwrap_err();
+        assert_eq!(e.line, Some(2));
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("p.csv: line 2: missing required column ay_mps2: accelerometer"),
+            "{msg}"
+        );
+        // Not finite, and beyond 50 g: the file, line and column.
+        for (cell, want) in [
+            ("NaN", "not a finite number: `NaN`"),
+            ("inf", "not a finite number: `inf`"),
+            (
+                "-491",
+                "`-491` is outside the range of a flight: ±490.3 m/s² (50 g)",
+            ),
+        ] {
+            let text = format!("{head}0,0,0,0,0,0,-9.8\n1,0,0,0,0,{cell},-9.8\n");
+            let e = parse(&text, "r.csv").unwrap_err();
+            assert_eq!(
+                e.to_string(),
+                format!("r.csv: line 3, column `ay_mps2`: {want}")
+            );
+        }
+        let text = format!("{head}0,0,0,0,0,0,490\n");
+        assert!(parse(&text, "r.csv").is_ok());
     }
 
     #[test]

@@ -117,6 +117,7 @@ pub fn to_csv_string(data: &FlightData) -> String {
         .as_deref()
         .filter(|_| keep(DERIVED_RATES_BODY));
     let air = data.airspeed.as_deref().filter(|_| keep("airspeed"));
+    let acc = data.accel_body.as_deref().filter(|_| keep("accel_body"));
     let ctl = data.controls.as_deref().filter(|_| keep("controls"));
 
     let mut header = vec!["time_s", "north_m", "east_m", "down_m"];
@@ -134,6 +135,9 @@ pub fn to_csv_string(data: &FlightData) -> String {
     }
     if air.is_some() {
         header.push("airspeed_mps");
+    }
+    if acc.is_some() {
+        header.extend(["ax_mps2", "ay_mps2", "az_mps2"]);
     }
     if ctl.is_some() {
         header.extend(["throttle", "elevator_deg", "aileron_deg", "rudder_deg"]);
@@ -167,6 +171,10 @@ pub fn to_csv_string(data: &FlightData) -> String {
         }
         if let Some(a) = air {
             row.push(a.get(i).copied().unwrap_or(f64::NAN));
+        }
+        if let Some(a) = acc {
+            let a = a.get(i).copied().unwrap_or(nan3);
+            row.extend([a.x, a.y, a.z]);
         }
         if let Some(c) = ctl {
             let c = c.get(i).copied().unwrap_or(Controls {

@@ -30,6 +30,10 @@ pub struct Row {
     pub controls: Controls,
     /// Surface positions (= commands unless actuator lag).
     pub surfaces: V3,
+    /// What an accelerometer at the centre of gravity reads (fixed wing): the specific force,
+    /// the non-gravitational force over the mass in body axes (FRD), m/s², under the commands
+    /// of this row.
+    pub accel: V3,
 }
 
 /// A simulated flight.
@@ -63,7 +67,15 @@ pub fn fmt_num(x: f64) -> String {
 impl Flight {
     /// CSV text per flight-data.md with the given measurement noise (deterministic per seed).
     pub fn to_csv(&self, noise: &Noise, seed: u64) -> String {
+        self.to_csv_with(noise, seed, false)
+    }
+
+    /// [`to_csv`](Self::to_csv), with the accelerometer columns (`ax_mps2, ay_mps2, az_mps2`,
+    /// fixed wing) when `accelerometer`. Their noise (`noise.accel_mps2`) comes from a stream
+    /// of its own, so the other columns are the same with and without them.
+    pub fn to_csv_with(&self, noise: &Noise, seed: u64, accelerometer: bool) -> String {
         let mut rng = Rng::new(seed);
+        let mut rng_acc = Rng::new(seed ^ 0xACCE_1E20_0E7E_2000);
         let mut s = String::with_capacity(self.rows.len() * 300 + 512);
         let vehicle = match self.vehicle {
             VehicleKind::FixedWing => "fixed-wing",
@@ -84,7 +96,14 @@ impl Flight {
         }
         let _ = writeln!(s, "# source: {}", self.source);
         let fw = self.vehicle == VehicleKind::FixedWing;
-        if fw {
+        let acc = fw && accelerometer;
+        if acc {
+            s.push_str(
+                "time_s,north_m,east_m,down_m,roll_deg,pitch_deg,yaw_deg,vn_mps,ve_mps,vd_mps,\
+                 p_dps,q_dps,r_dps,airspeed_mps,ax_mps2,ay_mps2,az_mps2,throttle,elevator_deg,\
+                 aileron_deg,rudder_deg\n",
+            );
+        } else if fw {
             s.push_str(
                 "time_s,north_m,east_m,down_m,roll_deg,pitch_deg,yaw_deg,vn_mps,ve_mps,vd_mps,\
                  p_dps,q_dps,r_dps,airspeed_mps,throttle,elevator_deg,aileron_deg,rudder_deg\n",
@@ -113,6 +132,16 @@ impl Flight {
                     cells.push(r.pqr[k] / DEG + nz(noise.rate_dps));
                 }
                 cells.push(r.airspeed + nz(noise.airspeed_mps));
+                if acc {
+                    for k in 0..3 {
+                        let e = if noise.accel_mps2 > 0.0 {
+                            noise.accel_mps2 * rng_acc.normal()
+                        } else {
+                            0.0
+                        };
+                        cells.push(r.accel[k] + e);
+                    }
+                }
                 let c = r.controls;
                 cells.extend([
                     c.throttle,
@@ -232,6 +261,7 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
             let r = rot_body_to_ned(x[ix::PHI], x[ix::THETA], x[ix::PSI]);
             let uvw = [x[ix::U], x[ix::V], x[ix::W]];
             let (va, alpha, beta) = model.air_data(&x);
+            let (force, _) = model.force_moment(&x, &cmd);
             rows.push(Row {
                 time_s: opts.time_offset_s + (i - n_pre) as f64 / rate,
                 t_flight: t,
@@ -245,6 +275,7 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
                 beta,
                 controls: cmd,
                 surfaces: model.surfaces(&x, &cmd),
+                accel: v_scale(force, 1.0 / opts.params.mass_kg),
             });
         }
         if i < n_pre + n_rec {
@@ -278,4 +309,9 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
 /// Fly and write CSV with `opts.noise` / `opts.seed`.
 pub fn flight_csv(opts: &FlightOptions) -> Result<String, String> {
     Ok(fly(opts)?.to_csv(&opts.noise, opts.seed))
+}
+
+/// [`flight_csv`] with the accelerometer columns.
+pub fn flight_csv_with_accelerometer(opts: &FlightOptions) -> Result<String, String> {
+    Ok(fly(opts)?.to_csv_with(&opts.noise, opts.seed, true))
 }

@@ -59,6 +59,8 @@ pub struct Noise {
     pub velocity_mps: f64,
     pub rate_dps: f64,
     pub airspeed_mps: f64,
+    /// Accelerometer, m/s² per axis (written only by `Flight::to_csv_with`).
+    pub accel_mps2: f64,
 }
 
 impl Noise {
@@ -78,6 +80,7 @@ impl Noise {
             velocity_mps,
             rate_dps,
             airspeed_mps,
+            accel_mps2: 0.0,
         }
     }
     pub fn is_none(&self) -> bool {

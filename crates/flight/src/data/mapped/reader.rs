@@ -285,6 +285,7 @@ pub fn parse(
     data.vel_body = vec3("u", "v", "w");
     data.rates_body = vec3("p", "q", "r");
     data.airspeed = take("airspeed");
+    data.accel_body = vec3("ax", "ay", "az");
     data.controls = match (
         take("throttle"),
         take("elevator"),
@@ -331,7 +332,7 @@ pub fn parse(
             .collect::<Vec<_>>()
             .join(", ")
     };
-    let channels: [(&str, &[&str]); 9] = [
+    let channels: [(&str, &[&str]); 10] = [
         ("time", &["time"]),
         (
             "position",
@@ -342,10 +343,11 @@ pub fn parse(
         ("body velocity", &["u", "v", "w"]),
         ("body rates", &["p", "q", "r"]),
         ("airspeed", &["airspeed"]),
+        ("accelerometer", &["ax", "ay", "az"]),
         ("controls", &["throttle", "elevator", "aileron", "rudder"]),
         ("derived", &[]),
     ];
-    for (name, qs) in &channels[..8] {
+    for (name, qs) in &channels[..9] {
         if qs.iter().any(|q| map.has(q)) {
             let note = if *name == "position" && map.has("lat") {
                 "local NED about the first row (flat earth)"

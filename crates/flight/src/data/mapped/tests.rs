@@ -198,3 +198,42 @@ fn a_lone_cr_ends_a_line() {
         assert_eq!(d.len(), 2, "{end:?}");
     }
 }
+
+#[test]
+fn accelerometer_in_m_s2_g_and_ft_s2() {
+    let map = ColumnMap::parse("time=t,north=n,east=e,down=d,ax=fx:g,ay=fy:ft/s2,az=fz").unwrap();
+    assert_eq!(map.get("ax").unwrap().scale, crate::G0);
+    assert_eq!(map.get("ay").unwrap().scale, METRES_PER_FOOT);
+    let text = "t,n,e,d,fx,fy,fz\n0,0,0,0,0.1,1,-9.8\n1,1,0,0,-0.1,-1,-9.7\n";
+    let (d, report) = parse(text, "acc.csv", &map).unwrap();
+    let a = d.accel_body.as_ref().unwrap();
+    assert!((a[0].x - 0.1 * crate::G0).abs() < 1e-12, "{}", a[0]);
+    assert!((a[1].y + METRES_PER_FOOT).abs() < 1e-12, "{}", a[1]);
+    assert_eq!(a[1].z, -9.7);
+    let line = report.to_string();
+    assert!(
+        line.contains("accelerometer  fx [g], fy [ft/s2], fz"),
+        "{line}"
+    );
+    // A set comes whole; a unit of another kind is refused.
+    let e = ColumnMap::parse("time=t,north=n,east=e,down=d,ax=fx").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("accelerometer comes as a set: `ax` is mapped, so map ay, az too"),
+        "{e}"
+    );
+    let e = ColumnMap::parse("time=t,north=n,east=e,down=d,ax=a:m/s,ay=b,az=c").unwrap_err();
+    assert!(
+        e.to_string()
+            .contains("`m/s` is a speed but ax is an acceleration"),
+        "{e}"
+    );
+    // 60 g read as g: beyond the 50 g of every reader, naming the line and column.
+    let map = ColumnMap::parse("time=t,north=n,east=e,down=d,ax=fx:g,ay=fy,az=fz").unwrap();
+    let text = "t,n,e,d,fx,fy,fz\n0,0,0,0,0,0,-9.8\n1,0,0,0,60,0,-9.8\n";
+    let e = parse(text, "acc.csv", &map).unwrap_err().to_string();
+    assert_eq!(
+        e,
+        "acc.csv: line 3, column `fx`: `60 g` is outside the range of a flight: ±490.3 m/s² (50 g)"
+    );
+}
