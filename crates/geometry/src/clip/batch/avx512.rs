@@ -295,15 +295,18 @@ unsafe fn step<const ZERO_TO_ONE: bool>(
     // Outside some plane: the least of the twelve boundary coordinates is < 0. Both ends
     // outside one plane: the least over the planes of the greater of the two is.
     let (ba, bc) = (bc_ps::<ZERO_TO_ONE>(pa), bc_ps::<ZERO_TO_ONE>(pc));
-    let mut lowest = _mm512_min_ps(ba[0], bc[0]);
+    let (mut lowest_a, mut lowest_c) = (ba[0], bc[0]);
     let mut shared = _mm512_max_ps(ba[0], bc[0]);
     for i in 1..6 {
-        lowest = _mm512_min_ps(lowest, _mm512_min_ps(ba[i], bc[i]));
+        lowest_a = _mm512_min_ps(lowest_a, ba[i]);
+        lowest_c = _mm512_min_ps(lowest_c, bc[i]);
         shared = _mm512_min_ps(shared, _mm512_max_ps(ba[i], bc[i]));
     }
     let zero = _mm512_setzero_ps();
     let finite = finite_mask(pa, pc) & live;
-    let either = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest, zero);
+    // A outside some plane (the same signs as the lanes' `f64` boundary coordinates).
+    let a_out = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest_a, zero);
+    let either = a_out | _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest_c, zero);
     let both = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, shared, zero);
     let in_front = _mm512_mask_cmp_ps_mask::<_CMP_GT_OQ>(
         _mm512_cmp_ps_mask::<_CMP_GT_OQ>(pa[3], zero),
@@ -331,12 +334,14 @@ unsafe fn step<const ZERO_TO_ONE: bool>(
         packed[k] = _mm512_permutexvar_ps(pick, ends[k]);
     }
     let n = cross.count_ones();
+    // The packed lanes whose A is outside some plane: where none is, no lane enters.
+    let a_out = _pext_u32(u32::from(a_out), u32::from(cross));
     // Clip them eight at a time in `f64`.
     let low = |v: __m512| _mm512_castps512_ps256(v);
     let high = |v: __m512| _mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(_mm512_castps_pd(v)));
     let live_lo = if n >= 8 { 0xFF } else { (1u8 << n) - 1 };
     let (mut visible, mut scalar) = {
-        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(low), live_lo);
+        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(low), live_lo, a_out as u8);
         for k in 0..4 {
             clipped[k] = _mm512_castps256_ps512(p[k]);
             clipped[4 + k] = _mm512_castps256_ps512(q[k]);
@@ -345,7 +350,7 @@ unsafe fn step<const ZERO_TO_ONE: bool>(
     };
     if n > 8 {
         let live_hi = if n >= 16 { 0xFF } else { (1u8 << (n - 8)) - 1 };
-        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(high), live_hi);
+        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(high), live_hi, (a_out >> 8) as u8);
         let join = |lo: __m512, hi: __m256| {
             _mm512_castpd_ps(_mm512_insertf64x4::<1>(
                 _mm512_castps_pd(lo),
@@ -425,7 +430,8 @@ unsafe fn scalar_lanes<const ZERO_TO_ONE: bool>(
 }
 
 /// Eight packed crossing edges (`e`: A's x, y, z, w, then C's, as `f32`; bit l of `live`:
-/// lane l holds an edge): their clipped ends; returns them with the masks of lanes drawn and
+/// lane l holds an edge; `may_enter` zero: no lane's A is outside a plane, so none enters,
+/// and the entry tests are skipped): their clipped ends; returns them with the masks of lanes drawn and
 /// of lanes left to the scalar code.
 ///
 /// Operation for operation [`clip_crossing`]: the `f64` boundary coordinates
@@ -442,6 +448,7 @@ unsafe fn scalar_lanes<const ZERO_TO_ONE: bool>(
 unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
     e: [__m256; 8],
     live: u8,
+    may_enter: u8,
 ) -> ([__m256; 4], [__m256; 4], u8, u8) {
     let mut a = [_mm512_setzero_pd(); 4];
     let mut c = [_mm512_setzero_pd(); 4];
@@ -456,7 +463,11 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
     let mut t_out = _mm512_set1_pd(1.0);
     let (mut enters, mut leaves) = (0u8, 0u8);
     for i in 0..6 {
-        let enter = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live;
+        let enter = if may_enter != 0 {
+            _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live
+        } else {
+            0
+        };
         let leave = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(c_bc[i], zero) & live;
         if enter | leave != 0 {
             let t_hit = _mm512_div_pd(a_bc[i], _mm512_sub_pd(a_bc[i], c_bc[i]));
