@@ -13,9 +13,10 @@
 //!   ([`clip_coded`]). A vertex shared by four edges is classified once instead of four times.
 //! * Flat edge lists in structure-of-arrays form ([`EdgesSoa`] → [`SegmentsSoa`]): blocks of
 //!   [`BLOCK`] edges; a block that is all inside is copied out whole (nine bulk copies). Any
-//!   other block, where the CPU has AVX-512 (`batch/avx512.rs`): classified with masks, its
-//!   crossing edges packed into lanes and clipped eight at a time in `f64` (all six planes at
-//!   once, [`clip_crossing`]'s arithmetic operation for operation), and compacted straight
+//!   other block, where the CPU has AVX-512 (`batch/avx512.rs`): one pass of 16-edge steps,
+//!   each classified with masks, its crossing edges packed into lanes and clipped eight at a
+//!   time in `f64` (all six planes at once, [`clip_crossing`]'s arithmetic operation for
+//!   operation), and compacted straight
 //!   into the output. Elsewhere (the portable build, and its crossing lanes compiled for AVX2 where
 //!   the CPU has it): the codes of the block's endpoints from straight-line compares, the
 //!   crossing edges gathered into lanes and clipped there, and the block compacted through a
@@ -302,8 +303,9 @@ pub fn clip_soa(edges: &EdgesSoa, depth: DepthRange, out: &mut SegmentsSoa) -> C
 /// this machine can).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Path {
-    /// Three masked passes per block (`batch/avx512.rs`): classify and pack the crossing
-    /// edges, clip them eight at a time in `f64`, compact by permutes. AVX-512F, BMI2, POPCNT.
+    /// One masked pass per block (`batch/avx512.rs`): classify 16 edges, pack the crossing
+    /// ones into lanes, clip them eight at a time in `f64`, compact by permutes.
+    /// AVX-512F, BMI2, POPCNT.
     #[cfg(target_arch = "x86_64")]
     Avx512,
     /// The portable code with its crossing lanes compiled for AVX2.

@@ -1,22 +1,22 @@
 //! [`super::clip_soa`] with AVX-512: every block that is not trivially accepted is clipped
-//! with masks, in three passes and no branch per edge.
+//! with masks in one pass of 16-edge steps, with no branch per edge and nothing but the
+//! output written to memory.
 //!
-//! 1. **Classify** (16 edges per step, `f32`): the twelve boundary coordinates of both ends;
-//!    the least of them (< 0: outside some plane), the least over the planes of the greater
-//!    of each pair (< 0: both ends outside one plane), a finiteness test, and from them four
-//!    lane masks: trivially accepted and drawn, trivially rejected, non-finite, crossing
-//!    (finite, neither trivial). The crossing edges are packed into lanes (one compress of
-//!    the lane numbers, then one permute per coordinate: no gather).
-//! 2. **Clip the lanes** (8 edges per step, `f64`): [`super::super::blinn::clip_crossing`]'s
-//!    arithmetic in the same operations and order, all six planes at once with masks (a plane
-//!    no lane crosses is skipped), `t_in`/`t_out` by masked max/min, the new ends, and
-//!    `settle()`'s test (both only for the side some lane moves: mostly the start points
-//!    are inside, and then they are passed through). The rare lanes whose result could
-//!    depend on the order of ties (an exit parameter of ±0) or that `settle()` would
-//!    recompute take the scalar code.
-//! 3. **Compact** (16 edges per step): each drawn edge's own ends, or for a crossing edge its
-//!    lane's clipped ends, picked by one two-table permute per coordinate and stored straight
-//!    into the output's spare capacity.
+//! Per step: **classify** (`f32`): the twelve boundary coordinates of both ends; the least of
+//! them (< 0: outside some plane), the least over the planes of the greater of each pair
+//! (< 0: both ends outside one plane), a finiteness test, and from them the lane masks:
+//! trivially accepted and drawn, trivially rejected, non-finite, crossing (finite, neither
+//! trivial). **Pack** the crossing edges into the low lanes of registers (one compress of the
+//! lane numbers, then one permute per coordinate). **Clip the lanes** (eight at a time, `f64`):
+//! [`super::super::blinn::clip_crossing`]'s arithmetic in the same operations and order, all
+//! six planes at once with masks (a plane no lane crosses is skipped), `t_in`/`t_out` by
+//! masked max/min, the new ends, and `settle()`'s test (both only for the side some lane
+//! moves: mostly the start points are inside, and then they are passed through). The rare
+//! lanes whose result could depend on the order of ties (an exit parameter of ±0) or that
+//! `settle()` would recompute take the scalar code. **Compact**: each drawn edge's own ends,
+//! or for a crossing edge its lane's clipped ends, picked by one two-table permute per
+//! coordinate and stored straight into the output's spare capacity. The inputs are
+//! prefetched two blocks ahead (the pass reads each step's lines only when it gets there).
 //!
 //! Every arithmetic instruction here is exact and deterministic (IEEE add, subtract, multiply,
 //! divide, min/max without ties that matter, conversions with round-to-nearest, compares),
@@ -25,7 +25,7 @@
 //!
 //! `unsafe` here: the intrinsics (each function is compiled for AVX-512F, BMI2 and POPCNT and
 //! entered only after [`available`] said yes), their loads and stores (masked to the live
-//! lanes of a slice, or within the fixed-size lane arrays), and the stores into `out`'s spare
+//! lanes of a slice, or within fixed-size arrays), and the stores into `out`'s spare
 //! capacity followed by `set_len` (room reserved for every edge plus one step up front).
 
 use std::arch::x86_64::*;
@@ -36,25 +36,10 @@ use super::super::blinn::clip_crossing;
 use super::super::{boundary_coords, outcode, ClipOutcome, ClipStats, DepthRange, SETTLE_REL};
 use super::{all_inside, EdgesSoa, SegmentsSoa, BLOCK};
 
-/// Edges per step of passes 1 and 3 (one `zmm` of `f32`).
+/// Edges per step (one `zmm` of `f32`).
 const STEP: usize = 16;
-/// Steps per block.
-const STEPS: usize = BLOCK / STEP;
-/// Room in a lane array: a block, plus one step of slack for full-width stores and loads
-/// past the last lane.
-const ROOM: usize = BLOCK + STEP;
-
-/// One block's crossing edges in lanes, and per step of pass 1 its masks.
-struct Lanes {
-    /// The crossing edges, packed: A's x, y, z, w, then C's.
-    edge: [[f32; ROOM]; 8],
-    /// Their clipped ends, lane for lane (pass 2).
-    clipped: [[f32; ROOM]; 8],
-    /// Per step: which edges cross (bit i: edge `16·step + i` of the block).
-    crossing: [u16; STEPS],
-    /// Per step: which edges are trivially accepted and drawn.
-    accepted: [u16; STEPS],
-}
+/// How far ahead (in edges) [`clip_soa`] prefetches its inputs.
+const PREFETCH: usize = 2 * BLOCK;
 
 /// Whether this CPU can run [`clip_soa`] (checked at run time, cached by the standard
 /// library).
@@ -74,8 +59,8 @@ pub(super) unsafe fn clip_soa<const ZERO_TO_ONE: bool>(
     out: &mut SegmentsSoa,
 ) -> ClipStats {
     let n = edges.len();
-    // Every vector of `out` gets room for all the edges plus one step: pass 3 stores whole
-    // steps of 16 at the current end, past the segments it keeps.
+    // Every vector of `out` gets room for all the edges plus one step: each step stores 16
+    // lanes at the current end, past the segments it keeps.
     for v in out.a.iter_mut().chain(out.c.iter_mut()) {
         v.reserve(n + STEP);
     }
@@ -83,12 +68,6 @@ pub(super) unsafe fn clip_soa<const ZERO_TO_ONE: bool>(
     let mut stats = ClipStats {
         edges_in: n as u64,
         ..ClipStats::default()
-    };
-    let mut lanes = Lanes {
-        edge: [[0.0; ROOM]; 8],
-        clipped: [[0.0; ROOM]; 8],
-        crossing: [0; STEPS],
-        accepted: [0; STEPS],
     };
     // As in the portable path: after an all-inside block, try the compare-only test first.
     let mut expect_inside = true;
@@ -105,14 +84,25 @@ pub(super) unsafe fn clip_soa<const ZERO_TO_ONE: bool>(
             &aw[r.clone()],
         ];
         let c = [&cx[r.clone()], &cy[r.clone()], &cz[r.clone()], &cw[r]];
+        // The inputs two blocks ahead, into L1: the single pass reads each step's lines
+        // only when it gets to them.
+        let ahead = start + PREFETCH;
+        if ahead < n {
+            for v in edges.a.iter().chain(&edges.c) {
+                for line in (0..BLOCK).step_by(16) {
+                    // A prefetch never faults; the address is inside the slice or at most
+                    // a block past its end (`wrapping_add`: no pointer rules broken).
+                    _mm_prefetch::<_MM_HINT_T0>(v.as_ptr().wrapping_add(ahead + line).cast());
+                }
+            }
+        }
         if expect_inside && all_inside::<ZERO_TO_ONE>(a) && all_inside::<ZERO_TO_ONE>(c) {
             copy_out(&a, &c, start, out);
             stats.trivially_accepted += (end - start) as u64;
         } else {
             // SAFETY: the features are the caller's promise; `out` has room for every edge
             // left plus one step (reserved above, never shrunk).
-            expect_inside =
-                unsafe { block::<ZERO_TO_ONE>(&a, &c, start, &mut lanes, out, &mut stats) };
+            expect_inside = unsafe { block::<ZERO_TO_ONE>(&a, &c, start, out, &mut stats) };
         }
         start = end;
     }
@@ -178,8 +168,8 @@ unsafe fn finite_mask(a: [__m512; 4], c: [__m512; 4]) -> u16 {
     _mm512_cmp_ps_mask::<_CMP_ORD_Q>(z, z)
 }
 
-/// One block (`1..=BLOCK` edges) that the compare-only test did not accept whole; returns
-/// whether every edge was trivially accepted and drawn (then the block was copied whole).
+/// One block (`1..=BLOCK` edges) that the compare-only test did not accept whole, in one
+/// pass of 16-edge steps; returns whether every edge was trivially accepted and drawn.
 ///
 /// # Safety
 /// AVX-512F, BMI2 and POPCNT; every vector of `out` has spare capacity for the block's
@@ -189,136 +179,12 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
     a: &[&[f32]; 4],
     c: &[&[f32]; 4],
     start: usize,
-    lanes: &mut Lanes,
     out: &mut SegmentsSoa,
     stats: &mut ClipStats,
 ) -> bool {
     let m = a[0].len();
     debug_assert!(m > 0 && m <= BLOCK && a.iter().chain(c).all(|s| s.len() == m));
     let steps = m.div_ceil(STEP);
-    // 1. Classify, and pack the crossing edges into lanes.
-    let mut n = 0usize; // crossing edges so far
-    let (mut accepted, mut rejected, mut away, mut non_finite) = (0u32, 0u32, 0u32, 0u32);
-    let mut all_accepted = true;
-    for s in 0..steps {
-        let base = s * STEP;
-        let live: u16 = if m - base >= STEP {
-            0xFFFF
-        } else {
-            (1u16 << (m - base)) - 1
-        };
-        let mut pa = [_mm512_setzero_ps(); 4];
-        let mut pc = [_mm512_setzero_ps(); 4];
-        for k in 0..4 {
-            // SAFETY: masked loads read only the live lanes, which are inside the slices.
-            unsafe {
-                pa[k] = _mm512_maskz_loadu_ps(live, a[k].as_ptr().add(base));
-                pc[k] = _mm512_maskz_loadu_ps(live, c[k].as_ptr().add(base));
-            }
-        }
-        // Outside some plane: the least of the twelve boundary coordinates is < 0. Both
-        // ends outside one plane: the least over the planes of the greater of the two is.
-        let (ba, bc) = (bc_ps::<ZERO_TO_ONE>(pa), bc_ps::<ZERO_TO_ONE>(pc));
-        let mut lowest = _mm512_min_ps(ba[0], bc[0]);
-        let mut shared = _mm512_max_ps(ba[0], bc[0]);
-        for i in 1..6 {
-            lowest = _mm512_min_ps(lowest, _mm512_min_ps(ba[i], bc[i]));
-            shared = _mm512_min_ps(shared, _mm512_max_ps(ba[i], bc[i]));
-        }
-        let zero = _mm512_setzero_ps();
-        let finite = finite_mask(pa, pc) & live;
-        let either = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest, zero);
-        let both = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, shared, zero);
-        let in_front = _mm512_mask_cmp_ps_mask::<_CMP_GT_OQ>(
-            _mm512_cmp_ps_mask::<_CMP_GT_OQ>(pa[3], zero),
-            pc[3],
-            zero,
-        );
-        // `clip_edge`'s order: non-finite, then both outside one plane, then both inside
-        // (drawn only with w > 0 at both ends: else the eye, clipped away), then crossing.
-        let reject = finite & both;
-        let inside = finite & !either;
-        let drawn = inside & in_front;
-        let cross = finite & either & !both;
-        lanes.crossing[s] = cross;
-        lanes.accepted[s] = drawn;
-        all_accepted &= drawn == live;
-        accepted += drawn.count_ones();
-        away += (inside & !in_front).count_ones();
-        rejected += reject.count_ones();
-        non_finite += (live & !finite).count_ones();
-        if cross != 0 {
-            // One compress of the lane numbers, then one permute per coordinate (instead of
-            // a compress each, which costs twice as much).
-            let pick = _mm512_maskz_compress_epi32(cross, iota());
-            for k in 0..4 {
-                // SAFETY: n + 16 ≤ 16·s + 16 ≤ BLOCK < ROOM.
-                unsafe {
-                    _mm512_storeu_ps(
-                        lanes.edge[k].as_mut_ptr().add(n),
-                        _mm512_permutexvar_ps(pick, pa[k]),
-                    );
-                    _mm512_storeu_ps(
-                        lanes.edge[4 + k].as_mut_ptr().add(n),
-                        _mm512_permutexvar_ps(pick, pc[k]),
-                    );
-                }
-            }
-            n += cross.count_ones() as usize;
-        }
-    }
-    if all_accepted {
-        copy_out(a, c, start, out);
-        stats.trivially_accepted += m as u64;
-        return true;
-    }
-    stats.trivially_accepted += u64::from(accepted);
-    stats.trivially_rejected += u64::from(rejected);
-    stats.clipped_away += u64::from(away);
-    stats.non_finite += u64::from(non_finite);
-    if n == 0 && accepted == 0 {
-        return false; // nothing to draw
-    }
-    // 2. Clip the lanes, eight at a time; the scalar code takes the lanes left to it.
-    let mut visible = 0u64; // bit j: lane j is drawn
-    let mut scalar = 0u64; // bit j: lane j is left to the scalar code
-    for base in (0..n).step_by(8) {
-        let live = if n - base >= 8 {
-            0xFF
-        } else {
-            (1u8 << (n - base)) - 1
-        };
-        let (v, s) = clip_lanes::<ZERO_TO_ONE>(lanes, base, live);
-        visible |= u64::from(v) << base;
-        scalar |= u64::from(s) << base;
-    }
-    let depth = if ZERO_TO_ONE {
-        DepthRange::ZeroToOne
-    } else {
-        DepthRange::NegOneToOne
-    };
-    while scalar != 0 {
-        let j = scalar.trailing_zeros() as usize;
-        scalar &= scalar - 1;
-        let p = Vec4::from_array(std::array::from_fn(|k| lanes.edge[k][j]));
-        let q = Vec4::from_array(std::array::from_fn(|k| lanes.edge[4 + k][j]));
-        let (pc, qc) = (
-            outcode(&boundary_coords(p, depth)),
-            outcode(&boundary_coords(q, depth)),
-        );
-        if let ClipOutcome::Clipped(p, q) = clip_crossing(p, q, pc, qc, depth) {
-            for k in 0..4 {
-                lanes.clipped[k][j] = p[k];
-                lanes.clipped[4 + k][j] = q[k];
-            }
-            visible |= 1 << j;
-        }
-    }
-    let drawn_lanes = u64::from(visible.count_ones());
-    stats.clipped += drawn_lanes;
-    stats.clipped_away += n as u64 - drawn_lanes;
-    // 3. Compact: each edge's ends (a crossing edge's clipped ends expanded back into its
-    // place), compressed by the mask of drawn edges, stored at the end of `out`.
     let [ax, ay, az, aw] = &mut out.a;
     let [cx, cy, cz, cw] = &mut out.c;
     let ends: [&mut Vec<f32>; 8] = [ax, ay, az, aw, cx, cy, cz, cw];
@@ -332,7 +198,8 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
     // SAFETY: as above.
     let dst_edge = unsafe { out.edge.as_mut_ptr().add(len_edge) };
     let mut kept = 0usize;
-    let mut lane = 0usize; // first lane of this step's crossing edges
+    let mut all_accepted = true;
+    let mut tally = Tally::default();
     for s in 0..steps {
         let base = s * STEP;
         let live: u16 = if m - base >= STEP {
@@ -340,20 +207,25 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
         } else {
             (1u16 << (m - base)) - 1
         };
-        let cross = lanes.crossing[s];
-        // This step's crossing edges are lanes `lane..`: their drawn bits, spread to the
-        // edges' places.
-        let vis = _pdep_u32(
-            visible.checked_shr(lane as u32).unwrap_or(0) as u32,
-            u32::from(cross),
-        );
-        let keep = lanes.accepted[s] | vis as u16;
+        let mut v = [_mm512_setzero_ps(); 8];
+        for k in 0..4 {
+            // SAFETY: masked loads read only the live lanes, which are inside the slices.
+            unsafe {
+                v[k] = _mm512_maskz_loadu_ps(live, a[k].as_ptr().add(base));
+                v[4 + k] = _mm512_maskz_loadu_ps(live, c[k].as_ptr().add(base));
+            }
+        }
+        let mut clipped = [_mm512_setzero_ps(); 8];
+        // SAFETY: the features are this function's.
+        let (keep, drawn, cross) =
+            unsafe { step::<ZERO_TO_ONE>(&v, live, &mut clipped, &mut tally) };
+        all_accepted &= drawn == live;
         if keep != 0 {
-            // Where each kept segment comes from: slot o of the output takes edge `kept_at[o]`
-            // of the step, whose ends are its own (table 0, index = its place) or, for a
-            // crossing edge, its lane's clipped ends (table 1, index = 16 + its rank among
-            // the step's crossing edges). One compress and one expand per step, then one
-            // two-table permute per coordinate.
+            // Slot o of the output takes edge `kept_at[o]` of the step, whose ends are its
+            // own (table 0, index = its place) or, for a crossing edge, its lane's clipped
+            // ends (table 1, index = 16 + its rank among the step's crossing edges): one
+            // compress, one expand and one permute per step, then one two-table permute
+            // per coordinate.
             let kept_at = _mm512_maskz_compress_epi32(keep, iota());
             let table = _mm512_mask_expand_epi32(
                 iota(),
@@ -362,14 +234,13 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
             );
             let from = _mm512_permutexvar_epi32(kept_at, table);
             for k in 0..8 {
-                let src = if k < 4 { a[k] } else { c[k - 4] };
-                // SAFETY: the masked load reads only live lanes, inside the slice; the lane
-                // load reads 16 of `ROOM` from `lane ≤ BLOCK`; the store writes 16 floats
-                // at `kept` ≤ the edges before this step, inside the spare capacity.
+                // SAFETY: the store writes 16 floats at `kept` ≤ the edges before this
+                // step, inside the spare capacity.
                 unsafe {
-                    let own = _mm512_maskz_loadu_ps(live, src.as_ptr().add(base));
-                    let clipped = _mm512_loadu_ps(lanes.clipped[k].as_ptr().add(lane));
-                    _mm512_storeu_ps(dst[k].add(kept), _mm512_permutex2var_ps(own, from, clipped));
+                    _mm512_storeu_ps(
+                        dst[k].add(kept),
+                        _mm512_permutex2var_ps(v[k], from, clipped[k]),
+                    );
                 }
             }
             let index = _mm512_add_epi32(kept_at, _mm512_set1_epi32((start + base) as i32));
@@ -377,7 +248,6 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
             unsafe { _mm512_storeu_si512(dst_edge.add(kept).cast(), index) };
             kept += keep.count_ones() as usize;
         }
-        lane += cross.count_ones() as usize;
     }
     // SAFETY: the first `kept` slots past each length were written above.
     unsafe {
@@ -386,12 +256,183 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
         }
         out.edge.set_len(len_edge + kept);
     }
-    false
+    stats.trivially_accepted += u64::from(tally.accepted);
+    stats.trivially_rejected += u64::from(tally.rejected);
+    stats.clipped += u64::from(tally.clipped);
+    stats.clipped_away += u64::from(tally.away);
+    stats.non_finite += u64::from(tally.non_finite);
+    all_accepted
 }
 
-/// Pass 2 on the eight lanes `base..base + 8` of `lanes.edge` (bit l of `live`: lane
-/// `base + l` holds an edge): their clipped ends into `lanes.clipped`; returns the masks of
-/// lanes drawn and of lanes left to the scalar code.
+/// A block's counts, summed step by step.
+#[derive(Default)]
+struct Tally {
+    accepted: u32,
+    rejected: u32,
+    clipped: u32,
+    away: u32,
+    non_finite: u32,
+}
+
+/// One step of 16 edges (`ends`: A's x, y, z, w, then C's; the lanes outside `live` zero):
+/// classified and counted, its crossing edges packed into lanes and clipped there (their
+/// clipped ends into `clipped`, lane for lane, in the order of the edges). Returns the masks
+/// of edges drawn (trivially accepted, or clipped and visible), of those trivially accepted
+/// and drawn, and of the crossing edges.
+///
+/// # Safety
+/// AVX-512F, BMI2 and POPCNT.
+#[target_feature(enable = "avx512f,bmi2,popcnt")]
+#[inline]
+unsafe fn step<const ZERO_TO_ONE: bool>(
+    ends: &[__m512; 8],
+    live: u16,
+    clipped: &mut [__m512; 8],
+    tally: &mut Tally,
+) -> (u16, u16, u16) {
+    let pa = [ends[0], ends[1], ends[2], ends[3]];
+    let pc = [ends[4], ends[5], ends[6], ends[7]];
+    // Outside some plane: the least of the twelve boundary coordinates is < 0. Both ends
+    // outside one plane: the least over the planes of the greater of the two is.
+    let (ba, bc) = (bc_ps::<ZERO_TO_ONE>(pa), bc_ps::<ZERO_TO_ONE>(pc));
+    let (mut lowest_a, mut lowest_c) = (ba[0], bc[0]);
+    let mut shared = _mm512_max_ps(ba[0], bc[0]);
+    for i in 1..6 {
+        lowest_a = _mm512_min_ps(lowest_a, ba[i]);
+        lowest_c = _mm512_min_ps(lowest_c, bc[i]);
+        shared = _mm512_min_ps(shared, _mm512_max_ps(ba[i], bc[i]));
+    }
+    let zero = _mm512_setzero_ps();
+    let finite = finite_mask(pa, pc) & live;
+    // A outside some plane (the same signs as the lanes' `f64` boundary coordinates).
+    let a_out = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest_a, zero);
+    let either = a_out | _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest_c, zero);
+    let both = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, shared, zero);
+    let in_front = _mm512_mask_cmp_ps_mask::<_CMP_GT_OQ>(
+        _mm512_cmp_ps_mask::<_CMP_GT_OQ>(pa[3], zero),
+        pc[3],
+        zero,
+    );
+    // `clip_edge`'s order: non-finite, then both outside one plane, then both inside
+    // (drawn only with w > 0 at both ends: else the eye, clipped away), then crossing.
+    let reject = finite & both;
+    let inside = finite & !either;
+    let drawn = inside & in_front;
+    let cross = finite & either & !both;
+    tally.accepted += drawn.count_ones();
+    tally.away += (inside & !in_front).count_ones();
+    tally.rejected += reject.count_ones();
+    tally.non_finite += (live & !finite).count_ones();
+    if cross == 0 {
+        return (drawn, drawn, 0);
+    }
+    // Pack the crossing edges into the low lanes: one compress of the lane numbers, then one
+    // permute per coordinate.
+    let pick = _mm512_maskz_compress_epi32(cross, iota());
+    let mut packed = [_mm512_setzero_ps(); 8];
+    for k in 0..8 {
+        packed[k] = _mm512_permutexvar_ps(pick, ends[k]);
+    }
+    let n = cross.count_ones();
+    // The packed lanes whose A is outside some plane: where none is, no lane enters.
+    let a_out = _pext_u32(u32::from(a_out), u32::from(cross));
+    // Clip them eight at a time in `f64`.
+    let low = |v: __m512| _mm512_castps512_ps256(v);
+    let high = |v: __m512| _mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(_mm512_castps_pd(v)));
+    let live_lo = if n >= 8 { 0xFF } else { (1u8 << n) - 1 };
+    let (mut visible, mut scalar) = {
+        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(low), live_lo, a_out as u8);
+        for k in 0..4 {
+            clipped[k] = _mm512_castps256_ps512(p[k]);
+            clipped[4 + k] = _mm512_castps256_ps512(q[k]);
+        }
+        (u16::from(v), u16::from(s))
+    };
+    if n > 8 {
+        let live_hi = if n >= 16 { 0xFF } else { (1u8 << (n - 8)) - 1 };
+        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(high), live_hi, (a_out >> 8) as u8);
+        let join = |lo: __m512, hi: __m256| {
+            _mm512_castpd_ps(_mm512_insertf64x4::<1>(
+                _mm512_castps_pd(lo),
+                _mm256_castps_pd(hi),
+            ))
+        };
+        for k in 0..4 {
+            clipped[k] = join(clipped[k], p[k]);
+            clipped[4 + k] = join(clipped[4 + k], q[k]);
+        }
+        visible |= u16::from(v) << 8;
+        scalar |= u16::from(s) << 8;
+    }
+    if scalar != 0 {
+        // SAFETY: the features are this function's.
+        visible |= unsafe { scalar_lanes::<ZERO_TO_ONE>(&packed, clipped, scalar) };
+    }
+    let visible_count = visible.count_ones();
+    tally.clipped += visible_count;
+    tally.away += n - visible_count;
+    // The drawn lanes, spread to their edges' places.
+    let vis = _pdep_u32(u32::from(visible), u32::from(cross)) as u16;
+    (drawn | vis, drawn, cross)
+}
+
+/// The lanes (bit j of `scalar`) that [`clip_lanes`] leaves to the per-edge code: clipped by
+/// [`clip_crossing`] from the packed inputs, their ends put into `clipped`; returns which of
+/// them are drawn.
+///
+/// # Safety
+/// AVX-512F.
+#[target_feature(enable = "avx512f")]
+#[cold]
+#[inline(never)]
+unsafe fn scalar_lanes<const ZERO_TO_ONE: bool>(
+    packed: &[__m512; 8],
+    clipped: &mut [__m512; 8],
+    mut scalar: u16,
+) -> u16 {
+    let depth = if ZERO_TO_ONE {
+        DepthRange::ZeroToOne
+    } else {
+        DepthRange::NegOneToOne
+    };
+    let mut input = [[0f32; STEP]; 8];
+    let mut result = [[0f32; STEP]; 8];
+    for k in 0..8 {
+        // SAFETY: 16 floats into arrays of 16.
+        unsafe {
+            _mm512_storeu_ps(input[k].as_mut_ptr(), packed[k]);
+            _mm512_storeu_ps(result[k].as_mut_ptr(), clipped[k]);
+        }
+    }
+    let mut visible = 0u16;
+    while scalar != 0 {
+        let j = scalar.trailing_zeros() as usize;
+        scalar &= scalar - 1;
+        let p = Vec4::from_array(std::array::from_fn(|k| input[k][j]));
+        let q = Vec4::from_array(std::array::from_fn(|k| input[4 + k][j]));
+        let (pc, qc) = (
+            outcode(&boundary_coords(p, depth)),
+            outcode(&boundary_coords(q, depth)),
+        );
+        if let ClipOutcome::Clipped(p, q) = clip_crossing(p, q, pc, qc, depth) {
+            for k in 0..4 {
+                result[k][j] = p[k];
+                result[4 + k][j] = q[k];
+            }
+            visible |= 1 << j;
+        }
+    }
+    for k in 0..8 {
+        // SAFETY: 16 floats from arrays of 16.
+        clipped[k] = unsafe { _mm512_loadu_ps(result[k].as_ptr()) };
+    }
+    visible
+}
+
+/// Eight packed crossing edges (`e`: A's x, y, z, w, then C's, as `f32`; bit l of `live`:
+/// lane l holds an edge; `may_enter` zero: no lane's A is outside a plane, so none enters,
+/// and the entry tests are skipped): their clipped ends; returns them with the masks of lanes drawn and
+/// of lanes left to the scalar code.
 ///
 /// Operation for operation [`clip_crossing`]: the `f64` boundary coordinates
 /// (`[w+x, w−x, w+y, w−y, near, w−z]`), whose signs are the outcode bits (a rounded sum has
@@ -403,19 +444,17 @@ unsafe fn block<const ZERO_TO_ONE: bool>(
 /// scalar code, as do ends that `settle()` would recompute.
 #[target_feature(enable = "avx512f")]
 #[inline]
+#[allow(clippy::type_complexity)]
 unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
-    lanes: &mut Lanes,
-    base: usize,
+    e: [__m256; 8],
     live: u8,
-) -> (u8, u8) {
-    // SAFETY (every load and store here): lanes `base..base + 8` with base < BLOCK.
+    may_enter: u8,
+) -> ([__m256; 4], [__m256; 4], u8, u8) {
     let mut a = [_mm512_setzero_pd(); 4];
     let mut c = [_mm512_setzero_pd(); 4];
     for k in 0..4 {
-        unsafe {
-            a[k] = _mm512_cvtps_pd(_mm256_loadu_ps(lanes.edge[k].as_ptr().add(base)));
-            c[k] = _mm512_cvtps_pd(_mm256_loadu_ps(lanes.edge[4 + k].as_ptr().add(base)));
-        }
+        a[k] = _mm512_cvtps_pd(e[k]);
+        c[k] = _mm512_cvtps_pd(e[4 + k]);
     }
     let a_bc = bc::<ZERO_TO_ONE>(a);
     let c_bc = bc::<ZERO_TO_ONE>(c);
@@ -424,7 +463,11 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
     let mut t_out = _mm512_set1_pd(1.0);
     let (mut enters, mut leaves) = (0u8, 0u8);
     for i in 0..6 {
-        let enter = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live;
+        let enter = if may_enter != 0 {
+            _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live
+        } else {
+            0
+        };
         let leave = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(c_bc[i], zero) & live;
         if enter | leave != 0 {
             let t_hit = _mm512_div_pd(a_bc[i], _mm512_sub_pd(a_bc[i], c_bc[i]));
@@ -444,22 +487,14 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
         // An end that is not moved keeps its `f32` value (f32 → f64 → f32 is exact).
         _mm512_cvtpd_ps(_mm512_mask_blend_pd(mask, ends[k], e))
     };
-    let mut p = [_mm256_setzero_ps(); 4];
-    let mut q = [_mm256_setzero_ps(); 4];
+    let mut p = [e[0], e[1], e[2], e[3]];
+    let mut q = [e[4], e[5], e[6], e[7]];
     for k in 0..4 {
-        p[k] = if enters != 0 {
-            moved(&a, t_in, enters, k)
-        } else {
-            _mm512_cvtpd_ps(a[k])
-        };
-        q[k] = if leaves != 0 {
-            moved(&c, t_out, leaves, k)
-        } else {
-            _mm512_cvtpd_ps(c[k])
-        };
-        unsafe {
-            _mm256_storeu_ps(lanes.clipped[k].as_mut_ptr().add(base), p[k]);
-            _mm256_storeu_ps(lanes.clipped[4 + k].as_mut_ptr().add(base), q[k]);
+        if enters != 0 {
+            p[k] = moved(&a, t_in, enters, k);
+        }
+        if leaves != 0 {
+            q[k] = moved(&c, t_out, leaves, k);
         }
     }
     let front = |w: __m512d| _mm512_cmp_pd_mask::<_CMP_GT_OQ>(w, zero);
@@ -476,7 +511,7 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
     let zero_exit = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(t_out, zero);
     let scalar = (leaves & zero_exit) | (enters & !p_ok) | (leaves & !q_ok);
     let open = open & live;
-    (open & !scalar & p_front & q_front, open & scalar)
+    (p, q, open & !scalar & p_front & q_front, open & scalar)
 }
 
 /// The boundary coordinates of eight points in `f64`, in
