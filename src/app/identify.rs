@@ -167,6 +167,13 @@ fn identification_json(id: &Identification, validations: &[Validation]) -> serde
             "keys": [id.estimates[*i].key.name, id.estimates[*k].key.name],
             "correlation": c,
         })).collect::<Vec<_>>(),
+        "determined_combinations": id.determined_combinations().iter().map(|c| json!({
+            "keys": [id.estimates[c.first].key.name, id.estimates[c.second].key.name],
+            "coefficient": c.coefficient,
+            "value": c.value,
+            "sigma": c.sigma,
+        })).collect::<Vec<_>>(),
+        "held": id.held.iter().map(|(k, why)| json!({"key": k, "why": why})).collect::<Vec<_>>(),
         "started_from_equation_error": id.started_from_equation_error,
         "flights": id.before.iter().zip(&id.after).map(|(b, a)| json!({
             "noise_units_before": b.noise_units(),
@@ -255,6 +262,31 @@ fn identification_text(
             crate::analysis::identify::CONFOUNDED,
             pairs.join(", ")
         );
+        let combos: Vec<String> = id
+            .determined_combinations()
+            .iter()
+            .map(|c| {
+                format!(
+                    "{} {} {}·{} = {} ± {}",
+                    id.estimates[c.first].key.name,
+                    if c.coefficient < 0.0 { "−" } else { "+" },
+                    fmt_number(c.coefficient.abs()),
+                    id.estimates[c.second].key.name,
+                    fmt_number(c.value),
+                    fmt_number(c.sigma)
+                )
+            })
+            .collect();
+        if !combos.is_empty() {
+            let _ = writeln!(
+                out,
+                "  what they do determine of each pair: {}",
+                combos.join(", ")
+            );
+        }
+    }
+    for (key, why) in &id.held {
+        let _ = writeln!(out, "  {key} {why}");
     }
     let not: Vec<&str> = id
         .estimates

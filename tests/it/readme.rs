@@ -72,6 +72,7 @@ const PAGES: &[&str] = &[
     "docs/rendering.md",
     "docs/reference-flights.md",
     "docs/report.md",
+    "docs/sensors.md",
     "docs/testing.md",
     "docs/validation.md",
     "docs/window.md",
@@ -513,6 +514,7 @@ page_tests! {
     docs_rendering_commands => "docs/rendering.md";
     docs_reference_flights_commands => "docs/reference-flights.md";
     docs_report_commands => "docs/report.md";
+    docs_sensors_commands => "docs/sensors.md";
     docs_testing_commands => "docs/testing.md";
     docs_validation_commands => "docs/validation.md";
     docs_window_commands => "docs/window.md";
