@@ -215,3 +215,60 @@ fn a_sensor_effect_is_a_candidate_only_where_its_channel_is_measured() {
         assert!(tried.contains(&present), "{present} not tried: {tried:?}");
     }
 }
+
+/// A flight `simulate` records with an accelerometer of 0.05 m/s² noise (and the truth's
+/// measurement effects, `hidden`), the rest as [`NOISE`].
+fn with_accelerometer(hidden: &[&str], seed: u64) -> FlightData {
+    use wireflight::flight::autopilot::Manoeuvre;
+    use wireflight::flight::effects::Origin;
+    use wireflight::flight::simulate::{simulate, Noise as SimNoise, SimSpec};
+    use wireflight::flight::spec::{EffectSpec, ModelSpec};
+    let mut spec = ModelSpec::baseline(wireflight::flight::VehicleKind::FixedWing);
+    for h in hidden {
+        spec.effects.push(EffectSpec::parse(h).unwrap());
+    }
+    let truth = spec.build(Origin::default()).unwrap();
+    let [pos, att, vel, rate, _] = NOISE;
+    let sim = SimSpec {
+        noise: SimNoise {
+            pos_m: pos,
+            att_deg: att,
+            vel_mps: vel,
+            rate_dps: rate,
+        },
+        accelerometer: Some(0.05),
+        seed,
+        ..SimSpec::new(Manoeuvre::FlightTest, 60.0)
+    };
+    simulate(&truth, &sim).expect("simulate")
+}
+
+/// Clean instruments with an accelerometer: `none`, and each accelerometer axis's noise
+/// measured within 20% of the truth (0.05 m/s²).
+#[test]
+fn a_clean_accelerometer_gives_none_and_its_noise() {
+    let d = with_accelerometer(&[], 21);
+    let diag = run(&d);
+    assert_eq!(diag.verdict, Verdict::None, "{diag:?}");
+    for (axis, sigma) in diag.base_noise.accel_axes.iter().enumerate() {
+        assert!((sigma / 0.05 - 1.0).abs() < 0.2, "axis {axis}: {sigma}");
+    }
+}
+
+/// An accelerometer biased by (0.1, 0, −0.15) m/s²: `accel_bias`, each axis within
+/// 0.01 m/s².
+#[test]
+fn a_biased_accelerometer_is_named_with_its_bias() {
+    let d = with_accelerometer(&["accel_bias:x_mps2=0.1,z_mps2=-0.15"], 22);
+    let diag = run(&d);
+    assert_eq!(
+        diag.verdict,
+        Verdict::Found(vec!["accel_bias".into()]),
+        "{diag:?}"
+    );
+    let c = found(&diag, "accel_bias");
+    for (axis, truth) in [("x_mps2", 0.1), ("y_mps2", 0.0), ("z_mps2", -0.15)] {
+        let v = value(c, axis);
+        assert!((v - truth).abs() < 0.01, "{axis}: {v} vs {truth}");
+    }
+}
