@@ -471,13 +471,10 @@ fn refsim_state(d: &FlightData, i: usize) -> refsim::FwState {
     ]
 }
 
-/// simulate's accelerometer on a manoeuvring flight is refsim's force over mass (its own
-/// aerodynamics and thrust) at every recorded state and command, to the rounding of the file.
-#[test]
-fn simulate_accelerometer_is_refsims_force_over_mass_at_every_sample() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = simulate(
-        dir.path(),
+/// A 40 s flight test by `simulate` with an exact accelerometer.
+fn flight_test_40s(dir: &Path) -> FlightData {
+    simulate(
+        dir,
         "ft.csv",
         &[
             "--manoeuvre",
@@ -487,7 +484,15 @@ fn simulate_accelerometer_is_refsims_force_over_mass_at_every_sample() {
             "--noise-acc",
             "0",
         ],
-    );
+    )
+}
+
+/// simulate's accelerometer on a manoeuvring flight is refsim's force over mass (its own
+/// aerodynamics and thrust) at every recorded state and command, to the rounding of the file.
+#[test]
+fn simulate_accelerometer_is_refsims_force_over_mass_at_every_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = flight_test_40s(dir.path());
     let model = FwModel::new(
         &Params::aerosonde(),
         &Effects::none(),
@@ -522,18 +527,7 @@ fn simulate_accelerometer_is_refsims_force_over_mass_at_every_sample() {
 #[test]
 fn both_simulators_accelerometers_integrate_to_their_recorded_velocities() {
     let dir = tempfile::tempdir().unwrap();
-    let ours = simulate(
-        dir.path(),
-        "ft.csv",
-        &[
-            "--manoeuvre",
-            "flight-test",
-            "--duration",
-            "40",
-            "--noise-acc",
-            "0",
-        ],
-    );
+    let ours = flight_test_40s(dir.path());
     let mut o = FlightOptions::new(Schedule::flight_test());
     o.duration_s = 40.0;
     o.effects = Effects::none();

@@ -194,38 +194,20 @@ fn a_flight_that_cannot_be_a_reference_is_refused() {
     // The same flight without its airspeed column.
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(flight("ref-1")).unwrap();
-    let mut lines = text.lines();
-    let mut out = String::new();
-    let mut drop = None;
-    for line in lines.by_ref() {
-        if line.starts_with('#') {
-            out += line;
-            out += "\n";
-            continue;
-        }
-        let cols: Vec<&str> = line.split(',').collect();
-        drop = cols.iter().position(|c| *c == "airspeed_mps");
-        out += &cols
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| Some(*i) != drop)
-            .map(|(_, c)| *c)
-            .collect::<Vec<_>>()
-            .join(",");
-        out += "\n";
-        break;
-    }
-    for line in lines {
-        let cols: Vec<&str> = line.split(',').collect();
-        out += &cols
-            .iter()
-            .enumerate()
-            .filter(|(i, _)| Some(*i) != drop)
-            .map(|(_, c)| *c)
-            .collect::<Vec<_>>()
-            .join(",");
-        out += "\n";
-    }
+    let header = text.lines().find(|l| !l.starts_with('#')).unwrap();
+    let drop = header.split(',').position(|c| c == "airspeed_mps").unwrap();
+    let out: String = text
+        .lines()
+        .map(|line| {
+            if line.starts_with('#') {
+                format!("{line}\n")
+            } else {
+                let cols: Vec<&str> = line.split(',').collect();
+                let kept: Vec<&str> = [&cols[..drop], &cols[drop + 1..]].concat();
+                format!("{}\n", kept.join(","))
+            }
+        })
+        .collect();
     let path = dir.path().join("no-airspeed.csv");
     std::fs::write(&path, out).unwrap();
     let err = run(path.to_str().unwrap());
