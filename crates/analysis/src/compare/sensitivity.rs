@@ -12,7 +12,7 @@
 use glam::{DMat3, DVec3};
 
 use super::predict::{controls_at, sample_steps};
-use super::sensors::{airspeed_gain, attitude_read, delay_rows};
+use super::sensors::{airspeed_gain, attitude_read};
 use super::start::{param_count, state_of};
 use super::Prepared;
 use wireflight_flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
@@ -44,6 +44,12 @@ impl Prepared<'_> {
         jac: &mut Vec<f64>,
     ) -> bool {
         let d = self.data;
+        // A late navigation solution reads the model flown back before the window
+        // (`predict::fly_back`), which the tangent along the window does not carry: its
+        // Jacobian is the differences'.
+        if model.nav_delay() > 0.0 {
+            return false;
+        }
         let n = model.error_dim();
         let np = param_count(model);
         let samples = end.saturating_sub(start);
@@ -128,16 +134,6 @@ impl Prepared<'_> {
                 propagate(&phi, n, from, to, free);
                 cur = 1 - cur;
             }
-        }
-        let delay = model.nav_delay();
-        if delay > 0.0 {
-            let velocity = self.measured.for_vehicle(model).velocity && d.vel_ned.is_some();
-            let channels: &[usize] = if velocity {
-                &[0, 1, 2, 3, 4, 5]
-            } else {
-                &[0, 1, 2]
-            };
-            delay_rows(&d.time[start..end], delay, per_sample, channels, jac, m);
         }
         finite
     }
@@ -572,13 +568,13 @@ mod tests {
                 50.0,
                 false,
             ),
-            // What the sensors read: a late navigation solution, biased gyros, a scaled
-            // airspeed, a misaligned attitude reference.
+            // What the sensors read: biased gyros, a scaled and offset airspeed, a
+            // misaligned attitude reference, a biased accelerometer (a late navigation
+            // solution takes the differences: `a_late_navigation_solution_declines`).
             (
                 VehicleKind::FixedWing,
                 vec![],
                 vec![
-                    "nav_delay:delay_s=0.23",
                     "gyro_bias:p_dps=0.5,r_dps=-0.3",
                     "airspeed_scale:factor=0.93",
                     "airspeed_bias:bias_mps=0.8",
@@ -587,13 +583,6 @@ mod tests {
                 ],
                 50.0,
                 true,
-            ),
-            (
-                VehicleKind::PointMass,
-                vec!["drag"],
-                vec!["drag", "nav_delay:delay_s=0.3"],
-                50.0,
-                false,
             ),
         ] {
             let truth = model(kind, &truth_effects);
@@ -626,6 +615,23 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A model with a late navigation solution reads the model flown back before each window,
+    /// which the tangent does not carry: it declines, and the fit takes the differences.
+    #[test]
+    fn a_late_navigation_solution_declines_the_tangent() {
+        let truth = model(VehicleKind::FixedWing, &[]);
+        let data = simulate(&truth, &SimSpec::new(Manoeuvre::FlightTest, 20.0)).unwrap();
+        let prep = Prepared::new(&data, CompareConfig::default());
+        let m = model(VehicleKind::FixedWing, &["nav_delay:delay_s=0.2"]);
+        let w = prep.windows[1];
+        let x0 = prep.warm_start(&m, w, DVec3::ZERO);
+        let q = params_of(&m, &x0);
+        let (mut r, mut scratch) = (Vec::new(), Scratch::default());
+        prep.window_residuals(&m, w, &x0, &mut scratch, &mut r);
+        let mut jac = Vec::new();
+        assert!(!prep.tangent_jacobian(&m, w, &q, x0.surfaces(), &scratch.states, &r, &mut jac));
     }
 
     /// A gust that varies in time only: its effect does not say it is steady.

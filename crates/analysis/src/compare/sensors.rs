@@ -5,10 +5,11 @@
 //!
 //! A delayed navigation solution reads, at sample time t, the position and velocity of
 //! t − delay: the predictions are interpolated linearly between the window's samples (the
-//! error, h²/8 times the second derivative, is 5·10⁻⁵ m at 50 Hz and 1 g), and before the
-//! window's first sample extrapolated by the parabola through three of its samples a delay
-//! apart (an error of about delay³/6 times the jerk). Both are linear in the predictions,
-//! so the Jacobian's rows are the same combination of the undelayed rows.
+//! error, h²/8 times the second derivative, is 5·10⁻⁵ m at 50 Hz and 1 g). Before the
+//! window's first sample the model is flown back ([`super::predict`]); where that flight
+//! does not stay finite, the readings extrapolate the window's own by the parabola through
+//! three of its samples a delay apart. The tangent-linear Jacobian does not carry the flight
+//! back: a model with a delay takes the differences' Jacobian.
 
 use glam::{DMat3, DQuat};
 
@@ -92,37 +93,6 @@ pub(crate) fn attitude_read(model: &Model, rot: &DMat3) -> (DMat3, DMat3) {
     model.measure(&mut r);
     let r0 = DMat3::from_quat(r.quat);
     (*rot * r0, r0)
-}
-
-/// Apply the navigation delay to the rows of a window's Jacobian (column-major, `m` rows a
-/// column, `per_sample` rows a sample, the window sampled at `time`): the rows at each
-/// offset in `channels` (position, and velocity where measured) become the combination of
-/// the undelayed rows that [`delay_weights`] make of the predictions.
-pub(crate) fn delay_rows(
-    time: &[f64],
-    delay: f64,
-    per_sample: usize,
-    channels: &[usize],
-    jac: &mut [f64],
-    m: usize,
-) {
-    let samples = time.len();
-    if delay <= 0.0 || m == 0 || samples * per_sample != m || !jac.len().is_multiple_of(m) {
-        return;
-    }
-    let mut undelayed = vec![0.0; m];
-    for col in jac.chunks_exact_mut(m) {
-        undelayed.copy_from_slice(col);
-        for k in 0..samples {
-            let w = delay_weights(time, k, delay);
-            for &o in channels {
-                col[k * per_sample + o] = w
-                    .iter()
-                    .map(|&(j, c)| undelayed[j * per_sample + o] * c)
-                    .sum();
-            }
-        }
-    }
 }
 
 #[cfg(test)]
