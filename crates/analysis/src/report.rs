@@ -592,7 +592,13 @@ fn step_alternatives_text(d: &Diagnosis) -> String {
     if d.found.len() < 2 {
         return out;
     }
-    for s in &d.steps {
+    // Only for the causes the verdict keeps: one added and dropped again has no
+    // alternatives worth naming.
+    for s in d.steps.iter().filter(|s| {
+        s.added
+            .as_ref()
+            .is_some_and(|a| d.found.iter().any(|c| &c.effect == a))
+    }) {
         if let (Some(added), false) = (&s.added, s.alternatives.is_empty()) {
             let _ = writeln!(
                 out,

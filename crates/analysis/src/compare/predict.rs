@@ -141,7 +141,7 @@ pub fn fly_window(
 /// starts trimmed did, and as `simulate` records it). Empty where the backward flight does
 /// not stay finite (the readings then extrapolate the window's own,
 /// [`super::sensors::delay_weights`]).
-fn fly_back(
+pub(crate) fn fly_back(
     model: &Model,
     d: &FlightData,
     start: usize,

@@ -11,9 +11,10 @@
 
 use glam::{DMat3, DVec3};
 
+use super::predict::fly_back;
 use super::predict::{controls_at, sample_steps};
-use super::sensors::{airspeed_gain, attitude_read};
-use super::start::{param_count, state_of};
+use super::sensors::{airspeed_gain, attitude_read, delay_weights};
+use super::start::{param_count, state_of, step_of};
 use super::Prepared;
 use wireflight_flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
 use wireflight_flight::model::{Model, State, Vehicle};
@@ -44,12 +45,6 @@ impl Prepared<'_> {
         jac: &mut Vec<f64>,
     ) -> bool {
         let d = self.data;
-        // A late navigation solution reads the model flown back before the window
-        // (`predict::fly_back`), which the tangent along the window does not carry: its
-        // Jacobian is the differences'.
-        if model.nav_delay() > 0.0 {
-            return false;
-        }
         let n = model.error_dim();
         let np = param_count(model);
         let samples = end.saturating_sub(start);
@@ -135,7 +130,95 @@ impl Prepared<'_> {
                 cur = 1 - cur;
             }
         }
+        let delay = model.nav_delay();
+        if delay > 0.0 && !self.delay_rows(model, (start, end), q, surfaces, per_sample, jac) {
+            return false;
+        }
         finite
+    }
+
+    /// A late navigation solution's rows of the Jacobian `jac` (laid out as
+    /// [`Self::tangent_jacobian`]'s, its rows still undelayed): each delayed reading is the
+    /// combination of the truth before and inside the window that [`delay_weights`] makes.
+    /// Inside the window those are the tangent's rows; before it, where the model is flown
+    /// back ([`fly_back`]), a forward difference per start parameter of that short flight
+    /// (a few samples, not a window). False when the flight back does not stay finite.
+    fn delay_rows(
+        &self,
+        model: &Model,
+        (start, end): (usize, usize),
+        q: &[f64],
+        surfaces: DVec3,
+        per_sample: usize,
+        jac: &mut [f64],
+    ) -> bool {
+        let d = self.data;
+        let delay = model.nav_delay();
+        let m = (end - start) * per_sample;
+        if m == 0 || jac.len() != q.len() * m {
+            return false;
+        }
+        let x0 = state_of(model, q, surfaces);
+        let before = fly_back(model, d, start, &x0, self.cfg.max_dt, delay);
+        if before.is_empty() {
+            return false;
+        }
+        let times: Vec<f64> = before
+            .iter()
+            .map(|b| b.0)
+            .chain(d.time[start..end].iter().copied())
+            .collect();
+        let velocity = self.measured.for_vehicle(model).velocity && d.vel_ned.is_some();
+        let [wp, wv, _, _] = &self.weights;
+        let pre = before.len();
+        let mut undelayed = vec![0.0; m];
+        for (k, col) in jac.chunks_exact_mut(m).enumerate() {
+            let h = step_of(k);
+            let mut qk = q.to_vec();
+            qk[k] += h;
+            let moved = fly_back(
+                model,
+                d,
+                start,
+                &state_of(model, &qk, surfaces),
+                self.cfg.max_dt,
+                delay,
+            );
+            if moved.len() != pre {
+                return false;
+            }
+            // The derivative of the truth before the window, weighted as its rows are.
+            let back = |j: usize, o: usize| -> f64 {
+                let (a, b) = (&before[j], &moved[j]);
+                if o < 3 {
+                    wp[o] * (b.1[o] - a.1[o]) / h
+                } else {
+                    wv[o - 3] * (b.2[o - 3] - a.2[o - 3]) / h
+                }
+            };
+            undelayed.copy_from_slice(col);
+            let offsets: &[usize] = if velocity {
+                &[0, 1, 2, 3, 4, 5]
+            } else {
+                &[0, 1, 2]
+            };
+            for i in 0..end - start {
+                let w = delay_weights(&times, pre + i, delay);
+                for &o in offsets {
+                    col[i * per_sample + o] = w
+                        .iter()
+                        .map(|&(j, c)| {
+                            c * if j < pre {
+                                back(j, o)
+                            } else {
+                                undelayed[(j - pre) * per_sample + o]
+                            }
+                        })
+                        .sum();
+                }
+            }
+        }
+        true
     }
 
     /// The derivatives of sample `i`'s residual rows (in the order of `residual_rows`) along
@@ -568,13 +651,20 @@ mod tests {
                 50.0,
                 false,
             ),
-            // What the sensors read: biased gyros, a scaled and offset airspeed, a
-            // misaligned attitude reference, a biased accelerometer (a late navigation
-            // solution takes the differences: `a_late_navigation_solution_declines`).
+            (
+                VehicleKind::PointMass,
+                vec!["drag"],
+                vec!["drag", "nav_delay:delay_s=0.3"],
+                50.0,
+                false,
+            ),
+            // What the sensors read: a late navigation solution, biased gyros, a scaled and
+            // offset airspeed, a misaligned attitude reference, a biased accelerometer.
             (
                 VehicleKind::FixedWing,
                 vec![],
                 vec![
+                    "nav_delay:delay_s=0.23",
                     "gyro_bias:p_dps=0.5,r_dps=-0.3",
                     "airspeed_scale:factor=0.93",
                     "airspeed_bias:bias_mps=0.8",
@@ -615,23 +705,6 @@ mod tests {
                 }
             }
         }
-    }
-
-    /// A model with a late navigation solution reads the model flown back before each window,
-    /// which the tangent does not carry: it declines, and the fit takes the differences.
-    #[test]
-    fn a_late_navigation_solution_declines_the_tangent() {
-        let truth = model(VehicleKind::FixedWing, &[]);
-        let data = simulate(&truth, &SimSpec::new(Manoeuvre::FlightTest, 20.0)).unwrap();
-        let prep = Prepared::new(&data, CompareConfig::default());
-        let m = model(VehicleKind::FixedWing, &["nav_delay:delay_s=0.2"]);
-        let w = prep.windows[1];
-        let x0 = prep.warm_start(&m, w, DVec3::ZERO);
-        let q = params_of(&m, &x0);
-        let (mut r, mut scratch) = (Vec::new(), Scratch::default());
-        prep.window_residuals(&m, w, &x0, &mut scratch, &mut r);
-        let mut jac = Vec::new();
-        assert!(!prep.tangent_jacobian(&m, w, &q, x0.surfaces(), &scratch.states, &r, &mut jac));
     }
 
     /// A gust that varies in time only: its effect does not say it is steady.

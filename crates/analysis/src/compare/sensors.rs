@@ -8,8 +8,9 @@
 //! error, h²/8 times the second derivative, is 5·10⁻⁵ m at 50 Hz and 1 g). Before the
 //! window's first sample the model is flown back ([`super::predict`]); where that flight
 //! does not stay finite, the readings extrapolate the window's own by the parabola through
-//! three of its samples a delay apart. The tangent-linear Jacobian does not carry the flight
-//! back: a model with a delay takes the differences' Jacobian.
+//! three of its samples a delay apart. The Jacobian's rows of a delayed reading are the same
+//! combination of the tangent's rows inside the window and, before it, of a forward
+//! difference of the short flight back.
 
 use glam::{DMat3, DQuat};
 

@@ -84,7 +84,7 @@ pub fn state_of(model: &Model, q: &[f64], surfaces: DVec3) -> State {
     x
 }
 
-fn step_of(k: usize) -> f64 {
+pub(crate) fn step_of(k: usize) -> f64 {
     STEPS[(k / 3).min(3)]
 }
 
