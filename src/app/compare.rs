@@ -298,16 +298,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     );
     println!("  {}", noise_text(&prep.measured_noise));
     if let Some((names, f)) = &reference_floor {
-        let flights: Vec<String> = names
-            .iter()
-            .zip(&f.noise_units)
-            .map(|(n, u)| format!("{n} ({} × its noise)", fixed(*u, 2)))
-            .collect();
-        println!(
-            "  judged against {}: {}\n  the model's own error on them (1σ per axis, added to the noise): {}",
-            count(names.len(), "reference flight"),
-            flights.join(", "),
-            noise_text(&f.model_error).trim_start_matches("measurement noise (1σ per axis): ")
+        print!(
+            "{}",
+            crate::analysis::report::reference_floor_text(names, f)
         );
     }
     println!();

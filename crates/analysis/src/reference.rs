@@ -238,10 +238,6 @@ fn axis_slot<'a>(
     }
 }
 
-fn rms3(a: [f64; 3]) -> f64 {
-    ((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) / 3.0).sqrt()
-}
-
 /// The model's own error on the reference flights (module docs). Each reference must have
 /// passed [`check_reference`].
 ///
@@ -298,13 +294,8 @@ pub fn model_floor(
         a.iter_mut().for_each(root);
     }
     root(&mut e.airspeed_mps);
-    e.pos_m = rms3(e.pos_axes);
-    e.vel_mps = rms3(e.vel_axes);
-    e.att_rad = rms3(e.att_axes);
-    e.rate_radps = rms3(e.rate_axes);
-    e.accel_mps2 = rms3(e.accel_axes);
     Ok(ModelFloor {
-        model_error: e,
+        model_error: e.with_rms(),
         flights: references.len(),
         samples,
         noise_units,

@@ -10,6 +10,7 @@ use crate::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
 use crate::conditions::Condition;
 use crate::diagnose::reference::ReferenceVerdict;
 use crate::diagnose::{Candidate, Diagnosis, Verdict};
+use crate::reference::ModelFloor;
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
 
@@ -524,7 +525,7 @@ fn causes_table(causes: &[Candidate]) -> String {
 pub fn diagnosis_text(d: &Diagnosis) -> String {
     let mut out = String::new();
     if let Some(r) = &d.reference {
-        out.push_str(&reference_floor_text(r));
+        out.push_str(&reference_floor_text(&r.names, &r.floor));
     }
     let unit = floor_word(d);
     let _ = writeln!(
@@ -749,19 +750,18 @@ fn floor_word(d: &Diagnosis) -> &'static str {
 }
 
 /// The reference flights and the model's own error they measured, two lines.
-fn reference_floor_text(r: &ReferenceVerdict) -> String {
-    let flights: Vec<String> = r
-        .names
+pub fn reference_floor_text(names: &[String], floor: &ModelFloor) -> String {
+    let flights: Vec<String> = names
         .iter()
-        .zip(&r.floor.noise_units)
+        .zip(&floor.noise_units)
         .map(|(n, u)| format!("{n} ({} × its noise)", fixed(*u, 2)))
         .collect();
     format!(
         "  judged against {}: {}\n  the model's own error on them (1σ per axis, added to the \
          noise): {}\n",
-        count(r.names.len(), "reference flight"),
+        count(names.len(), "reference flight"),
         flights.join(", "),
-        noise_text(&r.floor.model_error).trim_start_matches("measurement noise (1σ per axis): ")
+        noise_text(&floor.model_error).trim_start_matches("measurement noise (1σ per axis): ")
     )
 }
 

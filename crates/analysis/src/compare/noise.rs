@@ -98,6 +98,18 @@ fn rms3(a: [f64; 3]) -> f64 {
     ((a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) / 3.0).sqrt()
 }
 
+impl NoiseEstimate {
+    /// The estimate with each channel's RMS over its axes taken from the axes.
+    pub(crate) fn with_rms(mut self) -> Self {
+        self.pos_m = rms3(self.pos_axes);
+        self.vel_mps = rms3(self.vel_axes);
+        self.att_rad = rms3(self.att_axes);
+        self.rate_radps = rms3(self.rate_axes);
+        self.accel_mps2 = rms3(self.accel_axes);
+        self
+    }
+}
+
 /// Measurement noise of every measured channel of the data (derived channels read 0).
 pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
     // Channels side by side: each is a median of every sample's difference, twice.
@@ -106,18 +118,15 @@ pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
         || d.accel_body.as_deref().map_or([0.0; 3], axes3),
     );
     NoiseEstimate {
-        pos_m: rms3(pos_axes),
-        vel_mps: rms3(vel_axes),
-        att_rad: rms3(att_axes),
-        rate_radps: rms3(rate_axes),
-        accel_mps2: rms3(accel_axes),
         pos_axes,
         vel_axes,
         att_axes,
         rate_axes,
         airspeed_mps,
         accel_axes,
+        ..NoiseEstimate::default()
     }
+    .with_rms()
 }
 
 /// The noise of position, velocity, attitude, rates and airspeed.
@@ -180,7 +189,7 @@ pub fn expected_channel_errors(n: &NoiseEstimate) -> [f64; 4] {
 pub fn combined(noise: &NoiseEstimate, model: &NoiseEstimate) -> NoiseEstimate {
     let add = |a: f64, b: f64| a.hypot(b);
     let add3 = |a: [f64; 3], b: [f64; 3]| std::array::from_fn(|k| add(a[k], b[k]));
-    let mut c = NoiseEstimate {
+    NoiseEstimate {
         pos_axes: add3(noise.pos_axes, model.pos_axes),
         vel_axes: add3(noise.vel_axes, model.vel_axes),
         att_axes: add3(noise.att_axes, model.att_axes),
@@ -188,13 +197,8 @@ pub fn combined(noise: &NoiseEstimate, model: &NoiseEstimate) -> NoiseEstimate {
         accel_axes: add3(noise.accel_axes, model.accel_axes),
         airspeed_mps: add(noise.airspeed_mps, model.airspeed_mps),
         ..NoiseEstimate::default()
-    };
-    c.pos_m = rms3(c.pos_axes);
-    c.vel_mps = rms3(c.vel_axes);
-    c.att_rad = rms3(c.att_axes);
-    c.rate_radps = rms3(c.rate_axes);
-    c.accel_mps2 = rms3(c.accel_axes);
-    c
+    }
+    .with_rms()
 }
 
 #[cfg(test)]
