@@ -72,6 +72,27 @@ fn soa_batch_and_coded_path_match_the_per_edge_clipper_exactly() {
                 .collect();
             check_batch(&edges, depth).unwrap_or_else(|e| panic!("{depth:?} 1 in {every}: {e}"));
         }
+        // Small-integer ends: edges through the volume's corners and along its faces, where
+        // two planes give equal or nearly equal parameters and ends land exactly on planes
+        // (the masked max/min of the lanes must pick what the per-edge loop picks).
+        let grid = |rng: &mut Rng| {
+            let mut v = || [-3.0f32, -2.0, -1.0, -0.5, 0.0, 0.5, 1.0, 2.0, 3.0][rng.below(9)];
+            Vec4::new(v(), v(), v(), [0.5f32, 1.0, 2.0][rng.below(3)])
+        };
+        let ties: Vec<_> = (0..20_000)
+            .map(|_| (grid(&mut rng), grid(&mut rng)))
+            .collect();
+        check_batch(&ties, depth).unwrap_or_else(|e| panic!("{depth:?} grid: {e}"));
+        let near: Vec<_> = ties
+            .iter()
+            .map(|&(a, c)| {
+                (
+                    a,
+                    c * (1.0 + f32::EPSILON * rng.range_f32(-4.0, 4.0).round()),
+                )
+            })
+            .collect();
+        check_batch(&near, depth).unwrap_or_else(|e| panic!("{depth:?} near-grid: {e}"));
         // All inside (the copy-out path) and all outside.
         let inside: Vec<_> = (0..1000)
             .map(|i| {
