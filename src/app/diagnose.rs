@@ -235,16 +235,30 @@ pub(crate) fn model_toml(
             effects.push(format!("aircraft:{}", changed.join(",")));
         }
     }
-    let names: Vec<String> = model.effect_names();
-    let mut listed: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    use crate::flight::effects::term::term_of;
+    // Terms are written as `[[term]]` tables (their names are no TOML keys), the rest by name.
+    let mut listed: Vec<String> = model
+        .effects
+        .iter()
+        .filter(|e| term_of(e.info()).is_none())
+        .map(|e| format!("{:?}", e.name()))
+        .collect();
     listed.extend(effects.iter().map(|e| format!("{e:?}")));
     let _ = writeln!(out, "effects = [{}]", listed.join(", "));
     for e in &model.effects {
         let params = e.params();
-        if params.is_empty() {
+        if let Some(term) = term_of(e.info()) {
+            let _ = writeln!(
+                out,
+                "\n[[term]]\naxis = \"{}\"\nexpr = {:?}",
+                term.axis,
+                term.expr.source()
+            );
+        } else if params.is_empty() {
             continue;
+        } else {
+            let _ = writeln!(out, "\n[{}]", e.name());
         }
-        let _ = writeln!(out, "\n[{}]", e.name());
         for p in params {
             let _ = writeln!(out, "{} = {:?}", p.name, p.value);
         }

@@ -17,7 +17,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::effects::{Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
+use super::effects::{Airframe, Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
 use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
@@ -282,9 +282,20 @@ impl Model {
 
     /// What the defaults of an effect added to this model depend on.
     pub fn effect_context(&self) -> EffectContext {
+        let airframe = match &self.vehicle {
+            Vehicle::PointMass => Airframe::default(),
+            Vehicle::FixedWing(p) => Airframe {
+                span_m: p.geometry.b,
+                chord_m: p.geometry.c,
+                s_prop: p.propulsion.s_prop,
+                c_prop: p.propulsion.c_prop,
+                k_motor: p.propulsion.k_motor,
+            },
+        };
         EffectContext {
             origin: self.origin,
             span_m: self.vehicle.span(),
+            airframe,
         }
     }
 
