@@ -23,8 +23,8 @@ use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
 use wireflight_geometry::euler::EulerZyx;
 
-use super::aero::stall_blend_with;
 pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
+use super::aero::{propeller_thrust, stall_blend_with};
 
 /// Number of state variables.
 pub const STATE_LEN: usize = 16;
@@ -287,9 +287,6 @@ impl Model {
             Vehicle::FixedWing(p) => Airframe {
                 span_m: p.geometry.b,
                 chord_m: p.geometry.c,
-                s_prop: p.propulsion.s_prop,
-                c_prop: p.propulsion.c_prop,
-                k_motor: p.propulsion.k_motor,
             },
         };
         EffectContext {
@@ -464,6 +461,8 @@ impl Model {
             air_vel_ned: vel - frame.wind,
             controls: Controls::default(),
             mass: 1.0,
+            air: AirData::default(),
+            thrust: 0.0,
         };
         let mut acc = DVec3::new(0.0, 0.0, frame.g);
         for e in &self.effects {
@@ -575,6 +574,8 @@ impl Model {
             air_vel_ned: frame.rot * frame.v_r,
             controls: *ctl,
             mass: p.mass.mass_kg,
+            air: frame.air,
+            thrust: propeller_thrust(&p.propulsion, &frame.air, ctl.throttle),
         }
     }
 

@@ -54,6 +54,7 @@ pub use wind::Wind;
 
 use glam::{DMat3, DQuat, DVec3};
 
+use super::aero::AirData;
 use super::{Controls, VehicleKind};
 
 pub use crate::effect_basics;
@@ -539,6 +540,11 @@ pub struct Sample {
     pub controls: Controls,
     /// Mass, kg (1 for a point mass whose mass is unknown: its effects are accelerations).
     pub mass: f64,
+    /// The air data of the air-relative velocity — airspeed, α, β — as the aerodynamic model
+    /// takes them (still air for a point mass).
+    pub air: AirData,
+    /// The propeller's thrust, N, as the fixed-wing model takes it (0 for a point mass).
+    pub thrust: f64,
 }
 
 /// A named parameter of an effect and its current value, for display.
@@ -1001,6 +1007,8 @@ pub(crate) mod tests_support {
             air_vel_ned: DVec3::ZERO,
             controls: Controls::default(),
             mass: 1.0,
+            air: AirData::default(),
+            thrust: 0.0,
         }
     }
 }

@@ -21,7 +21,6 @@ use std::sync::{Arc, Mutex};
 use glam::DVec3;
 
 use super::{Applies, Effect, EffectContext, EffectInfo, ParamSpec, Sample};
-use crate::aero::air_angles;
 use crate::expr::{Axis, EvalError, Term, Var, VarValues, MAX_COEFFS, N_VARS};
 
 /// The most distinct terms one process may read (each keeps one interned [`EffectInfo`]).
@@ -212,20 +211,17 @@ fn coefficient_scale(term: &Term, i: usize) -> f64 {
 }
 
 /// What a term needs of the airframe beyond the [`Sample`]: the reference lengths of the
-/// non-dimensional rates and the propeller model of `thrust`.
+/// non-dimensional rates.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Airframe {
     /// Wing span b, m.
     pub span_m: f64,
     /// Mean chord c, m.
     pub chord_m: f64,
-    /// Propeller disc area, m².
-    pub s_prop: f64,
-    /// Propeller efficiency coefficient.
-    pub c_prop: f64,
-    /// Motor constant, m/s per unit throttle.
-    pub k_motor: f64,
 }
+
+/// Airspeed below which the non-dimensional rates are 0, as the aerodynamic model takes them.
+const MIN_AIRSPEED: f64 = 0.1;
 
 /// A term as an effect: its compiled expression, its coefficients and the airframe numbers
 /// its variables need.
@@ -236,25 +232,16 @@ pub struct TermEffect {
     coeffs: [f64; MAX_COEFFS],
     n_coeffs: usize,
     airframe: Airframe,
-    /// Whether the expression reads any air-data variable (α, β, the rates made
-    /// non-dimensional, thrust, airspeed, q̄): only then is the air-relative velocity taken.
-    needs_air: bool,
+    /// The variables the expression reads, one bit per [`Var::index`]: only those are filled.
+    used: u32,
 }
 
 impl TermEffect {
     fn new(info: &'static EffectInfo, term: Arc<Term>, ctx: &EffectContext) -> Self {
-        let needs_air = [
-            Var::Alpha,
-            Var::Beta,
-            Var::PHat,
-            Var::QHat,
-            Var::RHat,
-            Var::Thrust,
-            Var::Airspeed,
-            Var::Qbar,
-        ]
-        .into_iter()
-        .any(|v| term.expr.uses(v));
+        let used = term
+            .expr
+            .variables()
+            .fold(0u32, |m, v| m | (1 << v.index()));
         let n_coeffs = term.expr.coefficients().len().min(MAX_COEFFS);
         Self {
             info,
@@ -265,7 +252,7 @@ impl TermEffect {
                 span_m: ctx.span_m,
                 ..ctx.airframe
             },
-            needs_air,
+            used,
         }
     }
 
@@ -274,39 +261,52 @@ impl TermEffect {
         &self.term
     }
 
-    /// The variables' values at a sample: those the expression reads (the rest 0).
+    /// The variables' values at a sample: those the expression reads (the rest 0). The air
+    /// data and the thrust are the sample's, as the aerodynamic model took them.
+    #[inline]
     pub fn variables(&self, s: &Sample) -> VarValues {
         let mut v = [0.0; N_VARS];
-        let (p, q, r) = (s.omega.x, s.omega.y, s.omega.z);
-        v[Var::P.index()] = p;
-        v[Var::Q.index()] = q;
-        v[Var::R.index()] = r;
-        v[Var::Elevator.index()] = s.controls.elevator;
-        v[Var::Aileron.index()] = s.controls.aileron;
-        v[Var::Rudder.index()] = s.controls.rudder;
-        v[Var::Throttle.index()] = s.controls.throttle;
-        v[Var::Rho.index()] = s.rho;
-        v[Var::Height.index()] = -s.pos_ned.z;
-        v[Var::G.index()] = s.g;
-        if self.needs_air {
-            let af = &self.airframe;
-            let air = air_angles(s.rot.transpose() * s.air_vel_ned, s.rho);
-            let va = air.airspeed;
-            v[Var::Alpha.index()] = air.alpha;
-            v[Var::Beta.index()] = air.beta;
-            v[Var::Airspeed.index()] = va;
-            v[Var::Qbar.index()] = 0.5 * s.rho * va * va;
-            // As the aerodynamic model takes them: zero where the airspeed is (almost) zero.
-            if va > 0.1 {
-                let half_inv = 0.5 / va;
-                v[Var::PHat.index()] = p * af.span_m * half_inv;
-                v[Var::QHat.index()] = q * af.chord_m * half_inv;
-                v[Var::RHat.index()] = r * af.span_m * half_inv;
-            }
-            let k = af.k_motor * s.controls.throttle;
-            v[Var::Thrust.index()] = 0.5 * s.rho * af.s_prop * af.c_prop * (k * k - va * va);
+        let mut left = self.used;
+        // Bounded: one pass per bit set, at most N_VARS.
+        while left != 0 {
+            let i = left.trailing_zeros() as usize;
+            left &= left - 1;
+            v[i] = self.value_of(Var::ALL[i], s);
         }
         v
+    }
+
+    #[inline]
+    fn value_of(&self, var: Var, s: &Sample) -> f64 {
+        let va = s.air.airspeed;
+        // p·L/(2V): zero at (almost) zero airspeed, where it is undefined.
+        let hat = |rate: f64, length: f64| {
+            if va > MIN_AIRSPEED {
+                rate * length * (0.5 / va)
+            } else {
+                0.0
+            }
+        };
+        match var {
+            Var::Alpha => s.air.alpha,
+            Var::Beta => s.air.beta,
+            Var::PHat => hat(s.omega.x, self.airframe.span_m),
+            Var::QHat => hat(s.omega.y, self.airframe.chord_m),
+            Var::RHat => hat(s.omega.z, self.airframe.span_m),
+            Var::P => s.omega.x,
+            Var::Q => s.omega.y,
+            Var::R => s.omega.z,
+            Var::Elevator => s.controls.elevator,
+            Var::Aileron => s.controls.aileron,
+            Var::Rudder => s.controls.rudder,
+            Var::Throttle => s.controls.throttle,
+            Var::Thrust => s.thrust,
+            Var::Airspeed => va,
+            Var::Qbar => 0.5 * s.rho * va * va,
+            Var::Rho => s.rho,
+            Var::Height => -s.pos_ned.z,
+            Var::G => s.g,
+        }
     }
 
     /// The term's value at a sample, or what made it NaN or ∞ (the variable or coefficient,
@@ -388,6 +388,7 @@ pub fn axis_of(info: &EffectInfo) -> Option<Axis> {
 mod tests {
     use super::super::tests_support::sample;
     use super::*;
+    use crate::aero::air_angles;
     use crate::Controls;
 
     fn ctx() -> EffectContext {
@@ -397,9 +398,6 @@ mod tests {
             airframe: Airframe {
                 span_m: 3.0,
                 chord_m: 0.3,
-                s_prop: 0.2,
-                c_prop: 1.0,
-                k_motor: 80.0,
             },
         }
     }
@@ -421,7 +419,7 @@ mod tests {
 
     #[test]
     fn a_moment_term_acts_on_its_axis_with_the_models_thrust() {
-        let info = intern(&Term::parse("m = k*thrust").unwrap()).unwrap();
+        let info = intern(&Term::parse("m = k*thrust*throttle").unwrap()).unwrap();
         let mut e = info.build(&ctx());
         e.set_param("k", 0.5).unwrap();
         let s = Sample {
@@ -429,12 +427,31 @@ mod tests {
                 throttle: 0.5,
                 ..Controls::default()
             },
+            thrust: 40.0,
             ..sample()
         };
-        let thrust = 0.5 * s.rho * 0.2 * 1.0 * (40.0f64 * 40.0);
         let (f, m) = e.force_moment_body(&s);
         assert_eq!(f, DVec3::ZERO);
-        assert_eq!(m, DVec3::new(0.0, 0.5 * thrust, 0.0));
+        assert_eq!(m, DVec3::new(0.0, 0.5 * 40.0 * 0.5, 0.0));
+    }
+
+    /// The non-dimensional rates take the span and the chord of the airframe, and the air
+    /// data's airspeed; they are 0 where the airspeed is (almost) zero.
+    #[test]
+    fn the_non_dimensional_rates_take_the_airframes_lengths() {
+        let info = intern(&Term::parse("n = k*r_hat + k2*q_hat").unwrap()).unwrap();
+        let mut e = info.build(&ctx());
+        e.set_param("k", 1.0).unwrap();
+        e.set_param("k2", 10.0).unwrap();
+        let mut s = Sample {
+            omega: DVec3::new(0.0, 0.2, 0.4),
+            air: air_angles(DVec3::new(20.0, 0.0, 0.0), 1.2),
+            ..sample()
+        };
+        let want = 0.4 * 3.0 / 40.0 + 10.0 * 0.2 * 0.3 / 40.0;
+        assert!((e.force_moment_body(&s).1.z - want).abs() < 1e-12);
+        s.air = air_angles(DVec3::ZERO, 1.2);
+        assert_eq!(e.force_moment_body(&s).1.z, 0.0);
     }
 
     #[test]
@@ -444,7 +461,7 @@ mod tests {
         let mut e = info.build(&ctx());
         e.set_param("c", -10.0).unwrap();
         let s = Sample {
-            air_vel_ned: DVec3::new(20.0, 2.0, 0.0),
+            air: air_angles(DVec3::new(20.0, 2.0, 0.0), 1.2),
             ..sample()
         };
         let (f, m) = e.force_moment_body(&s);
