@@ -421,7 +421,7 @@ pub fn add_fitted(
 /// `model`: they are candidates of the diagnosis, fitted and ranked with the catalogue's,
 /// not part of the model it starts from. A term given values stays in the model.
 pub fn take_declared_terms(model: &mut Model) -> Vec<Box<dyn Effect>> {
-    let is_declared = |e: &Box<dyn Effect>| {
+    let is_declared = |e: &dyn Effect| {
         wireflight_flight::effects::term::term_of(e.info()).is_some()
             && e.info()
                 .params
@@ -431,7 +431,7 @@ pub fn take_declared_terms(model: &mut Model) -> Vec<Box<dyn Effect>> {
     };
     let (declared, kept) = std::mem::take(&mut model.effects)
         .into_iter()
-        .partition(is_declared);
+        .partition(|e| is_declared(e.as_ref()));
     model.effects = kept;
     declared
 }

@@ -737,7 +737,7 @@ impl Clone for Box<dyn Effect> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// The catalogue and two terms (a moment and a force of two coefficients): what the

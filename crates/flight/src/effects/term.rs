@@ -470,6 +470,38 @@ mod tests {
         assert_eq!((f.x, f.z, m), (0.0, 0.0, DVec3::ZERO));
     }
 
+    /// In the model, a pitching-moment term changes the pitch acceleration by m/J_y and
+    /// nothing else: what the tangent's differences of the derivative then carry.
+    #[test]
+    fn a_pitching_term_enters_the_models_pitch_acceleration() {
+        use crate::model::Vehicle;
+        use crate::spec::{EffectSpec, ModelSpec};
+        let base = ModelSpec::baseline(crate::VehicleKind::FixedWing)
+            .build(super::super::Origin::default())
+            .unwrap();
+        let Vehicle::FixedWing(p) = &base.vehicle else {
+            unreachable!("a fixed wing")
+        };
+        let jy = p.mass.jy;
+        let spec = EffectSpec::parse("term(m=k*airspeed):k=2").unwrap();
+        let mut with = base.clone();
+        with.add_effect(spec.build(&base.effect_context()).unwrap())
+            .unwrap();
+        let (x, cmd) = super::super::tests::flying();
+        let (a, b) = (
+            with.derivative(1.0, &x, &cmd).0,
+            base.derivative(1.0, &x, &cmd).0,
+        );
+        let va = base.air_data(1.0, &x).airspeed;
+        for (k, (ga, gb)) in a.iter().zip(b).enumerate() {
+            let want = if k == 11 { gb + 2.0 * va / jy } else { gb };
+            assert!(
+                (ga - want).abs() < 1e-12 * (1.0 + want.abs()),
+                "[{k}]: {ga} vs {want}"
+            );
+        }
+    }
+
     #[test]
     fn a_non_finite_term_says_why_with_the_values() {
         let info = intern(&Term::parse("m = k*ln(throttle - 2)").unwrap()).unwrap();
