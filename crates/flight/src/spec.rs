@@ -786,4 +786,35 @@ mod tests {
         assert!(EffectSpec::parse("wind:north_mps=inf").is_err());
         assert!(EffectSpec::parse("wind:north_mps").is_err());
     }
+
+    /// A term's spec: `term:AXIS=EXPR` (blanks aside) and `term(AXIS=EXPR):k=v` name the same
+    /// effect, write back as given, and refuse what does not read with the column in the
+    /// argument.
+    #[test]
+    fn term_specs_round_trip_and_name_the_column() {
+        let short = EffectSpec::parse("term:m = k * thrust").unwrap();
+        assert_eq!(short.name, "term(m=k*thrust)");
+        assert!(short.is_term() && short.params.is_empty());
+        assert_eq!(short.to_arg(), "term:m=k*thrust");
+        assert_eq!(EffectSpec::parse(&short.to_arg()).unwrap(), short);
+        let valued = EffectSpec::parse("term(m=k*thrust):k=0.5").unwrap();
+        assert_eq!(valued.name, short.name);
+        assert_eq!(valued.params, [("k".to_string(), 0.5)]);
+        assert_eq!(EffectSpec::parse(&valued.to_arg()).unwrap(), valued);
+        for (bad, column) in [
+            ("term:m=k*trhust", 10),
+            ("term(m=k*(alpha):k=1", 10),
+            ("term:q=k*alpha", 6),
+        ] {
+            match EffectSpec::parse(bad) {
+                Err(SpecError::Term { column: c, .. }) => assert_eq!(c, column, "{bad}"),
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        let spec = ModelSpec::from_toml(
+            "vehicle = \"fixed-wing\"\n[[term]]\naxis = \"m\"\nexpr = \"k * thrust\"\nk = 0.5\n",
+        )
+        .unwrap();
+        assert_eq!(spec.effects, [valued]);
+    }
 }
