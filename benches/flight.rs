@@ -1,5 +1,7 @@
-//! Flight-model integrator throughput: fixed-wing RK4 steps per second (baseline and with every
-//! applicable effect on), and one hour of flight at 100 Hz with all effects.
+//! Flight-model integrator throughput: fixed-wing RK4 steps per second (baseline, with one
+//! expression term `m = k*thrust`, and with every applicable effect on), and one hour of
+//! flight at 100 Hz with all effects. The term's step should cost at most 1.3× the
+//! baseline's.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
@@ -7,6 +9,7 @@ use glam::DVec3;
 use wireflight::flight::effects::{Origin, CATALOGUE};
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
+use wireflight::flight::spec::EffectSpec;
 use wireflight::flight::trim::trim_level;
 use wireflight::flight::VehicleKind;
 
@@ -32,12 +35,24 @@ fn aerosonde(all_effects: bool) -> Model {
     m
 }
 
+/// The baseline with one term, `m = k*thrust` (k = 0.01 N·m/N): read and compiled once, here.
+fn aerosonde_with_term() -> Model {
+    let mut m = aerosonde(false);
+    let spec = EffectSpec::parse("term(m=k*thrust):k=0.01").unwrap();
+    let e = spec.build(&m.effect_context()).unwrap();
+    m.add_effect(e).unwrap();
+    m
+}
+
 fn integrator(c: &mut Criterion) {
     let mut group = c.benchmark_group("fixed_wing_rk4");
     group.sample_size(20);
     group.measurement_time(std::time::Duration::from_secs(3));
-    for (label, all) in [("baseline", false), ("all effects", true)] {
-        let model = aerosonde(all);
+    for (label, model) in [
+        ("baseline", aerosonde(false)),
+        ("one term", aerosonde_with_term()),
+        ("all effects", aerosonde(true)),
+    ] {
         let trim = trim_level(&model, 25.0, 0.0, DVec3::new(0.0, 0.0, -200.0)).unwrap();
         const STEPS: u64 = 10_000;
         group.throughput(Throughput::Elements(STEPS));

@@ -78,6 +78,13 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     }
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let base = args.model.choice().build(&args.flight, &data)?;
+    crate::app::diagnose::check_forces_finite(
+        &base,
+        &args.model.add_specs()?,
+        &[],
+        &args.flight,
+        &data,
+    )?;
     let mut cfg = args.windows.config(base.vehicle.kind());
     args.windows.check_fits(&args.flight, &data, &cfg)?;
     let references =

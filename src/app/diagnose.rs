@@ -25,6 +25,15 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         ..DiagnoseConfig::default()
     };
     args.windows.check_fits(&args.flight, &data, &cfg.compare)?;
+    // A model file's `[[term]]` without values is a candidate, not part of the model.
+    let declared = diagnose::take_declared_terms(&mut base);
+    check_forces_finite(
+        &base,
+        &args.model.add_specs()?,
+        &declared,
+        &args.flight,
+        &data,
+    )?;
     if !args.model.add.is_empty() {
         let prep = Prepared::new(&data, cfg.compare);
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg)?;
@@ -35,12 +44,12 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         args.json,
     );
     let d = if references.is_empty() {
-        diagnose::diagnose(&base, &data, &[], &cfg)
+        diagnose::diagnose(&base, &data, &declared, &cfg)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
     } else {
         let named: Vec<(&str, &crate::flight::data::FlightData)> =
             references.iter().map(|(n, d)| (n.as_str(), d)).collect();
-        diagnose::reference::diagnose_against(&base, &data, &named, &[], &cfg)
+        diagnose::reference::diagnose_against(&base, &data, &named, &declared, &cfg)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
     };
     drop(progress);
@@ -201,6 +210,36 @@ fn aircraft_source(
     })
 }
 
+/// Refuse to compare `model`, with `extra` effects added at their given values, on `data`
+/// where a force of theirs is NaN or ∞ at a measured state (a term such as `k*ln(throttle -
+/// 2)`): the error names the time, the term, the operation and the values — never a fit
+/// that goes on over NaN.
+pub(crate) fn check_forces_finite(
+    model: &crate::flight::model::Model,
+    extra: &[crate::flight::spec::EffectSpec],
+    declared: &[Box<dyn crate::flight::effects::Effect>],
+    flight: &std::path::Path,
+    data: &crate::flight::data::FlightData,
+) -> anyhow::Result<()> {
+    let mut probe = model.clone();
+    let ctx = probe.effect_context();
+    for spec in extra.iter().filter(|s| !s.is_aircraft()) {
+        // An effect already in the model, or one that does not apply, is refused where it is
+        // fitted, with its own message.
+        let _ = probe.add_effect(spec.build(&ctx)?);
+    }
+    for e in declared {
+        let _ = probe.add_effect(e.clone());
+    }
+    match probe.explain_on_data(data) {
+        Some((t, why)) => anyhow::bail!(
+            "{}: the model's forces are not finite at t = {t:.2} s: {why}",
+            crate::app::shown(flight)
+        ),
+        None => Ok(()),
+    }
+}
+
 /// `model` as a model file (`--model`): its vehicle, its parameter set (the one the choice
 /// started from, every number that differs from it given as `aircraft:KEY=V`), its effects
 /// with every parameter and its origin, headed by `comment` lines. Numbers are written so
@@ -235,16 +274,30 @@ pub(crate) fn model_toml(
             effects.push(format!("aircraft:{}", changed.join(",")));
         }
     }
-    let names: Vec<String> = model.effect_names();
-    let mut listed: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    use crate::flight::effects::term::term_of;
+    // Terms are written as `[[term]]` tables (their names are no TOML keys), the rest by name.
+    let mut listed: Vec<String> = model
+        .effects
+        .iter()
+        .filter(|e| term_of(e.info()).is_none())
+        .map(|e| format!("{:?}", e.name()))
+        .collect();
     listed.extend(effects.iter().map(|e| format!("{e:?}")));
     let _ = writeln!(out, "effects = [{}]", listed.join(", "));
     for e in &model.effects {
         let params = e.params();
-        if params.is_empty() {
+        if let Some(term) = term_of(e.info()) {
+            let _ = writeln!(
+                out,
+                "\n[[term]]\naxis = \"{}\"\nexpr = {:?}",
+                term.axis,
+                term.expr.source()
+            );
+        } else if params.is_empty() {
             continue;
+        } else {
+            let _ = writeln!(out, "\n[{}]", e.name());
         }
-        let _ = writeln!(out, "\n[{}]", e.name());
         for p in params {
             let _ = writeln!(out, "{} = {:?}", p.name, p.value);
         }

@@ -5,7 +5,7 @@
 
 use glam::DVec3;
 
-use super::params::FixedWingParams;
+use super::params::{FixedWingParams, Propulsion};
 use super::Controls;
 use crate::numeric::small_atan2;
 
@@ -108,6 +108,14 @@ pub fn stall_blend_with(alpha: f64, m: f64, alpha0: f64, c: f64) -> f64 {
     a + b - a * b
 }
 
+/// The propeller's thrust, N: ½ρ S_prop C_prop ((k_motor δt)² − Va²).
+#[inline]
+pub fn propeller_thrust(prop: &Propulsion, air: &AirData, throttle: f64) -> f64 {
+    let k = prop.k_motor * throttle;
+    let va = air.airspeed;
+    0.5 * air.rho * prop.s_prop * prop.c_prop * (k * k - va * va)
+}
+
 /// Aerodynamic and propulsive force (body) and moment (body) of the fixed-wing model.
 /// `induced_factor` multiplies the induced-drag term (ground effect); `sigma` is the stall
 /// blend σ(α) ([`stall_blend`], [`stall_blend_with`]).
@@ -152,9 +160,7 @@ pub fn aero_force_moment(
             + lat.c_y_r * b2v * rr
             + lat.c_y_delta_a * ctl.aileron
             + lat.c_y_delta_r * ctl.rudder);
-    let prop = &p.propulsion;
-    let k = prop.k_motor * ctl.throttle;
-    let thrust = 0.5 * air.rho * prop.s_prop * prop.c_prop * (k * k - va * va);
+    let thrust = propeller_thrust(&p.propulsion, air, ctl.throttle);
 
     let l = qbar_s
         * geo.b

@@ -17,14 +17,14 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::effects::{Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
+use super::effects::{Airframe, Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
 use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
 use wireflight_geometry::euler::EulerZyx;
 
-use super::aero::stall_blend_with;
 pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
+use super::aero::{propeller_thrust, stall_blend_with};
 
 /// Number of state variables.
 pub const STATE_LEN: usize = 16;
@@ -282,9 +282,17 @@ impl Model {
 
     /// What the defaults of an effect added to this model depend on.
     pub fn effect_context(&self) -> EffectContext {
+        let airframe = match &self.vehicle {
+            Vehicle::PointMass => Airframe::default(),
+            Vehicle::FixedWing(p) => Airframe {
+                span_m: p.geometry.b,
+                chord_m: p.geometry.c,
+            },
+        };
         EffectContext {
             origin: self.origin,
             span_m: self.vehicle.span(),
+            airframe,
         }
     }
 
@@ -453,6 +461,8 @@ impl Model {
             air_vel_ned: vel - frame.wind,
             controls: Controls::default(),
             mass: 1.0,
+            air: AirData::default(),
+            thrust: 0.0,
         };
         let mut acc = DVec3::new(0.0, 0.0, frame.g);
         for e in &self.effects {
@@ -472,7 +482,6 @@ impl Model {
         cmd: &Controls,
         frame: &Frame,
     ) -> State {
-        let pos = x.pos_ned();
         let uvw = x.vel();
         let q = x.quat();
         let rot = frame.rot;
@@ -493,19 +502,7 @@ impl Model {
             .iter()
             .any(|e| !e.is_uniform_wind() && !e.is_measurement())
         {
-            let s = Sample {
-                t,
-                pos_ned: pos,
-                vel_ned,
-                rot,
-                omega,
-                altitude_m: self.altitude(pos),
-                rho: frame.rho,
-                g: frame.g,
-                air_vel_ned: rot * frame.v_r,
-                controls: ctl,
-                mass: p.mass.mass_kg,
-            };
+            let s = self.body_sample(p, t, x, &ctl, frame);
             for e in self.effects.iter().filter(|e| !e.is_measurement()) {
                 induced_factor *= e.induced_drag_factor(&s);
                 let (f, m) = e.force_moment_body(&s);
@@ -552,6 +549,131 @@ impl Model {
         d[10..13].copy_from_slice(&omega_dot.to_array());
         d[13..16].copy_from_slice(&surf_dot.to_array());
         State(d)
+    }
+
+    /// What the body-force effects see of a fixed wing at time `t` and state `x` under the
+    /// surfaces and throttle `ctl`, in `frame`.
+    fn body_sample(
+        &self,
+        p: &FixedWingParams,
+        t: f64,
+        x: &State,
+        ctl: &Controls,
+        frame: &Frame,
+    ) -> Sample {
+        let pos = x.pos_ned();
+        Sample {
+            t,
+            pos_ned: pos,
+            vel_ned: frame.rot * x.vel(),
+            rot: frame.rot,
+            omega: x.omega(),
+            altitude_m: self.altitude(pos),
+            rho: frame.rho,
+            g: frame.g,
+            air_vel_ned: frame.rot * frame.v_r,
+            controls: *ctl,
+            mass: p.mass.mass_kg,
+            air: frame.air,
+            thrust: propeller_thrust(&p.propulsion, &frame.air, ctl.throttle),
+        }
+    }
+
+    /// Why the forces at time `t` and state `x` under `cmd` are not finite, if an effect can
+    /// tell ([`Effect::explain_non_finite`]: a term names its operation and the values that
+    /// made it NaN or ∞) — asked after a flight has gone non-finite. `None` for a point mass,
+    /// or where no effect says.
+    pub fn explain_non_finite(&self, t: f64, x: &State, cmd: &Controls) -> Option<String> {
+        let Vehicle::FixedWing(p) = &self.vehicle else {
+            return None;
+        };
+        let frame = self.frame(t, x);
+        let ctl = surfaces_under(self.actuator_tau(), x, cmd);
+        let s = self.body_sample(p, t, x, &ctl, &frame);
+        self.effects
+            .iter()
+            .filter(|e| !e.is_measurement())
+            .find_map(|e| e.explain_non_finite(&s))
+    }
+
+    /// The first sample of a recorded flight at whose measured state (position, velocity,
+    /// attitude, rates, controls; the surfaces at their commands) an effect's force is NaN
+    /// or ∞, and why ([`explain_non_finite`](Self::explain_non_finite)): what a comparison
+    /// checks before it flies, so that a term which cannot be evaluated on the flight stops
+    /// it with the time and the values instead of leaving NaN in its tables. `None` for a
+    /// point mass, data without attitude, or where every force is finite.
+    pub fn explain_on_data(&self, d: &super::data::FlightData) -> Option<(f64, String)> {
+        if !matches!(self.vehicle, Vehicle::FixedWing(_))
+            || !self.effects.iter().any(|e| !e.is_measurement())
+        {
+            return None;
+        }
+        let attitude = d.attitude.as_ref()?;
+        for (i, &t) in d.time.iter().enumerate() {
+            let cmd = d
+                .controls
+                .as_ref()
+                .and_then(|c| c.get(i).copied())
+                .unwrap_or_default();
+            let mut x = State::default();
+            x.set_pos_ned(d.pos_ned[i]);
+            x.set_attitude(attitude[i]);
+            let vel_ned = d.vel_ned.as_ref().map_or(DVec3::ZERO, |v| v[i]);
+            let body = match &d.vel_body {
+                Some(v) => v[i],
+                None => x.rot().transpose() * vel_ned,
+            };
+            x.set_vel(body);
+            x.set_omega(d.rates_body.as_ref().map_or(DVec3::ZERO, |r| r[i]));
+            x.set_surfaces(DVec3::new(cmd.elevator, cmd.aileron, cmd.rudder));
+            if !x.is_finite() {
+                continue;
+            }
+            if let Some(why) = self.explain_non_finite(t, &x, &cmd) {
+                return Some((t, why));
+            }
+        }
+        None
+    }
+
+    /// Where and why [`advance`](Self::advance) from `t0` to `t1` goes non-finite: the
+    /// sub-step it does so in is flown again and the state at each of its RK4 stages asked
+    /// ([`explain_non_finite`](Self::explain_non_finite)); the time of the stage and the
+    /// effect's account, or `None` where no effect can tell (or the flight stays finite).
+    pub fn explain_advance(
+        &self,
+        t0: f64,
+        x: &State,
+        cmd: &Controls,
+        t1: f64,
+        max_dt: f64,
+    ) -> Option<(f64, String)> {
+        let (n, dt) = Self::substeps(t1 - t0, max_dt);
+        let mut s = *x;
+        for i in 0..n {
+            let t = t0 + i as f64 * dt;
+            let next = self.step(t, &s, cmd, dt);
+            if next.is_finite() {
+                s = next;
+                continue;
+            }
+            // The stages' states x + ½h·k₁, x + ½h·k₂, x + h·k₃ (the lag's surfaces aside).
+            let mut probe = s;
+            for frac in [0.0, 0.5, 0.5, 1.0] {
+                let at = t + frac * dt;
+                if frac > 0.0 {
+                    let k = self.derivative(at, &probe, cmd);
+                    for (p, (x0, d)) in probe.0.iter_mut().zip(s.0.iter().zip(k.0)) {
+                        *p = x0 + frac * dt * d;
+                    }
+                }
+                if let Some(why) = self.explain_non_finite(at, &probe, cmd) {
+                    return Some((at, why));
+                }
+            }
+            return None;
+        }
+        None
     }
 
     /// One RK4 step of length `dt` with commands held constant; renormalises the quaternion.

@@ -180,6 +180,14 @@ pub enum SimulateError {
     /// The state became non-finite.
     #[error("the simulated flight diverged at t = {0:.2} s")]
     Diverged(f64),
+    /// A force or moment of the model became NaN or ∞: which, and the values that made it.
+    #[error("the simulated flight stopped at t = {t:.2} s: {why}")]
+    NotFinite {
+        /// Time of the integration stage where it did, s.
+        t: f64,
+        /// The effect's account ([`Model::explain_non_finite`]).
+        why: String,
+    },
 }
 
 /// Longest integration step inside one output interval, s.
@@ -346,8 +354,15 @@ pub fn simulate_bounded(
                 // until the next sample, as the controls column records them).
                 let accel = model.specific_force(t, &x, &cmd);
                 truth.push_fixed_wing(t, &x, air.airspeed, cmd, accel);
-                x = model.advance(t, &x, &cmd, t + dt_out, max_dt);
-                check_finite(&x, t)?;
+                let next = model.advance(t, &x, &cmd, t + dt_out, max_dt);
+                if !next.is_finite() {
+                    return Err(model
+                        .explain_advance(t, &x, &cmd, t + dt_out, max_dt)
+                        .map_or(SimulateError::Diverged(t), |(t, why)| {
+                            SimulateError::NotFinite { t, why }
+                        }));
+                }
+                x = next;
             }
         }
     }

@@ -19,9 +19,11 @@
 use std::path::{Path, PathBuf};
 
 use super::data::FlightData;
+use super::effects::term::TermError;
 use super::effects::{
     catalogue_names, find, Effect, EffectContext, Origin, OriginError, ParamError,
 };
+use super::expr::Term;
 use super::model::{Model, ModelError, Vehicle};
 use super::params::{FixedWingParams, ParamSetError};
 use super::{UnknownVehicle, VehicleKind};
@@ -171,6 +173,33 @@ pub enum SpecError {
         /// The flight-data file.
         data: PathBuf,
     },
+    /// A term (`term:AXIS=EXPR`, a model file's `[[term]]`) that does not read: the column
+    /// counts in the text as written (the whole `--add` argument, or the file's `expr`).
+    #[error("`{spec}`: column {column}: {problem}")]
+    Term {
+        /// The spec or expression as written.
+        spec: String,
+        /// The 1-based column, in characters, of the problem.
+        column: usize,
+        /// What is wrong.
+        problem: crate::expr::Problem,
+    },
+    /// More distinct terms than one run keeps.
+    #[error("`{spec}`: {error}")]
+    TermRegistry {
+        /// The spec.
+        spec: String,
+        /// What the registry says.
+        error: crate::effects::term::TermError,
+    },
+    /// A `[[term]]` entry that is not `axis = "…"`, `expr = "…"` and coefficient values.
+    #[error("`[[term]]` #{index}: {problem}")]
+    TermEntry {
+        /// The entry's 1-based position in the file.
+        index: usize,
+        /// What is wrong.
+        problem: String,
+    },
     /// Building the model of a [`ModelChoice`] failed.
     #[error("building the model")]
     Building(#[source] Box<SpecError>),
@@ -197,6 +226,81 @@ pub struct EffectSpec {
     pub fit: Vec<String>,
 }
 
+/// How `--add` writes a term: `term:AXIS=EXPR` (coefficients fitted from 0).
+pub const TERM_SHORT: &str = "term:";
+/// How a term's effect is named, and written with values: `term(AXIS=EXPR):k=v,…`.
+pub const TERM_LONG: &str = "term(";
+
+/// One `[[term]]` of a model file: `axis = "m"`, `expr = "k * thrust"`, and optionally a
+/// value for each coefficient (`k = 0.8`; the others start at 0).
+fn term_entry(index: usize, entry: &toml::Value) -> Result<EffectSpec, SpecError> {
+    let bad = |problem: String| SpecError::TermEntry { index, problem };
+    let table = entry
+        .as_table()
+        .ok_or_else(|| bad("must be a table with `axis` and `expr`".into()))?;
+    let text = |key: &str| {
+        table
+            .get(key)
+            .ok_or_else(|| bad(format!("missing `{key}`")))?
+            .as_str()
+            .ok_or_else(|| bad(format!("`{key}` must be a string")))
+    };
+    let (axis, expr) = (text("axis")?, text("expr")?);
+    let term = Term::new(axis, expr).map_err(|e| SpecError::Term {
+        spec: if matches!(e.problem, crate::expr::Problem::UnknownAxis(_)) {
+            axis.to_string()
+        } else {
+            expr.to_string()
+        },
+        column: e.column,
+        problem: e.problem,
+    })?;
+    let mut params = Vec::new();
+    for (k, v) in table
+        .iter()
+        .filter(|(k, _)| !["axis", "expr"].contains(&k.as_str()))
+    {
+        let value = v
+            .as_float()
+            .or_else(|| v.as_integer().map(|i| i as f64))
+            .ok_or_else(|| bad(format!("`{k}` must be a number (a coefficient's value)")))?;
+        params.push((k.clone(), value));
+    }
+    EffectSpec::of_term(&term, params).map_err(|error| SpecError::TermRegistry {
+        spec: format!("{term}"),
+        error,
+    })
+}
+
+/// `k=v,…` of a term's spec: coefficient values.
+fn parse_values(spec: &str, rest: &str) -> Result<Vec<(String, f64)>, SpecError> {
+    let mut params = Vec::new();
+    for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let Some((k, v)) = kv.split_once('=') else {
+            return Err(SpecError::NotNameValue {
+                item: kv.to_string(),
+                spec: spec.to_string(),
+            });
+        };
+        let value = finite_value(spec, k, v)?;
+        params.push((k.trim().to_string(), value));
+    }
+    Ok(params)
+}
+
+/// `v` as a finite number, or the error naming it, its key and the spec.
+fn finite_value(spec: &str, k: &str, v: &str) -> Result<f64, SpecError> {
+    v.trim()
+        .parse()
+        .ok()
+        .filter(|x: &f64| x.is_finite())
+        .ok_or_else(|| SpecError::NotFinite {
+            value: v.to_string(),
+            key: k.to_string(),
+            spec: spec.to_string(),
+        })
+}
+
 /// The name under which `--add`/`--hidden` address the aircraft's own numbers.
 pub const AIRCRAFT: &str = "aircraft";
 
@@ -206,6 +310,27 @@ impl EffectSpec {
     /// # Errors
     /// Unknown effect name, malformed `k=v`, non-numeric or non-finite value.
     pub fn parse(text: &str) -> Result<Self, SpecError> {
+        if let Some(term) = text.trim_start().strip_prefix(TERM_SHORT) {
+            let lead = text.chars().count() - term.chars().count();
+            return Self::term(text, term, lead, Vec::new());
+        }
+        if text.trim_start().starts_with(TERM_LONG) {
+            // `term(AXIS=EXPR)` or `term(AXIS=EXPR):k=v,…` (how a term with values is written
+            // back, and how a hidden truth gives its coefficients): the name ends at the `)`
+            // before the first `:`, since an expression has no `:`.
+            let (head, rest) = text.split_once(':').unwrap_or((text, ""));
+            let lead = text.chars().count() - text.trim_start().chars().count() + TERM_LONG.len();
+            let inner = head.trim().strip_prefix(TERM_LONG).unwrap_or("");
+            let Some(inner) = inner.strip_suffix(')') else {
+                return Err(SpecError::Term {
+                    spec: text.to_string(),
+                    column: head.trim_end().chars().count() + 1,
+                    problem: crate::expr::Problem::Unclosed,
+                });
+            };
+            let params = parse_values(text, rest)?;
+            return Self::term(text, inner, lead, params);
+        }
         let (name, rest) = match text.split_once(':') {
             Some((n, r)) => (n.trim(), r),
             None => (text.trim(), ""),
@@ -235,16 +360,7 @@ impl EffectSpec {
             if aircraft && crate::params::keys::find(k.trim()).is_none() {
                 return Err(not_aircraft(k.trim()));
             }
-            let value: f64 = v
-                .trim()
-                .parse()
-                .ok()
-                .filter(|x: &f64| x.is_finite())
-                .ok_or_else(|| SpecError::NotFinite {
-                    value: v.to_string(),
-                    key: k.to_string(),
-                    spec: text.to_string(),
-                })?;
+            let value = finite_value(text, k, v)?;
             params.push((k.trim().to_string(), value));
         }
         if aircraft && params.is_empty() && fit.is_empty() {
@@ -255,6 +371,43 @@ impl EffectSpec {
             params,
             fit,
         })
+    }
+
+    /// A term's spec: `term_text` (`AXIS=EXPR`, beginning `lead` characters into `text`)
+    /// read, compiled and interned once; its effect name is the canonical `term(…)`.
+    fn term(
+        text: &str,
+        term_text: &str,
+        lead: usize,
+        params: Vec<(String, f64)>,
+    ) -> Result<Self, SpecError> {
+        let term = Term::parse(term_text).map_err(|e| SpecError::Term {
+            spec: text.to_string(),
+            column: lead + e.column,
+            problem: e.problem,
+        })?;
+        Self::of_term(&term, params).map_err(|error| SpecError::TermRegistry {
+            spec: text.to_string(),
+            error,
+        })
+    }
+
+    /// The spec of a term read already, with coefficient values given.
+    ///
+    /// # Errors
+    /// Too many distinct terms in one run.
+    pub fn of_term(term: &Term, params: Vec<(String, f64)>) -> Result<Self, TermError> {
+        let info = crate::effects::term::intern(term)?;
+        Ok(Self {
+            name: info.name.to_string(),
+            params,
+            fit: Vec::new(),
+        })
+    }
+
+    /// Whether it is a term (`term(AXIS=EXPR)`).
+    pub fn is_term(&self) -> bool {
+        self.name.starts_with(TERM_LONG)
     }
 
     /// Whether it addresses the aircraft's own numbers rather than an effect.
@@ -287,6 +440,13 @@ impl EffectSpec {
     /// `name:k=v,...` as given on a command line (inverse of [`parse`](Self::parse)).
     pub fn to_arg(&self) -> String {
         if self.params.is_empty() && self.fit.is_empty() {
+            if let Some(term) = self
+                .is_term()
+                .then(|| self.name[TERM_LONG.len()..].strip_suffix(')'))
+                .flatten()
+            {
+                return format!("{TERM_SHORT}{term}");
+            }
             return self.name.clone();
         }
         let kv: Vec<String> = self
@@ -393,8 +553,17 @@ impl ModelSpec {
             }
             spec.effects.push(effect);
         }
+        if let Some(terms) = table.get("term") {
+            let terms = terms
+                .as_array()
+                .ok_or_else(|| field_type("term", "be an array of tables ([[term]])"))?;
+            for (i, entry) in terms.iter().enumerate() {
+                spec.effects.push(term_entry(i + 1, entry)?);
+            }
+        }
         for (key, value) in &table {
-            let known = ["vehicle", "aircraft", "effects", "origin"].contains(&key.as_str())
+            let known = ["vehicle", "aircraft", "effects", "origin", "term"]
+                .contains(&key.as_str())
                 || names.contains(key);
             if !known {
                 return Err(SpecError::UnknownField(key.clone()));
@@ -616,5 +785,36 @@ mod tests {
         assert_eq!(EffectSpec::parse(&e.to_arg()).unwrap(), e);
         assert!(EffectSpec::parse("wind:north_mps=inf").is_err());
         assert!(EffectSpec::parse("wind:north_mps").is_err());
+    }
+
+    /// A term's spec: `term:AXIS=EXPR` (blanks aside) and `term(AXIS=EXPR):k=v` name the same
+    /// effect, write back as given, and refuse what does not read with the column in the
+    /// argument.
+    #[test]
+    fn term_specs_round_trip_and_name_the_column() {
+        let short = EffectSpec::parse("term:m = k * thrust").unwrap();
+        assert_eq!(short.name, "term(m=k*thrust)");
+        assert!(short.is_term() && short.params.is_empty());
+        assert_eq!(short.to_arg(), "term:m=k*thrust");
+        assert_eq!(EffectSpec::parse(&short.to_arg()).unwrap(), short);
+        let valued = EffectSpec::parse("term(m=k*thrust):k=0.5").unwrap();
+        assert_eq!(valued.name, short.name);
+        assert_eq!(valued.params, [("k".to_string(), 0.5)]);
+        assert_eq!(EffectSpec::parse(&valued.to_arg()).unwrap(), valued);
+        for (bad, column) in [
+            ("term:m=k*trhust", 10),
+            ("term(m=k*(alpha):k=1", 10),
+            ("term:q=k*alpha", 6),
+        ] {
+            match EffectSpec::parse(bad) {
+                Err(SpecError::Term { column: c, .. }) => assert_eq!(c, column, "{bad}"),
+                other => panic!("{bad}: {other:?}"),
+            }
+        }
+        let spec = ModelSpec::from_toml(
+            "vehicle = \"fixed-wing\"\n[[term]]\naxis = \"m\"\nexpr = \"k * thrust\"\nk = 0.5\n",
+        )
+        .unwrap();
+        assert_eq!(spec.effects, [valued]);
     }
 }

@@ -416,6 +416,26 @@ pub fn add_fitted(
     Ok(joint.records(&original, &before, cfg, 1))
 }
 
+/// The terms a model declares without values (a model file's `[[term]]` with no
+/// coefficient given: every coefficient at 0, where it changes nothing), taken out of
+/// `model`: they are candidates of the diagnosis, fitted and ranked with the catalogue's,
+/// not part of the model it starts from. A term given values stays in the model.
+pub fn take_declared_terms(model: &mut Model) -> Vec<Box<dyn Effect>> {
+    let is_declared = |e: &dyn Effect| {
+        wireflight_flight::effects::term::term_of(e.info()).is_some()
+            && e.info()
+                .params
+                .iter()
+                .zip(e.values())
+                .all(|(p, v)| p.absent == Some(*v))
+    };
+    let (declared, kept) = std::mem::take(&mut model.effects)
+        .into_iter()
+        .partition(|e| is_declared(e.as_ref()));
+    model.effects = kept;
+    declared
+}
+
 /// The candidates of a diagnosis: every catalogue effect that applies and is not in the model
 /// yet, plus the user's; a measurement effect only where the flight records a channel it
 /// changes (a gyro's bias cannot show in rates differentiated from the attitude).

@@ -21,6 +21,7 @@ use wireflight_analysis::compare::{
 };
 use wireflight_analysis::diagnose::{diagnose, Correction, DiagnoseConfig, Diagnosis, Verdict};
 use wireflight_flight::data::FlightData;
+use wireflight_flight::effects::term::term_of;
 use wireflight_flight::effects::{Effect, Param, CATALOGUE};
 use wireflight_flight::model::Model;
 use wireflight_flight::spec::EffectSpec;
@@ -202,13 +203,15 @@ impl Compare {
     /// As [`new`](Self::new).
     pub fn with_config(
         data: Arc<FlightData>,
-        base: Model,
+        mut base: Model,
         adds: &[String],
         cfg: CompareConfig,
         start_fit: bool,
     ) -> Result<Self, CompareError> {
         let kind = base.vehicle.kind();
         let ctx = base.effect_context();
+        // A model file's `[[term]]` without values is a choice, as a catalogue effect is.
+        let declared = wireflight_analysis::diagnose::take_declared_terms(&mut base);
         let mut rows: Vec<EffectRow> = CATALOGUE
             .iter()
             .filter_map(|info| {
@@ -225,8 +228,31 @@ impl Compare {
                 })
             })
             .collect();
+        // Terms have no catalogue entry: those declared, and those of `--add`, get a row each.
+        let term_row = |default: Box<dyn Effect>| EffectRow {
+            name: default.name(),
+            on: false,
+            in_base: false,
+            fixed: Vec::new(),
+            fitted: None,
+            fitted_error: None,
+            default,
+        };
+        rows.extend(declared.into_iter().map(term_row));
         for text in adds {
             let spec = EffectSpec::parse(text).map_err(|e| CompareError::Spec(e.into()))?;
+            if spec.is_term() && !rows.iter().any(|r| r.name == spec.name) {
+                let effect = EffectSpec {
+                    params: Vec::new(),
+                    ..spec.clone()
+                }
+                .build(&ctx)
+                .map_err(|e| CompareError::Build {
+                    text: text.clone(),
+                    source: e.into(),
+                })?;
+                rows.push(term_row(effect));
+            }
             let Some(row) = rows.iter_mut().find(|r| r.name == spec.name) else {
                 return Err(CompareError::NotApplicable {
                     text: text.clone(),
@@ -354,6 +380,13 @@ impl Compare {
         let (tx, rx) = mpsc::channel();
         let data = Arc::clone(&self.data);
         let base = self.base.clone();
+        // The terms' rows are candidates the catalogue does not know.
+        let terms: Vec<Box<dyn Effect>> = self
+            .rows
+            .iter()
+            .filter(|r| !r.in_base && term_of(r.default.info()).is_some())
+            .map(|r| r.default.clone())
+            .collect();
         let defaults = DiagnoseConfig::default();
         let cfg = DiagnoseConfig {
             compare: CompareConfig {
@@ -364,7 +397,7 @@ impl Compare {
         };
         std::thread::spawn(move || {
             let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
-                diagnose(&base, &data, &[], &cfg)
+                diagnose(&base, &data, &terms, &cfg)
                     .map_err(|e| chain(&*Box::<dyn Error + Send + Sync>::from(e)))
             }))
             .unwrap_or_else(|p| Err(panic_message(&*p)));

@@ -34,6 +34,7 @@ mod ground_effect;
 mod gyroscopic;
 mod prop_torque;
 pub mod sensors;
+pub mod term;
 mod wind;
 
 pub use actuator_lag::{ActuatorLag, MIN_ACTUATOR_TAU};
@@ -48,10 +49,12 @@ pub use prop_torque::PropTorque;
 pub use sensors::{
     AccelBias, AirspeedBias, AirspeedScale, AttitudeOffset, GyroBias, NavDelay, MAX_NAV_DELAY,
 };
+pub use term::{Airframe, TermEffect};
 pub use wind::Wind;
 
 use glam::{DMat3, DQuat, DVec3};
 
+use super::aero::AirData;
 use super::{Controls, VehicleKind};
 
 pub use crate::effect_basics;
@@ -104,6 +107,7 @@ pub use crate::effect_basics;
 /// let ctx = EffectContext {
 ///     origin: Origin::default(),
 ///     span_m: 0.0,
+///     airframe: Default::default(),
 /// };
 /// let mut e = UPDRAFT.build(&ctx);
 /// e.set_param("w_mps", 3.0).unwrap();
@@ -263,9 +267,14 @@ pub static CATALOGUE: &[&EffectInfo] = &[
     &sensors::ATTITUDE_OFFSET,
 ];
 
-/// The catalogue entry of that name.
+/// The catalogue entry of that name, or the interned info of a term already read under it
+/// (`term(m=k*thrust)`, see [`term`]).
 pub fn find(name: &str) -> Option<&'static EffectInfo> {
-    CATALOGUE.iter().copied().find(|i| i.name == name)
+    CATALOGUE
+        .iter()
+        .copied()
+        .find(|i| i.name == name)
+        .or_else(|| term::find_interned(name))
 }
 
 /// Names of the catalogue, in order (for messages and help).
@@ -340,6 +349,9 @@ pub struct EffectContext {
     pub origin: Origin,
     /// Wing span, m (0 for a point mass).
     pub span_m: f64,
+    /// The airframe's reference lengths and propeller (all 0 for a point mass): what a
+    /// term's variables need ([`term`]).
+    pub airframe: Airframe,
 }
 
 /// Which vehicle families an effect means something for.
@@ -458,8 +470,8 @@ pub struct EffectInfo {
 
 impl EffectInfo {
     /// A new effect with default parameters.
-    pub fn build(&self, ctx: &EffectContext) -> Box<dyn Effect> {
-        (self.make)(ctx)
+    pub fn build(&'static self, ctx: &EffectContext) -> Box<dyn Effect> {
+        term::build(self, ctx).unwrap_or_else(|| (self.make)(ctx))
     }
 
     /// The spec of a parameter by name.
@@ -528,6 +540,11 @@ pub struct Sample {
     pub controls: Controls,
     /// Mass, kg (1 for a point mass whose mass is unknown: its effects are accelerations).
     pub mass: f64,
+    /// The air data of the air-relative velocity — airspeed, α, β — as the aerodynamic model
+    /// takes them (still air for a point mass).
+    pub air: AirData,
+    /// The propeller's thrust, N, as the fixed-wing model takes it (0 for a point mass).
+    pub thrust: f64,
 }
 
 /// A named parameter of an effect and its current value, for display.
@@ -632,6 +649,13 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
         &[]
     }
 
+    /// Why the effect's force or moment at this sample is NaN or ∞, naming the values that
+    /// made it so — `None` when it is finite, or for an effect that cannot tell (the
+    /// default). Asked only after a flight has gone non-finite, to say why.
+    fn explain_non_finite(&self, _s: &Sample) -> Option<String> {
+        None
+    }
+
     /// The effect's name.
     fn name(&self) -> &'static str {
         self.info().name
@@ -713,13 +737,22 @@ impl Clone for Box<dyn Effect> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
+
+    /// The catalogue and two terms (a moment and a force of two coefficients): what the
+    /// generic tests below hold every effect to.
+    fn catalogue_and_terms() -> Vec<&'static EffectInfo> {
+        let terms = ["m = k*thrust", "Y = c1*beta + c2*r_hat*qbar"]
+            .map(|t| term::intern(&crate::expr::Term::parse(t).unwrap()).unwrap());
+        CATALOGUE.iter().copied().chain(terms).collect()
+    }
 
     fn ctx() -> EffectContext {
         EffectContext {
             origin: Origin::default(),
             span_m: 3.0,
+            airframe: Airframe::default(),
         }
     }
 
@@ -741,7 +774,7 @@ mod tests {
 
     #[test]
     fn defaults_are_in_range_and_fit_starts_too() {
-        for info in CATALOGUE {
+        for info in catalogue_and_terms() {
             let e = info.build(&ctx());
             for (p, v) in info.params.iter().zip(e.values()) {
                 assert!(p.check(*v).is_ok(), "{}.{} = {v}", info.name, p.name);
@@ -779,7 +812,7 @@ mod tests {
         use crate::spec::ModelSpec;
         use crate::VehicleKind;
         let mut tried = Vec::new();
-        for info in CATALOGUE {
+        for info in catalogue_and_terms() {
             let Some(absent) = info
                 .params
                 .iter()
@@ -838,7 +871,7 @@ mod tests {
         use crate::spec::ModelSpec;
         use crate::VehicleKind;
         let mut still = Vec::new();
-        for info in CATALOGUE {
+        for info in catalogue_and_terms() {
             for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
                 let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
                 let e = info.build(&base.effect_context());
@@ -890,7 +923,7 @@ mod tests {
             .build(Origin::default())
             .unwrap();
         let mut winds = Vec::new();
-        for info in CATALOGUE {
+        for info in catalogue_and_terms() {
             let mut e = info.build(&base.effect_context());
             if !e.is_uniform_wind() {
                 continue;
@@ -974,6 +1007,8 @@ pub(crate) mod tests_support {
             air_vel_ned: DVec3::ZERO,
             controls: Controls::default(),
             mass: 1.0,
+            air: AirData::default(),
+            thrust: 0.0,
         }
     }
 }
