@@ -65,6 +65,7 @@ const PAGES: &[&str] = &[
     "docs/clipping-lab.md",
     "docs/conventions.md",
     "docs/euler-lab.md",
+    "docs/filter-error.md",
     "docs/flight-data.md",
     "docs/flight-model.md",
     "docs/jsbsim.md",
@@ -507,6 +508,7 @@ page_tests! {
     docs_clipping_lab_commands => "docs/clipping-lab.md";
     docs_conventions_commands => "docs/conventions.md";
     docs_euler_lab_commands => "docs/euler-lab.md";
+    docs_filter_error_commands => "docs/filter-error.md";
     docs_flight_data_commands => "docs/flight-data.md";
     docs_flight_model_commands => "docs/flight-model.md";
     docs_jsbsim_commands => "docs/jsbsim.md";

@@ -131,7 +131,7 @@ impl Mat {
             for k in 0..j {
                 d -= l.at(j, k) * l.at(j, k);
             }
-            if !(d > 0.0) || !d.is_finite() {
+            if d.is_nan() || d <= 0.0 || !d.is_finite() {
                 return None;
             }
             let ljj = d.sqrt();

@@ -211,10 +211,14 @@ fn check(model: &dyn LinearModel, record: &Record, theta: &[f64]) -> Result<(), 
     if sys.bias.len() != p || record.noise_sigma.len() != p || gusts.shape.len() != g {
         return dims("bias, noise σ and gust shape must match the outputs and gust axes".into());
     }
-    if gusts.time_constants_s.iter().any(|t| !(*t > 0.0)) {
+    if gusts
+        .time_constants_s
+        .iter()
+        .any(|t| t.is_nan() || *t <= 0.0)
+    {
         return dims("every gust time constant must be positive".into());
     }
-    if !(record.dt_s > 0.0) || record.inputs.len() != record.outputs.len() {
+    if record.dt_s.is_nan() || record.dt_s <= 0.0 || record.inputs.len() != record.outputs.len() {
         return dims("the record needs a positive interval and one input per output sample".into());
     }
     for (k, (u, y)) in record.inputs.iter().zip(&record.outputs).enumerate() {
@@ -552,7 +556,7 @@ pub fn fit(
                 .map(|(t, n)| 0.5 * (t + n))
                 .collect();
         }
-        if !(next_cost <= cost) {
+        if next_cost.is_nan() || next_cost > cost {
             break;
         }
         theta = next;
