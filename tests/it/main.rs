@@ -15,6 +15,7 @@ mod euler;
 mod euler_cli;
 mod euler_pictures;
 mod euler_sequences;
+mod filter_error;
 mod flight_data;
 mod flight_model;
 mod fuzz_corpus;

@@ -66,6 +66,7 @@ const PAGES: &[&str] = &[
     "docs/conventions.md",
     "docs/euler-lab.md",
     "docs/expressions.md",
+    "docs/filter-error.md",
     "docs/flight-data.md",
     "docs/flight-model.md",
     "docs/jsbsim.md",
@@ -509,6 +510,7 @@ page_tests! {
     docs_conventions_commands => "docs/conventions.md";
     docs_euler_lab_commands => "docs/euler-lab.md";
     docs_expressions_commands => "docs/expressions.md";
+    docs_filter_error_commands => "docs/filter-error.md";
     docs_flight_data_commands => "docs/flight-data.md";
     docs_flight_model_commands => "docs/flight-model.md";
     docs_jsbsim_commands => "docs/jsbsim.md";
