@@ -35,5 +35,6 @@ mod reference_flights;
 mod report;
 mod sensors;
 mod several_causes;
+mod turbulence;
 mod view;
 mod view_gimbal;
