@@ -153,7 +153,7 @@ fn turbulent_flight_differs_from_the_calm_one_only_by_gusts() {
         .map(|(a, b)| (a.z - b.z).abs())
         .fold(0.0, f64::max);
     assert!(dz < 60.0, "height departs {dz} m from the calm flight's");
-    // With the same gust seed and level zero... the calm spec is bit for bit the same flight.
+    // Adding the gusts left the calm model untouched: the calm spec flies bit for bit again.
     assert_eq!(simulate(&model, &calm_spec).unwrap().pos_ned, calm.pos_ned);
 }
 
@@ -263,4 +263,34 @@ fn intensities_rise_with_the_level_and_meet_the_table_above_2000_ft() {
     let m = at(TurbulenceLevel::Moderate, 3750.0 * 0.3048);
     assert!((m.sigma_mps[0] - 7.4 * 0.3048).abs() < 1e-9);
     assert!((m.length_m[2] - 1750.0 * 0.3048).abs() < 1e-9);
+}
+
+/// The JSBSim flights in light turbulence read as flights, carry their gust truth, and the
+/// gust columns' σ are those of the header.
+#[test]
+fn jsbsim_turbulent_flights_carry_their_gust_truth() {
+    for name in ["turb-light-1", "turb-light-2", "turb-cmalpha085"] {
+        let path = crate::support::data_file(&format!("jsbsim-c172p-{name}.csv"));
+        let flight = wireflight::flight::data::read(&path).unwrap();
+        assert_eq!(flight.len(), 1251, "{name}");
+        let sigma = flight
+            .meta
+            .other
+            .iter()
+            .find(|(k, _)| k == "jsbsim_gust_sigma_mps")
+            .map(|(_, v)| v.clone())
+            .expect("a gust σ line");
+        let values: Vec<f64> = sigma
+            .split_whitespace()
+            .filter_map(|w| w.split_once('=')?.1.parse().ok())
+            .collect();
+        assert_eq!(values.len(), 3, "{sigma}");
+        // Light turbulence: σ of order 1 m/s (0.5 to 3 m/s over 50 s).
+        assert!(
+            values.iter().all(|s| (0.5..3.0).contains(s)),
+            "{name}: {sigma}"
+        );
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("# jsbsim_turbulence: Dryden milspec turbulence light"));
+    }
 }
