@@ -438,7 +438,7 @@ impl GustField {
     pub fn new(truth: &GustTruth, duration_s: f64, dt: f64) -> Result<Self, TurbulenceError> {
         let dt = if dt.is_finite() && dt > 0.0 { dt } else { 1.0 };
         let count = (duration_s / dt).ceil() + 2.0;
-        if !(count <= MAX_GUST_SAMPLES as f64) {
+        if count.is_nan() || count > MAX_GUST_SAMPLES as f64 {
             return Err(TurbulenceError::TooLong(count));
         }
         // `count` ≤ MAX_GUST_SAMPLES here.
