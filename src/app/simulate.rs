@@ -8,6 +8,7 @@ use crate::flight::data;
 use crate::flight::effects::Origin;
 use crate::flight::simulate::{simulate_bounded, Noise, SimSpec};
 use crate::flight::spec::{EffectSpec, ModelSpec};
+use crate::flight::turbulence::Turbulence;
 use crate::flight::VehicleKind;
 
 /// Run `wireflight simulate`.
@@ -62,11 +63,19 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         accelerometer: args.noise_acc,
         seed: args.seed,
         source: format!(
-            "wireflight simulate --manoeuvre {manoeuvre} --seed {}",
-            args.seed
+            "wireflight simulate --manoeuvre {manoeuvre} --seed {}{}",
+            args.seed,
+            args.turbulence.map_or(String::new(), |level| format!(
+                " --turbulence {level} --turbulence-seed {}",
+                args.turbulence_seed
+            ))
         ),
         aircraft: (spec.vehicle == VehicleKind::FixedWing).then(|| spec.aircraft.clone()),
         listed_effects: listed.clone(),
+        turbulence: args.turbulence.map(|level| Turbulence {
+            level,
+            seed: args.turbulence_seed,
+        }),
     };
     let progress = crate::progress::Progress::spinner(
         &format!("simulating {:.0} s of flight", args.duration),
@@ -79,7 +88,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     drop(progress);
     data::write(&args.out, &flight)?;
     println!(
-        "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}",
+        "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}{}",
         crate::app::shown(&args.out),
         flight.len(),
         flight.duration(),
@@ -100,7 +109,11 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             String::new()
         } else {
             format!(" (+{} hidden, not in the file)", args.hidden.len())
-        }
+        },
+        args.turbulence.map_or(String::new(), |level| format!(
+            ", {level} turbulence (seed {})",
+            args.turbulence_seed
+        ))
     );
     Ok(())
 }

@@ -37,5 +37,6 @@ mod report;
 mod sensors;
 mod several_causes;
 mod terms;
+mod turbulence;
 mod view;
 mod view_gimbal;

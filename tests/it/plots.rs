@@ -51,6 +51,7 @@ fn flight(truth: &Model, manoeuvre: Manoeuvre, duration_s: f64) -> FlightData {
         source: format!("simulated {manoeuvre}"),
         aircraft: None,
         listed_effects: Vec::new(),
+        turbulence: None,
     };
     simulate(truth, &spec).unwrap()
 }

@@ -79,6 +79,7 @@ const PAGES: &[&str] = &[
     "docs/validation.md",
     "docs/window.md",
     "docs/workbench.md",
+    "docs/turbulence.md",
 ];
 
 /// Pages in `docs/` that are checked for links and wording but whose commands are not run.
@@ -523,6 +524,7 @@ page_tests! {
     docs_validation_commands => "docs/validation.md";
     docs_window_commands => "docs/window.md";
     docs_workbench_commands => "docs/workbench.md";
+    docs_turbulence_commands => "docs/turbulence.md";
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -297,6 +297,7 @@ fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
         source: "tests/view.rs".into(),
         aircraft: Some("aerosonde".into()),
         listed_effects: Vec::new(),
+        turbulence: None,
     };
     let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
     let path = dir.join("windy.csv");

@@ -28,6 +28,7 @@ pub mod sensing;
 pub mod simulate;
 pub mod spec;
 pub mod trim;
+pub mod turbulence;
 
 use std::fmt;
 use std::str::FromStr;

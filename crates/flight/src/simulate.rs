@@ -13,6 +13,7 @@ use super::autopilot::{Autopilot, Manoeuvre};
 use super::data::{FlightData, Metadata};
 use super::model::{Model, State, Vehicle};
 use super::trim::{trim_level, TrimError};
+use super::turbulence::{GustField, GustTruth, Turbulence, TurbulenceError};
 use super::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
@@ -59,6 +60,10 @@ pub struct SimSpec {
     pub aircraft: Option<String>,
     /// Visible effects, listed in the metadata (`effects`); hidden ones are not.
     pub listed_effects: Vec<String>,
+    /// Fly through Dryden gusts (fixed wing): part of the truth's air, at the starting height
+    /// and the trim airspeed; recorded in the metadata as `turbulence`
+    /// ([`GustTruth::to_record`]). None: calm air.
+    pub turbulence: Option<Turbulence>,
 }
 
 impl SimSpec {
@@ -79,6 +84,7 @@ impl SimSpec {
             source: format!("wireflight simulate --manoeuvre {manoeuvre}"),
             aircraft: None,
             listed_effects: Vec::new(),
+            turbulence: None,
         }
     }
 }
@@ -177,6 +183,9 @@ pub enum SimulateError {
     /// No trim to start the fixed wing from.
     #[error(transparent)]
     Trim(#[from] TrimError),
+    /// Turbulence for a point mass, or a gust field that cannot be made.
+    #[error("turbulence: {0}")]
+    Turbulence(String),
     /// The state became non-finite.
     #[error("the simulated flight diverged at t = {0:.2} s")]
     Diverged(f64),
@@ -307,9 +316,28 @@ pub fn simulate_bounded(
         });
     }
     let dt_out = 1.0 / spec.rate_hz;
+    let max_dt = dt_out.min(MAX_STEP);
+    // The gusts fly in a copy of the model: part of the truth's air, not an effect of it.
+    let gusty;
+    let (model, gust_truth) = match spec.turbulence {
+        None => (model, None),
+        Some(_) if kind == VehicleKind::PointMass => {
+            return Err(SimulateError::Turbulence(
+                "only a fixed wing flies through gusts".to_string(),
+            ))
+        }
+        Some(turbulence) => {
+            let truth = GustTruth::new(turbulence, spec.height_m, spec.airspeed_mps);
+            let field = GustField::new(&truth, spec.duration_s, max_dt)
+                .map_err(|e: TurbulenceError| SimulateError::Turbulence(e.to_string()))?;
+            let mut m = model.clone();
+            m.effects.push(Box::new(field));
+            gusty = m;
+            (&gusty, Some(truth))
+        }
+    };
     // At most `max_samples` (checked above).
     let samples = n as usize;
-    let max_dt = dt_out.min(MAX_STEP);
 
     let mut truth = Recorder::with_capacity(samples, kind);
     match &model.vehicle {
@@ -376,11 +404,14 @@ pub fn simulate_bounded(
         mass_kg: None,
         reference_area_m2: None,
         source: Some(spec.source.clone()),
-        other: if spec.listed_effects.is_empty() {
-            Vec::new()
-        } else {
-            vec![("effects".to_string(), spec.listed_effects.join(","))]
-        },
+        other: (!spec.listed_effects.is_empty())
+            .then(|| ("effects".to_string(), spec.listed_effects.join(",")))
+            .into_iter()
+            .chain(gust_truth.map(|t| {
+                let key = super::turbulence::TRUTH_KEY.to_string();
+                (key, t.to_record())
+            }))
+            .collect(),
     };
     Ok(truth.finish(model, meta, &spec.noise, spec.accelerometer, spec.seed))
 }

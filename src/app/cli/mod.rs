@@ -370,11 +370,18 @@ pub fn parse_plane(s: &str) -> Result<[f32; 4], String> {
     Ok(v)
 }
 
+/// A `--turbulence` level; an unknown one is refused with the list.
+fn parse_turbulence(s: &str) -> Result<crate::flight::turbulence::TurbulenceLevel, String> {
+    s.parse()
+        .map_err(|e: crate::flight::turbulence::TurbulenceError| e.to_string())
+}
+
 const SIMULATE_EXAMPLES: &str = "\
 Examples:
   wireflight simulate --manoeuvre flight-test --duration 120 --out test.csv
   wireflight simulate --manoeuvre climbing-turn --hidden wind:north_mps=4,east_mps=-3 \\
       --noise-pos 0.5 --noise-att 0.3 --seed 7 --out windy.csv
+  wireflight simulate --manoeuvre flight-test --turbulence moderate --turbulence-seed 3 --out gusty.csv
   wireflight simulate --vehicle point-mass --manoeuvre ballistic --add drag:k=0.0005 --out shot.csv
   wireflight simulate --vehicle point-mass --launch-speed 300 --latitude 0 --hidden earth_rotation \\
       --noise-pos 0.5 --noise-vel 0.1 --out long-shot.csv   # then: diagnose --flight long-shot.csv
@@ -442,6 +449,13 @@ pub struct SimulateArgs {
     /// Noise seed (output is deterministic for a seed).
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Fly through MIL-F-8785C Dryden gusts: light, moderate or severe (fixed wing; the
+    /// truth is written to the file as `# turbulence:`; see docs/turbulence.md).
+    #[arg(long, value_name = "LEVEL", value_parser = parse_turbulence)]
+    pub turbulence: Option<crate::flight::turbulence::TurbulenceLevel>,
+    /// Seed of the gusts (independent of --seed).
+    #[arg(long, value_name = "N", default_value_t = 1)]
+    pub turbulence_seed: u64,
     /// Trim airspeed, m/s (fixed-wing).
     #[arg(long, default_value_t = 25.0, value_parser = finite_f64)]
     pub airspeed: f64,
