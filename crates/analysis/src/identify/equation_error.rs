@@ -22,13 +22,13 @@ const EE_SAMPLES: usize = 4000;
 /// One sample of the regression: the measured state, the controls, and the measured
 /// derivatives of the body velocity (or the accelerometer's specific force) and the body
 /// rates.
-struct EeSample {
-    t: f64,
-    state: State,
-    controls: Controls,
-    measured: [f64; 6],
+pub(crate) struct EeSample {
+    pub(crate) t: f64,
+    pub(crate) state: State,
+    pub(crate) controls: Controls,
+    pub(crate) measured: [f64; 6],
     /// The first three of `measured` are the accelerometer's.
-    accelerometer: bool,
+    pub(crate) accelerometer: bool,
 }
 
 /// Equation-error estimate of the free parameters (module docs); None when no flight has the
@@ -137,7 +137,7 @@ pub(super) fn equation_error(
 }
 
 /// The regression samples of one flight (empty without the channels needed).
-fn ee_samples(d: &FlightData) -> Vec<EeSample> {
+pub(crate) fn ee_samples(d: &FlightData) -> Vec<EeSample> {
     let (Some(att), Some(vb), Some(rates), Some(controls)) = (
         d.attitude.as_ref(),
         d.vel_body.as_ref(),

@@ -1,0 +1,583 @@
+//! What force or moment the model lacks, and the term that adds it (`wireflight discover`).
+//!
+//! The missing force and moment are read through the equations of motion at the measured
+//! states: the measured body accelerations (the smoothing differentiator of the body velocity,
+//! or the accelerometer's specific force where the flight has one) and angular accelerations,
+//! less the model's at the same state and commands, times the mass and the inertia matrix.
+//! The rates' coupling terms ω×Jω are the same in both and cancel: what is left is the force
+//! (N) and moment (N·m) the model does not have, on each body axis.
+//!
+//! Each axis is regressed on a library of candidate regressors ([`library`]) by forward
+//! stepwise selection: the candidate that removes most is admitted when its likelihood ratio,
+//! counted on the *effective* number of samples (the residuals are coloured by the smoothing
+//! and by the model's error: n/(1 + 2Σρₖ) over the lags until the autocorrelation first
+//! vanishes), passes χ²₁ at the Bonferroni level over every candidate of every axis, when it
+//! removes a material share of what is left, and when, fitted on four fifths of the flight, it
+//! also lowers the error on the fifth held out, for most of the five contiguous fifths.
+//!
+//! Biases: the regressors are measured states, so their noise biases every coefficient toward
+//! zero (errors in variables); the differentiator smooths over its window, so a force that
+//! changes faster is attenuated; a wind the model lacks is read as force. The coefficient is
+//! a start: the `add` spec names it as a free coefficient, fitted again by output error when
+//! the term is added.
+
+pub mod library;
+
+use wireflight_flight::expr::{Axis, Term, Var, VarValues, N_VARS};
+use wireflight_flight::model::{Model, Vehicle};
+use wireflight_flight::numeric::chi2_quantile;
+
+use crate::identify::equation_error::{ee_samples, EeSample};
+use wireflight_flight::data::FlightData;
+
+/// The family-wise false-alarm rate of the selection (split over every candidate of every axis).
+pub const FALSE_ALARM: f64 = 0.01;
+/// The least share of an axis's remaining sum of squares a term must remove.
+pub const MATERIAL: f64 = 0.02;
+/// The most terms admitted on one axis.
+pub const MAX_TERMS_PER_AXIS: usize = 3;
+/// Contiguous parts of the flight for the validation.
+const FOLDS: usize = 5;
+/// Longest lag of the autocorrelation sum, samples.
+const MAX_LAG: usize = 400;
+
+/// Why no discovery could be made.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DiscoverError {
+    /// The vehicle has no body axes.
+    #[error("discover needs a fixed wing (a point mass has no body axes, moments or terms)")]
+    PointMass,
+    /// The flight lacks what the equations of motion need.
+    #[error(
+        "the flight has too few usable samples ({0}): discover needs attitude, body velocity, \
+         body rates and controls over at least {MIN_SAMPLES} samples"
+    )]
+    TooFewSamples(usize),
+}
+
+/// The fewest samples a discovery is made from.
+pub const MIN_SAMPLES: usize = 100;
+
+/// One term found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FoundTerm {
+    /// The axis it acts on.
+    pub axis: Axis,
+    /// Its regressor's factors as the term language writes them.
+    pub regressors: Vec<String>,
+    /// The expression with a free coefficient (`k_l1*qbar*alpha*beta`).
+    pub expression: String,
+    /// The coefficient's name in `expression`.
+    pub coefficient_name: String,
+    /// The estimated coefficient, N or N·m per unit of the regressor.
+    pub coefficient: f64,
+    /// Its standard error (from the effective number of samples).
+    pub sigma: f64,
+    /// RMS of the axis's missing force or moment before this term (after the axis's earlier
+    /// ones), N or N·m.
+    pub rms_before: f64,
+    /// And after it.
+    pub rms_after: f64,
+    /// The likelihood ratio of its admission.
+    pub likelihood_ratio: f64,
+    /// Held-out parts of the flight where it lowered the error, of [`FOLDS`].
+    pub folds_better: usize,
+    /// A physical reading of it.
+    pub reading: String,
+    /// The `--add` spec that adds it: `term:AXIS=EXPR`.
+    pub add: String,
+    /// The comparison's error (× the noise) with the term added, when measured.
+    pub error_after: Option<f64>,
+}
+
+/// One axis's missing force or moment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisResidual {
+    /// The axis.
+    pub axis: Axis,
+    /// RMS of what the model lacks, N or N·m.
+    pub rms: f64,
+    /// Its mean.
+    pub mean: f64,
+    /// RMS after the terms found on it.
+    pub rms_after: f64,
+    /// The effective number of samples (for the coloured residuals).
+    pub effective_samples: f64,
+}
+
+/// What `discover` found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Discovery {
+    /// The terms, best (largest likelihood ratio) first.
+    pub terms: Vec<FoundTerm>,
+    /// Each axis's missing force or moment.
+    pub axes: Vec<AxisResidual>,
+    /// Samples of the regression.
+    pub samples: usize,
+    /// Candidate regressors per axis.
+    pub candidates: usize,
+    /// The likelihood ratio a term must pass.
+    pub threshold: f64,
+}
+
+/// Finds the terms the model lacks on this flight (module docs).
+///
+/// # Errors
+/// A point-mass model, or a flight without the channels the equations of motion need.
+pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverError> {
+    let Vehicle::FixedWing(params) = &model.vehicle else {
+        return Err(DiscoverError::PointMass);
+    };
+    let samples = ee_samples(data);
+    if samples.len() < MIN_SAMPLES {
+        return Err(DiscoverError::TooFewSamples(samples.len()));
+    }
+    let library = library::fixed_wing();
+    let mass = params.mass.mass_kg;
+    let jm = &params.mass;
+    let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(samples.len()));
+    let mut columns: Vec<Vec<f64>> = vec![Vec::with_capacity(samples.len()); library.len()];
+    for s in &samples {
+        let Some((missing, vars)) = missing_at(model, params, s, mass, jm) else {
+            continue;
+        };
+        for (c, v) in targets.iter_mut().zip(missing) {
+            c.push(v);
+        }
+        for (col, r) in columns.iter_mut().zip(&library) {
+            col.push(r.value(&vars));
+        }
+    }
+    let n = targets[0].len();
+    if n < MIN_SAMPLES {
+        return Err(DiscoverError::TooFewSamples(n));
+    }
+    let threshold = chi2_quantile(1.0 - FALSE_ALARM / (6 * library.len()) as f64, 1.0);
+    let mut terms = Vec::new();
+    let mut axes = Vec::new();
+    for (axis, y) in Axis::ALL.into_iter().zip(&targets) {
+        let sel = select(y, &columns, threshold);
+        let mean = y.iter().sum::<f64>() / n as f64;
+        axes.push(AxisResidual {
+            axis,
+            rms: rms(y),
+            mean,
+            rms_after: sel.rms_after,
+            effective_samples: sel.effective_samples,
+        });
+        for (rank, step) in sel.steps.iter().enumerate() {
+            let r = &library[step.column];
+            let name = format!("k_{}{}", axis.name().to_lowercase(), rank + 1);
+            let expression = r.expression(&name);
+            // Every printed spec is one the term language takes as written.
+            if Term::new(axis.name(), &expression).is_err() {
+                continue;
+            }
+            terms.push(FoundTerm {
+                axis,
+                regressors: r.names(),
+                add: format!("term:{}={}", axis.name(), expression),
+                expression,
+                coefficient_name: name,
+                coefficient: sel.coefficients[rank],
+                sigma: sel.sigmas[rank],
+                rms_before: step.rms_before,
+                rms_after: step.rms_after,
+                likelihood_ratio: step.likelihood_ratio,
+                folds_better: step.folds_better,
+                reading: library::reading(axis, r),
+                error_after: None,
+            });
+        }
+    }
+    terms.sort_by(|a, b| b.likelihood_ratio.total_cmp(&a.likelihood_ratio));
+    Ok(Discovery {
+        terms,
+        axes,
+        samples: n,
+        candidates: library.len(),
+        threshold,
+    })
+}
+
+/// What the model lacks at one sample (X, Y, Z in N; l, m, n in N·m) and the term language's
+/// variables there; None where anything is not finite.
+fn missing_at(
+    model: &Model,
+    params: &wireflight_flight::params::FixedWingParams,
+    s: &EeSample,
+    mass: f64,
+    jm: &wireflight_flight::params::Mass,
+) -> Option<([f64; 6], VarValues)> {
+    let d = model.derivative(s.t, &s.state, &s.controls);
+    let force_acc = if s.accelerometer {
+        model.specific_force(s.t, &s.state, &s.controls)
+    } else {
+        d.vel()
+    };
+    let w = d.omega();
+    let dv = [
+        s.measured[0] - force_acc.x,
+        s.measured[1] - force_acc.y,
+        s.measured[2] - force_acc.z,
+    ];
+    let dw = [
+        s.measured[3] - w.x,
+        s.measured[4] - w.y,
+        s.measured[5] - w.z,
+    ];
+    // ΔM = J·Δω̇ with J = [[Jx, 0, −Jxz], [0, Jy, 0], [−Jxz, 0, Jz]].
+    let missing = [
+        mass * dv[0],
+        mass * dv[1],
+        mass * dv[2],
+        jm.jx * dw[0] - jm.jxz * dw[2],
+        jm.jy * dw[1],
+        jm.jz * dw[2] - jm.jxz * dw[0],
+    ];
+    let vars = variables(model, params, s);
+    (missing.iter().all(|v| v.is_finite()) && vars.iter().all(|v| v.is_finite()))
+        .then_some((missing, vars))
+}
+
+/// The term language's variables at a sample, as the model sees them.
+fn variables(
+    model: &Model,
+    params: &wireflight_flight::params::FixedWingParams,
+    s: &EeSample,
+) -> VarValues {
+    let air = model.air_data(s.t, &s.state);
+    let ctl = model.surfaces_in_effect(&s.state, &s.controls);
+    let omega = s.state.omega();
+    let va = air.airspeed;
+    let (half_b, half_c) = if va > 0.1 {
+        (
+            params.geometry.b / (2.0 * va),
+            params.geometry.c / (2.0 * va),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let prop = &params.propulsion;
+    let k = prop.k_motor * s.controls.throttle;
+    let mut v = [0.0; N_VARS];
+    v[Var::Alpha.index()] = air.alpha;
+    v[Var::Beta.index()] = air.beta;
+    v[Var::PHat.index()] = omega.x * half_b;
+    v[Var::QHat.index()] = omega.y * half_c;
+    v[Var::RHat.index()] = omega.z * half_b;
+    v[Var::P.index()] = omega.x;
+    v[Var::Q.index()] = omega.y;
+    v[Var::R.index()] = omega.z;
+    v[Var::Elevator.index()] = ctl.elevator;
+    v[Var::Aileron.index()] = ctl.aileron;
+    v[Var::Rudder.index()] = ctl.rudder;
+    v[Var::Throttle.index()] = s.controls.throttle;
+    v[Var::Thrust.index()] = 0.5 * air.rho * prop.s_prop * prop.c_prop * (k * k - va * va);
+    v[Var::Airspeed.index()] = va;
+    v[Var::Qbar.index()] = 0.5 * air.rho * va * va;
+    v[Var::Rho.index()] = air.rho;
+    v[Var::Height.index()] = -s.state.pos_ned().z;
+    v[Var::G.index()] = wireflight_flight::G0;
+    v
+}
+
+fn rms(y: &[f64]) -> f64 {
+    (y.iter().map(|v| v * v).sum::<f64>() / y.len().max(1) as f64).sqrt()
+}
+
+/// One admitted step of the selection on an axis.
+struct Step {
+    column: usize,
+    rms_before: f64,
+    rms_after: f64,
+    likelihood_ratio: f64,
+    folds_better: usize,
+}
+
+/// The selection on one axis.
+struct Selection {
+    steps: Vec<Step>,
+    coefficients: Vec<f64>,
+    sigmas: Vec<f64>,
+    rms_after: f64,
+    effective_samples: f64,
+}
+
+/// The effective number of samples of a residual series: n/(1 + 2Σρₖ), the sum over the lags
+/// until the autocorrelation first falls to zero (at most [`MAX_LAG`]).
+fn effective_samples(r: &[f64]) -> f64 {
+    let n = r.len();
+    let c0: f64 = r.iter().map(|v| v * v).sum();
+    if n < 2 || c0 <= 0.0 {
+        return n as f64;
+    }
+    let mut tau = 1.0;
+    for lag in 1..MAX_LAG.min(n - 1) {
+        let c: f64 = r[lag..].iter().zip(r).map(|(a, b)| a * b).sum();
+        let rho = c / c0;
+        if rho <= 0.0 {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    (n as f64 / tau).max(1.0)
+}
+
+/// Least squares of `y` on the chosen columns over the samples `keep` admits: the
+/// coefficients and the covariance's diagonal without the residual variance; None when
+/// singular.
+fn least_squares(
+    y: &[f64],
+    columns: &[Vec<f64>],
+    chosen: &[usize],
+    keep: impl Fn(usize) -> bool,
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let k = chosen.len();
+    let mut a = vec![0.0; k * k];
+    let mut b = vec![0.0; k];
+    for (i, &yi) in y.iter().enumerate() {
+        if !keep(i) {
+            continue;
+        }
+        for (r, &cr) in chosen.iter().enumerate() {
+            let xr = columns[cr][i];
+            b[r] += xr * yi;
+            for (c, &cc) in chosen.iter().enumerate() {
+                a[r * k + c] += xr * columns[cc][i];
+            }
+        }
+    }
+    let inv = invert(&a, k)?;
+    let coef: Vec<f64> = (0..k)
+        .map(|r| (0..k).map(|c| inv[r * k + c] * b[c]).sum())
+        .collect();
+    let diag = (0..k).map(|r| inv[r * k + r]).collect();
+    Some((coef, diag))
+}
+
+/// Gauss–Jordan inverse of a small symmetric matrix; None when (nearly) singular.
+fn invert(a: &[f64], k: usize) -> Option<Vec<f64>> {
+    let mut m = a.to_vec();
+    let mut inv = vec![0.0; k * k];
+    for i in 0..k {
+        inv[i * k + i] = 1.0;
+    }
+    let scale = (0..k).map(|i| a[i * k + i].abs()).fold(0.0, f64::max);
+    for col in 0..k {
+        let piv =
+            (col..k).max_by(|&x, &y| m[x * k + col].abs().total_cmp(&m[y * k + col].abs()))?;
+        if !(m[piv * k + col].abs() > 1e-12 * scale) {
+            return None;
+        }
+        for j in 0..k {
+            m.swap(col * k + j, piv * k + j);
+            inv.swap(col * k + j, piv * k + j);
+        }
+        let p = m[col * k + col];
+        for j in 0..k {
+            m[col * k + j] /= p;
+            inv[col * k + j] /= p;
+        }
+        for r in 0..k {
+            if r != col {
+                let f = m[r * k + col];
+                if f != 0.0 {
+                    for j in 0..k {
+                        m[r * k + j] -= f * m[col * k + j];
+                        inv[r * k + j] -= f * inv[col * k + j];
+                    }
+                }
+            }
+        }
+    }
+    Some(inv)
+}
+
+/// The residual of `y` after the chosen columns fitted on the samples `keep` admits, and the
+/// squared sum of that residual over the samples `score` admits.
+fn residual_sum(
+    y: &[f64],
+    columns: &[Vec<f64>],
+    chosen: &[usize],
+    keep: impl Fn(usize) -> bool,
+    score: impl Fn(usize) -> bool,
+) -> Option<f64> {
+    let coef = if chosen.is_empty() {
+        Vec::new()
+    } else {
+        least_squares(y, columns, chosen, keep)?.0
+    };
+    Some(
+        y.iter()
+            .enumerate()
+            .filter(|(i, _)| score(*i))
+            .map(|(i, &yi)| {
+                let fit: f64 = chosen
+                    .iter()
+                    .zip(&coef)
+                    .map(|(&c, &k)| k * columns[c][i])
+                    .sum();
+                (yi - fit).powi(2)
+            })
+            .sum(),
+    )
+}
+
+/// Forward stepwise selection on one axis (module docs).
+fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
+    let n = y.len();
+    // Columns divided by their RMS: the reduction a candidate brings is then a plain
+    // projection, whatever its units.
+    let unit: Vec<Option<Vec<f64>>> = columns
+        .iter()
+        .map(|c| {
+            let s = rms(c);
+            (s > 0.0 && s.is_finite()).then(|| c.iter().map(|v| v / s).collect())
+        })
+        .collect();
+    // An orthonormal basis of the chosen columns, and the residual after them.
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut resid = y.to_vec();
+    let mut chosen: Vec<usize> = Vec::new();
+    let mut steps = Vec::new();
+    let fold_of = |i: usize| (i * FOLDS / n).min(FOLDS - 1);
+    for _ in 0..MAX_TERMS_PER_AXIS {
+        let rss: f64 = resid.iter().map(|v| v * v).sum();
+        if !(rss > 0.0) {
+            break;
+        }
+        let mut best: Option<(usize, f64, Vec<f64>)> = None;
+        for (j, col) in unit.iter().enumerate() {
+            let Some(col) = col else { continue };
+            if chosen.contains(&j) {
+                continue;
+            }
+            let mut x = col.clone();
+            for q in &basis {
+                let d: f64 = x.iter().zip(q).map(|(a, b)| a * b).sum();
+                x.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
+            }
+            let xx: f64 = x.iter().map(|v| v * v).sum();
+            // A column (almost) inside the chosen ones adds nothing new.
+            if !(xx > 1e-8 * n as f64) {
+                continue;
+            }
+            let xr: f64 = x.iter().zip(&resid).map(|(a, b)| a * b).sum();
+            let gain = xr * xr / xx;
+            if best.as_ref().is_none_or(|b| gain > b.1) {
+                let norm = xx.sqrt();
+                x.iter_mut().for_each(|v| *v /= norm);
+                best = Some((j, gain, x));
+            }
+        }
+        let Some((j, gain, q)) = best else { break };
+        let rss_after = (rss - gain).max(0.0);
+        let d: f64 = q.iter().zip(&resid).map(|(a, b)| a * b).sum();
+        let after: Vec<f64> = resid.iter().zip(&q).map(|(r, b)| r - d * b).collect();
+        let n_eff = effective_samples(&after);
+        let lr = if rss_after > 0.0 {
+            n_eff * (rss / rss_after).ln()
+        } else {
+            f64::INFINITY
+        };
+        let material = gain >= MATERIAL * rss;
+        let mut with = chosen.clone();
+        with.push(j);
+        let folds_better = (0..FOLDS)
+            .filter(|&f| {
+                let without = residual_sum(
+                    y,
+                    columns,
+                    &chosen,
+                    |i| fold_of(i) != f,
+                    |i| fold_of(i) == f,
+                );
+                let with =
+                    residual_sum(y, columns, &with, |i| fold_of(i) != f, |i| fold_of(i) == f);
+                matches!((without, with), (Some(a), Some(b)) if b < a)
+            })
+            .count();
+        if !(lr > threshold && material && 2 * folds_better > FOLDS) {
+            break;
+        }
+        steps.push(Step {
+            column: j,
+            rms_before: (rss / n as f64).sqrt(),
+            rms_after: (rss_after / n as f64).sqrt(),
+            likelihood_ratio: lr,
+            folds_better,
+        });
+        chosen = with;
+        basis.push(q);
+        resid = after;
+    }
+    let effective = effective_samples(&resid);
+    let rss: f64 = resid.iter().map(|v| v * v).sum();
+    let (coefficients, sigmas) = match least_squares(y, columns, &chosen, |_| true) {
+        Some((c, diag)) if !chosen.is_empty() => {
+            // σ² from the residual variance over the effective samples: (XᵀX)⁻¹·RSS/n_eff
+            // is the white-noise value inflated by n/n_eff for the colour.
+            let var = rss / (effective - chosen.len() as f64).max(1.0);
+            let s = diag.iter().map(|d| (d * var).sqrt());
+            (c, s.collect())
+        }
+        _ => (Vec::new(), Vec::new()),
+    };
+    if coefficients.len() != steps.len() {
+        steps.clear();
+    }
+    Selection {
+        steps,
+        coefficients,
+        sigmas,
+        rms_after: (rss / n as f64).sqrt(),
+        effective_samples: effective,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn white_noise_has_as_many_effective_samples_as_samples_and_a_smooth_series_fewer() {
+        let mut x = 12345u64;
+        let white: Vec<f64> = (0..2000)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                (x as f64 / u64::MAX as f64) - 0.5
+            })
+            .collect();
+        assert!(effective_samples(&white) > 1500.0);
+        let smooth: Vec<f64> = (0..2000).map(|i| (i as f64 * 0.01).sin()).collect();
+        assert!(effective_samples(&smooth) < 200.0);
+    }
+
+    #[test]
+    fn the_selection_finds_the_one_column_in_the_data_and_nothing_in_noise() {
+        let n = 1000;
+        let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.05).sin()).collect();
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.031).cos()).collect();
+        let mut x = 99u64;
+        let noise: Vec<f64> = (0..n)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                (x as f64 / u64::MAX as f64) - 0.5
+            })
+            .collect();
+        let y: Vec<f64> = (0..n).map(|i| 3.0 * b[i] + 0.1 * noise[i]).collect();
+        let cols = vec![a.clone(), b.clone()];
+        let thr = chi2_quantile(1.0 - 0.01 / 12.0, 1.0);
+        let s = select(&y, &cols, thr);
+        assert_eq!(s.steps.len(), 1);
+        assert_eq!(s.steps[0].column, 1);
+        assert!((s.coefficients[0] - 3.0).abs() < 0.01);
+        let s = select(&noise, &cols, thr);
+        assert!(s.steps.is_empty());
+    }
+}
