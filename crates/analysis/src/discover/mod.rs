@@ -22,6 +22,7 @@
 //! the term is added.
 
 pub mod library;
+pub mod report;
 
 use wireflight_flight::expr::{Axis, Term, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, Vehicle};
