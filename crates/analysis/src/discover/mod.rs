@@ -28,8 +28,10 @@ use wireflight_flight::expr::{Axis, Term, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, Vehicle};
 use wireflight_flight::numeric::chi2_quantile;
 
-use crate::identify::equation_error::{ee_samples, EeSample};
+use crate::identify::equation_error::EeSample;
 use wireflight_flight::data::FlightData;
+use wireflight_flight::derive::{Differentiator, Window};
+use wireflight_flight::model::State;
 
 /// The family-wise false-alarm rate of the selection (split over every candidate of every axis).
 pub const FALSE_ALARM: f64 = 0.01;
@@ -37,6 +39,8 @@ pub const FALSE_ALARM: f64 = 0.01;
 pub const MATERIAL: f64 = 0.02;
 /// The most terms admitted on one axis.
 pub const MAX_TERMS_PER_AXIS: usize = 3;
+/// At most this many samples enter the regression (evenly strided).
+const MAX_SAMPLES: usize = 4000;
 /// Contiguous parts of the flight for the validation.
 const FOLDS: usize = 5;
 /// Longest lag of the autocorrelation sum, samples.
@@ -129,29 +133,68 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     let Vehicle::FixedWing(params) = &model.vehicle else {
         return Err(DiscoverError::PointMass);
     };
-    let samples = ee_samples(data);
-    if samples.len() < MIN_SAMPLES {
-        return Err(DiscoverError::TooFewSamples(samples.len()));
-    }
+    let Some(series) = series(model, params, data) else {
+        return Err(DiscoverError::TooFewSamples(0));
+    };
     let library = library::fixed_wing();
-    let mass = params.mass.mass_kg;
     let jm = &params.mass;
-    let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(samples.len()));
-    let mut columns: Vec<Vec<f64>> = vec![Vec::with_capacity(samples.len()); library.len()];
-    for s in &samples {
-        let Some((missing, vars)) = missing_at(model, params, s, mass, jm) else {
-            continue;
-        };
-        for (c, v) in targets.iter_mut().zip(missing) {
-            c.push(v);
-        }
-        for (col, r) in columns.iter_mut().zip(&library) {
-            col.push(r.value(&vars));
+    let n_all = series.measured[0].len();
+    let half = Window::default().half_samples(&data.time);
+    if n_all <= 2 * half + MIN_SAMPLES {
+        return Err(DiscoverError::TooFewSamples(n_all.saturating_sub(2 * half)));
+    }
+    // Everything through the same filter: the differentiator of the running integral, the
+    // smoothing the measured derivative has (a measured acceleration is the smoothed one, and
+    // so must the model's and the regressors' be, or a fast manoeuvre reads as a force).
+    let diff = Differentiator::with_window(&data.time, Window::default());
+    let smooth = |x: &[f64]| -> Vec<f64> { diff.apply(&running_integral(&data.time, x)) };
+    let model_acc: Vec<Vec<f64>> = series.model.iter().map(|c| smooth(c)).collect();
+    let measured: Vec<Vec<f64>> = series
+        .measured
+        .iter()
+        .enumerate()
+        .map(|(c, m)| {
+            if c < 3 && !series.accelerometer {
+                m.clone()
+            } else {
+                smooth(m)
+            }
+        })
+        .collect();
+    let stride = ((n_all - 2 * half) / MAX_SAMPLES).max(1);
+    let rows: Vec<usize> = (half..n_all - half).step_by(stride).collect();
+    let n = rows.len();
+    let mass = jm.mass_kg;
+    let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
+    for &i in &rows {
+        let d: [f64; 6] = std::array::from_fn(|c| measured[c][i] - model_acc[c][i]);
+        // ΔM = J·Δω̇ with J = [[Jx, 0, −Jxz], [0, Jy, 0], [−Jxz, 0, Jz]].
+        let missing = [
+            mass * d[0],
+            mass * d[1],
+            mass * d[2],
+            jm.jx * d[3] - jm.jxz * d[5],
+            jm.jy * d[4],
+            jm.jz * d[5] - jm.jxz * d[3],
+        ];
+        for (t, v) in targets.iter_mut().zip(missing) {
+            t.push(v);
         }
     }
-    let n = targets[0].len();
-    if n < MIN_SAMPLES {
-        return Err(DiscoverError::TooFewSamples(n));
+    let columns: Vec<Vec<f64>> = library
+        .iter()
+        .map(|r| {
+            let raw: Vec<f64> = series.vars.iter().map(|v| r.value(v)).collect();
+            let sm = smooth(&raw);
+            rows.iter().map(|&i| sm[i]).collect()
+        })
+        .collect();
+    if targets
+        .iter()
+        .chain(&columns)
+        .any(|c| c.iter().any(|v| !v.is_finite()))
+    {
+        return Err(DiscoverError::TooFewSamples(0));
     }
     let threshold = chi2_quantile(1.0 - FALSE_ALARM / (6 * library.len()) as f64, 1.0);
     let mut terms = Vec::new();
@@ -201,44 +244,99 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     })
 }
 
-/// What the model lacks at one sample (X, Y, Z in N; l, m, n in N·m) and the term language's
-/// variables there; None where anything is not finite.
-fn missing_at(
+/// Every sample's measured accelerations (body velocity's derivative or the specific force;
+/// angular), the model's at the same state, and the term language's variables.
+struct Series {
+    measured: [Vec<f64>; 6],
+    model: [Vec<f64>; 6],
+    vars: Vec<VarValues>,
+    accelerometer: bool,
+}
+
+/// The [`Series`] of a flight; None without the channels or with a value not finite.
+fn series(
     model: &Model,
     params: &wireflight_flight::params::FixedWingParams,
-    s: &EeSample,
-    mass: f64,
-    jm: &wireflight_flight::params::Mass,
-) -> Option<([f64; 6], VarValues)> {
-    let d = model.derivative(s.t, &s.state, &s.controls);
-    let force_acc = if s.accelerometer {
-        model.specific_force(s.t, &s.state, &s.controls)
-    } else {
-        d.vel()
+    d: &FlightData,
+) -> Option<Series> {
+    let (att, vb, rates, controls) = (
+        d.attitude.as_ref()?,
+        d.vel_body.as_ref()?,
+        d.rates_body.as_ref()?,
+        d.controls.as_ref()?,
+    );
+    let n = d.len();
+    if n < MIN_SAMPLES || [att.len(), vb.len(), rates.len(), controls.len()] != [n; 4] {
+        return None;
+    }
+    let diff = Differentiator::with_window(&d.time, Window::default());
+    if diff.len() != n {
+        return None;
+    }
+    let accel = d.accel_body.as_ref().filter(|a| a.len() == n);
+    let dv = match accel {
+        Some(a) => a.clone(),
+        None => diff.apply_vec3(vb),
     };
-    let w = d.omega();
-    let dv = [
-        s.measured[0] - force_acc.x,
-        s.measured[1] - force_acc.y,
-        s.measured[2] - force_acc.z,
-    ];
-    let dw = [
-        s.measured[3] - w.x,
-        s.measured[4] - w.y,
-        s.measured[5] - w.z,
-    ];
-    // ΔM = J·Δω̇ with J = [[Jx, 0, −Jxz], [0, Jy, 0], [−Jxz, 0, Jz]].
-    let missing = [
-        mass * dv[0],
-        mass * dv[1],
-        mass * dv[2],
-        jm.jx * dw[0] - jm.jxz * dw[2],
-        jm.jy * dw[1],
-        jm.jz * dw[2] - jm.jxz * dw[0],
-    ];
-    let vars = variables(model, params, s);
-    (missing.iter().all(|v| v.is_finite()) && vars.iter().all(|v| v.is_finite()))
-        .then_some((missing, vars))
+    let dw = diff.apply_vec3(rates);
+    let mut out = Series {
+        measured: std::array::from_fn(|_| Vec::with_capacity(n)),
+        model: std::array::from_fn(|_| Vec::with_capacity(n)),
+        vars: Vec::with_capacity(n),
+        accelerometer: accel.is_some(),
+    };
+    for i in 0..n {
+        let mut x = State::default();
+        x.set_pos_ned(d.pos_ned[i]);
+        x.set_vel(vb[i]);
+        x.set_attitude(att[i]);
+        x.set_omega(rates[i]);
+        let c = controls[i];
+        x.set_surfaces(glam::DVec3::new(c.elevator, c.aileron, c.rudder));
+        let s = EeSample {
+            t: d.time[i],
+            state: x,
+            controls: c,
+            measured: [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z],
+            accelerometer: accel.is_some(),
+        };
+        let der = model.derivative(s.t, &s.state, &s.controls);
+        let f = if s.accelerometer {
+            model.specific_force(s.t, &s.state, &s.controls)
+        } else {
+            der.vel()
+        };
+        let w = der.omega();
+        let m = [f.x, f.y, f.z, w.x, w.y, w.z];
+        let vars = variables(model, params, &s);
+        if !(m
+            .iter()
+            .chain(&s.measured)
+            .chain(&vars)
+            .all(|v| v.is_finite()))
+        {
+            return None;
+        }
+        for c in 0..6 {
+            out.measured[c].push(s.measured[c]);
+            out.model[c].push(m[c]);
+        }
+        out.vars.push(vars);
+    }
+    Some(out)
+}
+
+/// The running trapezoid integral of a series over time (0 at the first sample).
+fn running_integral(time: &[f64], x: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(x.len());
+    let mut acc = 0.0;
+    for i in 0..x.len() {
+        if i > 0 {
+            acc += 0.5 * (x[i] + x[i - 1]) * (time[i] - time[i - 1]);
+        }
+        out.push(acc);
+    }
+    out
 }
 
 /// The term language's variables at a sample, as the model sees them.
