@@ -317,9 +317,9 @@ fn series(
         {
             return None;
         }
-        for c in 0..6 {
-            out.measured[c].push(s.measured[c]);
-            out.model[c].push(m[c]);
+        for (c, (meas, mod_c)) in out.measured.iter_mut().zip(&mut out.model).enumerate() {
+            meas.push(s.measured[c]);
+            mod_c.push(m[c]);
         }
         out.vars.push(vars);
     }
@@ -466,7 +466,7 @@ fn invert(a: &[f64], k: usize) -> Option<Vec<f64>> {
     for col in 0..k {
         let piv =
             (col..k).max_by(|&x, &y| m[x * k + col].abs().total_cmp(&m[y * k + col].abs()))?;
-        if !(m[piv * k + col].abs() > 1e-12 * scale) {
+        if m[piv * k + col].abs() <= 1e-12 * scale || !scale.is_finite() {
             return None;
         }
         for j in 0..k {
@@ -543,7 +543,7 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
     let fold_of = |i: usize| (i * FOLDS / n).min(FOLDS - 1);
     for _ in 0..MAX_TERMS_PER_AXIS {
         let rss: f64 = resid.iter().map(|v| v * v).sum();
-        if !(rss > 0.0) {
+        if rss <= 0.0 || !rss.is_finite() {
             break;
         }
         let mut best: Option<(usize, f64, Vec<f64>)> = None;
@@ -559,7 +559,7 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
             }
             let xx: f64 = x.iter().map(|v| v * v).sum();
             // A column (almost) inside the chosen ones adds nothing new.
-            if !(xx > 1e-8 * n as f64) {
+            if xx <= 1e-8 * n as f64 || !xx.is_finite() {
                 continue;
             }
             let xr: f64 = x.iter().zip(&resid).map(|(a, b)| a * b).sum();
