@@ -300,14 +300,7 @@ fn series(
             measured: [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z],
             accelerometer: accel.is_some(),
         };
-        let der = model.derivative(s.t, &s.state, &s.controls);
-        let f = if s.accelerometer {
-            model.specific_force(s.t, &s.state, &s.controls)
-        } else {
-            der.vel()
-        };
-        let w = der.omega();
-        let m = [f.x, f.y, f.z, w.x, w.y, w.z];
+        let m = s.modelled(model);
         let vars = variables(model, params, &s);
         if !(m
             .iter()
@@ -639,17 +632,22 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
 mod tests {
     use super::*;
 
-    #[test]
-    fn white_noise_has_as_many_effective_samples_as_samples_and_a_smooth_series_fewer() {
-        let mut x = 12345u64;
-        let white: Vec<f64> = (0..2000)
+    /// `n` uniform numbers in ±0.5 (xorshift from `seed`).
+    fn uniform_noise(n: usize, seed: u64) -> Vec<f64> {
+        let mut x = seed;
+        (0..n)
             .map(|_| {
                 x ^= x << 13;
                 x ^= x >> 7;
                 x ^= x << 17;
                 (x as f64 / u64::MAX as f64) - 0.5
             })
-            .collect();
+            .collect()
+    }
+
+    #[test]
+    fn white_noise_has_as_many_effective_samples_as_samples_and_a_smooth_series_fewer() {
+        let white = uniform_noise(2000, 12345);
         assert!(effective_samples(&white) > 1500.0);
         let smooth: Vec<f64> = (0..2000).map(|i| (i as f64 * 0.01).sin()).collect();
         assert!(effective_samples(&smooth) < 200.0);
@@ -660,15 +658,7 @@ mod tests {
         let n = 1000;
         let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.05).sin()).collect();
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.031).cos()).collect();
-        let mut x = 99u64;
-        let noise: Vec<f64> = (0..n)
-            .map(|_| {
-                x ^= x << 13;
-                x ^= x >> 7;
-                x ^= x << 17;
-                (x as f64 / u64::MAX as f64) - 0.5
-            })
-            .collect();
+        let noise = uniform_noise(n, 99);
         let y: Vec<f64> = (0..n).map(|i| 3.0 * b[i] + 0.1 * noise[i]).collect();
         let cols = vec![a.clone(), b.clone()];
         let thr = chi2_quantile(1.0 - 0.01 / 12.0, 1.0);

@@ -31,6 +31,22 @@ pub(crate) struct EeSample {
     pub(crate) accelerometer: bool,
 }
 
+impl EeSample {
+    /// What `m` makes of the measured quantities at this sample: its body-velocity
+    /// derivative (or specific force, where `measured` has the accelerometer's) and its
+    /// angular acceleration.
+    pub(crate) fn modelled(&self, m: &Model) -> [f64; 6] {
+        let d = m.derivative(self.t, &self.state, &self.controls);
+        let v = if self.accelerometer {
+            m.specific_force(self.t, &self.state, &self.controls)
+        } else {
+            d.vel()
+        };
+        let w = d.omega();
+        [v.x, v.y, v.z, w.x, w.y, w.z]
+    }
+}
+
 /// Equation-error estimate of the free parameters (module docs); None when no flight has the
 /// channels it needs (attitude, body velocity, rates, controls) or the regression fails.
 pub(super) fn equation_error(
@@ -48,14 +64,7 @@ pub(super) fn equation_error(
         samples
             .par_iter()
             .map(|s| {
-                let d = m.derivative(s.t, &s.state, &s.controls);
-                let v = if s.accelerometer {
-                    m.specific_force(s.t, &s.state, &s.controls)
-                } else {
-                    d.vel()
-                };
-                let w = d.omega();
-                let f = [v.x, v.y, v.z, w.x, w.y, w.z];
+                let f = s.modelled(m);
                 std::array::from_fn(|c| s.measured[c] - f[c])
             })
             .collect()
