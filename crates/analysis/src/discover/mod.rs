@@ -161,8 +161,18 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
             }
         })
         .collect();
-    let stride = ((n_all - 2 * half) / MAX_SAMPLES).max(1);
-    let rows: Vec<usize> = (half..n_all - half).step_by(stride).collect();
+    // The regressors are read `gap` samples before and after each row, averaged: the noise
+    // of a measured state enters the model's acceleration at the row itself, and a regressor
+    // that read the same noisy state would correlate with it (a clean flight would "find"
+    // the model's own rate terms). Beyond the smoothing's reach the noise is independent;
+    // the average's error is the regressor's curvature over the gap, second order.
+    let gap = 2 * half + 1;
+    let edge = half + gap;
+    if n_all <= 2 * edge + MIN_SAMPLES {
+        return Err(DiscoverError::TooFewSamples(n_all.saturating_sub(2 * edge)));
+    }
+    let stride = ((n_all - 2 * edge) / MAX_SAMPLES).max(1);
+    let rows: Vec<usize> = (edge..n_all - edge).step_by(stride).collect();
     let n = rows.len();
     let mass = jm.mass_kg;
     let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
@@ -186,7 +196,9 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
         .map(|r| {
             let raw: Vec<f64> = series.vars.iter().map(|v| r.value(v)).collect();
             let sm = smooth(&raw);
-            rows.iter().map(|&i| sm[i]).collect()
+            rows.iter()
+                .map(|&i| 0.5 * (sm[i - gap] + sm[i + gap]))
+                .collect()
         })
         .collect();
     if targets
