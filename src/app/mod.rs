@@ -9,6 +9,7 @@ pub mod commands;
 pub mod compare;
 pub mod data;
 pub mod diagnose;
+pub mod discover;
 pub mod euler;
 pub mod identify;
 pub mod import;
@@ -83,6 +84,7 @@ where
         Command::Simulate(args) => simulate::run(&args),
         Command::Compare(args) => compare::run(&args),
         Command::Diagnose(args) => diagnose::run(&args),
+        Command::Discover(args) => discover::run(&args),
         Command::Identify(args) => identify::run(&args),
         Command::View(args) => view::run(&args),
         Command::Euler(args) => euler::run(&args),

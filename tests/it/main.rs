@@ -11,6 +11,7 @@ mod accelerometer;
 mod cli;
 mod clip;
 mod diagnose;
+mod discover;
 mod euler;
 mod euler_cli;
 mod euler_pictures;

@@ -64,6 +64,7 @@ const PAGES: &[&str] = &[
     "docs/benchmarks.md",
     "docs/clipping-lab.md",
     "docs/conventions.md",
+    "docs/discover.md",
     "docs/euler-lab.md",
     "docs/expressions.md",
     "docs/filter-error.md",
@@ -509,6 +510,7 @@ page_tests! {
     docs_benchmarks_commands => "docs/benchmarks.md";
     docs_clipping_lab_commands => "docs/clipping-lab.md";
     docs_conventions_commands => "docs/conventions.md";
+    docs_discover_commands => "docs/discover.md";
     docs_euler_lab_commands => "docs/euler-lab.md";
     docs_expressions_commands => "docs/expressions.md";
     docs_filter_error_commands => "docs/filter-error.md";

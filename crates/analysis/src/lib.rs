@@ -9,6 +9,7 @@
 pub mod compare;
 pub mod conditions;
 pub mod diagnose;
+pub mod discover;
 pub mod filter_error;
 mod free;
 pub mod identify;

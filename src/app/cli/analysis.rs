@@ -195,3 +195,34 @@ fn prior_width(s: &str) -> Result<f64, String> {
         ))
     }
 }
+
+const DISCOVER_EXAMPLES: &str = "\
+Examples:
+  wireflight discover --flight test.csv
+  wireflight discover --flight test.csv --add prop_torque --json
+
+What the model lacks is read through the equations of motion at the measured states (the
+measured accelerations less the model's, times the mass and inertia), on each body axis, and
+regressed on a library of candidate terms by stepwise selection; each term found is printed
+with its reading, its coefficient ± σ and the --add spec that adds it.";
+
+/// `wireflight discover` options.
+#[derive(Debug, Args)]
+#[command(after_help = DISCOVER_EXAMPLES)]
+pub struct DiscoverArgs {
+    /// Flight data: CSV, a PX4 ULog (.ulg), or any CSV with --columns.
+    #[arg(long, alias = "data", value_name = "FILE")]
+    pub flight: std::path::PathBuf,
+    /// How to read it.
+    #[command(flatten)]
+    pub data: DataArgs,
+    /// The model to start from (--add effects are fitted to the flight first).
+    #[command(flatten)]
+    pub model: ModelArgs,
+    /// How the flight is cut into windows (for fitting the --add effects).
+    #[command(flatten)]
+    pub windows: WindowArgs,
+    /// Machine-readable output (JSON) on stdout.
+    #[arg(long)]
+    pub json: bool,
+}

@@ -59,6 +59,8 @@ pub enum Command {
     Compare(CompareArgs),
     /// Find which physical effect the model is missing, with evidence.
     Diagnose(DiagnoseArgs),
+    /// Find the force or moment the model lacks, as terms to add (`--add 'term:AXIS=EXPR'`).
+    Discover(DiscoverArgs),
     /// Fit many numbers of the aircraft's parameter set together over several flights.
     Identify(IdentifyArgs),
     /// Fly through a wireframe world in a window (winit + wgpu, egui HUD).

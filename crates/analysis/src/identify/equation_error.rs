@@ -22,13 +22,29 @@ const EE_SAMPLES: usize = 4000;
 /// One sample of the regression: the measured state, the controls, and the measured
 /// derivatives of the body velocity (or the accelerometer's specific force) and the body
 /// rates.
-struct EeSample {
-    t: f64,
-    state: State,
-    controls: Controls,
-    measured: [f64; 6],
+pub(crate) struct EeSample {
+    pub(crate) t: f64,
+    pub(crate) state: State,
+    pub(crate) controls: Controls,
+    pub(crate) measured: [f64; 6],
     /// The first three of `measured` are the accelerometer's.
-    accelerometer: bool,
+    pub(crate) accelerometer: bool,
+}
+
+impl EeSample {
+    /// What `m` makes of the measured quantities at this sample: its body-velocity
+    /// derivative (or specific force, where `measured` has the accelerometer's) and its
+    /// angular acceleration.
+    pub(crate) fn modelled(&self, m: &Model) -> [f64; 6] {
+        let d = m.derivative(self.t, &self.state, &self.controls);
+        let v = if self.accelerometer {
+            m.specific_force(self.t, &self.state, &self.controls)
+        } else {
+            d.vel()
+        };
+        let w = d.omega();
+        [v.x, v.y, v.z, w.x, w.y, w.z]
+    }
 }
 
 /// Equation-error estimate of the free parameters (module docs); None when no flight has the
@@ -48,14 +64,7 @@ pub(super) fn equation_error(
         samples
             .par_iter()
             .map(|s| {
-                let d = m.derivative(s.t, &s.state, &s.controls);
-                let v = if s.accelerometer {
-                    m.specific_force(s.t, &s.state, &s.controls)
-                } else {
-                    d.vel()
-                };
-                let w = d.omega();
-                let f = [v.x, v.y, v.z, w.x, w.y, w.z];
+                let f = s.modelled(m);
                 std::array::from_fn(|c| s.measured[c] - f[c])
             })
             .collect()
@@ -137,7 +146,7 @@ pub(super) fn equation_error(
 }
 
 /// The regression samples of one flight (empty without the channels needed).
-fn ee_samples(d: &FlightData) -> Vec<EeSample> {
+pub(crate) fn ee_samples(d: &FlightData) -> Vec<EeSample> {
     let (Some(att), Some(vb), Some(rates), Some(controls)) = (
         d.attitude.as_ref(),
         d.vel_body.as_ref(),

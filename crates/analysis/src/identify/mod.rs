@@ -23,7 +23,7 @@
 //! correlated residuals as in the diagnosis; |correlation| above [`CONFOUNDED`] names pairs the
 //! data cannot separate.
 
-mod equation_error;
+pub(crate) mod equation_error;
 
 use equation_error::equation_error;
 

@@ -62,6 +62,8 @@ pub struct Effects {
     /// `gravity_model` height: false (default) = current height altitude_m(origin) − down,
     /// true = the origin's altitude (constant).
     pub gravity_height_at_origin: bool,
+    /// Terms no catalogue effect has (`hidden_terms.rs`).
+    pub hidden_terms: Vec<HiddenTerm>,
 }
 
 impl Effects {

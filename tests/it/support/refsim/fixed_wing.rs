@@ -234,6 +234,16 @@ impl FwModel {
         let surf = self.surfaces(x, cmd);
         let (mut f, mut m) = aero_force_moment(p, rho, va, alpha, beta, pqr, surf, induced);
         f[0] += thrust(p, rho, va, cmd.throttle);
+        let hidden = hidden_force_moment(
+            &self.effects.hidden_terms,
+            rho,
+            va,
+            alpha,
+            beta,
+            pqr,
+            cmd.throttle,
+        );
+        (f, m) = (v_add(f, hidden.0), v_add(m, hidden.1));
         if let Some(k) = self.effects.prop_torque {
             m = v_add(m, prop_torque_moment(k, cmd.throttle));
         }

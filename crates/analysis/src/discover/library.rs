@@ -1,0 +1,202 @@
+//! The candidate regressors: products of the term language's variables, each one a term the
+//! language takes as written (`k*qbar*alpha*beta`), so that what is found can be added.
+//!
+//! Normalisation: a regressor is the product exactly as printed, in SI units and radians; its
+//! coefficient is in N or N·m per unit of that product. Aerodynamic shapes are multiplied by
+//! the dynamic pressure (`qbar*alpha*beta`: the coefficient is S·b·C, a force or moment that
+//! grows with q̄ as an airframe's does); propulsive ones are not (`throttle^2`, `r*throttle`,
+//! `thrust`). The selection itself works on each column divided by its RMS over the flight,
+//! so the choice does not depend on the units.
+
+use wireflight_flight::expr::{Var, VarValues};
+
+/// One factor of a regressor: a variable, or a function of one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Factor {
+    /// The variable itself.
+    Plain(Var),
+    /// Its sine.
+    Sin(Var),
+    /// Its cosine.
+    Cos(Var),
+}
+
+impl Factor {
+    fn value(self, v: &VarValues) -> f64 {
+        match self {
+            Factor::Plain(x) => v[x.index()],
+            Factor::Sin(x) => v[x.index()].sin(),
+            Factor::Cos(x) => v[x.index()].cos(),
+        }
+    }
+
+    fn text(self) -> String {
+        match self {
+            Factor::Plain(x) => x.name().to_string(),
+            Factor::Sin(x) => format!("sin({})", x.name()),
+            Factor::Cos(x) => format!("cos({})", x.name()),
+        }
+    }
+}
+
+/// A candidate regressor: the product of up to three factors (none: a constant).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Regressor {
+    factors: Vec<Factor>,
+}
+
+impl Regressor {
+    /// Its value for these variables.
+    pub fn value(&self, v: &VarValues) -> f64 {
+        self.factors.iter().map(|f| f.value(v)).product()
+    }
+
+    /// Its factors as the term language writes them (`["qbar", "alpha", "beta"]`); a square
+    /// is written once with `^2` (`["throttle^2"]`); empty for the constant.
+    pub fn names(&self) -> Vec<String> {
+        let mut out: Vec<String> = Vec::new();
+        let mut i = 0;
+        while i < self.factors.len() {
+            let f = self.factors[i];
+            let t = f.text();
+            if self.factors.get(i + 1) == Some(&f) {
+                out.push(format!("{t}^2"));
+                i += 2;
+            } else {
+                out.push(t);
+                i += 1;
+            }
+        }
+        out
+    }
+
+    /// The expression `coefficient*f1*f2…` (or the coefficient alone for the constant).
+    pub fn expression(&self, coefficient: &str) -> String {
+        std::iter::once(coefficient.to_string())
+            .chain(self.names())
+            .collect::<Vec<_>>()
+            .join("*")
+    }
+
+    /// Whether it reads variable `v` (plain or through a function).
+    pub fn uses(&self, v: Var) -> bool {
+        self.factors.iter().any(|f| match *f {
+            Factor::Plain(x) | Factor::Sin(x) | Factor::Cos(x) => x == v,
+        })
+    }
+}
+
+/// Angles, non-dimensional rates and surfaces: the shapes an airframe's coefficients take.
+const SHAPES: [Var; 8] = [
+    Var::Alpha,
+    Var::Beta,
+    Var::PHat,
+    Var::QHat,
+    Var::RHat,
+    Var::Elevator,
+    Var::Aileron,
+    Var::Rudder,
+];
+
+/// The candidates of a fixed wing: q̄ times a constant, each shape, each product and square
+/// of two shapes and sin/cos of α; the propulsive forms (throttle, its square, the thrust,
+/// body rates times throttle, angles times thrust); airspeed and its square.
+pub fn fixed_wing() -> Vec<Regressor> {
+    use Factor::{Cos, Plain, Sin};
+    let q = Plain(Var::Qbar);
+    let mut out = vec![
+        Regressor { factors: vec![] },
+        Regressor { factors: vec![q] },
+    ];
+    for (i, &a) in SHAPES.iter().enumerate() {
+        out.push(Regressor {
+            factors: vec![q, Plain(a)],
+        });
+        for &b in &SHAPES[i..] {
+            out.push(Regressor {
+                factors: vec![q, Plain(a), Plain(b)],
+            });
+        }
+    }
+    for f in [Sin(Var::Alpha), Cos(Var::Alpha)] {
+        out.push(Regressor {
+            factors: vec![q, f],
+        });
+    }
+    let t = Plain(Var::Throttle);
+    let thrust = Plain(Var::Thrust);
+    out.push(Regressor { factors: vec![t] });
+    out.push(Regressor {
+        factors: vec![t, t],
+    });
+    out.push(Regressor {
+        factors: vec![thrust],
+    });
+    for r in [Var::P, Var::Q, Var::R, Var::Airspeed] {
+        out.push(Regressor {
+            factors: vec![Plain(r), t],
+        });
+    }
+    for a in [Var::Alpha, Var::Beta] {
+        out.push(Regressor {
+            factors: vec![thrust, Plain(a)],
+        });
+    }
+    let v = Plain(Var::Airspeed);
+    out.push(Regressor { factors: vec![v] });
+    out.push(Regressor {
+        factors: vec![v, v],
+    });
+    out
+}
+
+/// A physical reading of a term on an axis, where one is known; otherwise a plain
+/// description of its form.
+pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
+    use wireflight_flight::expr::Axis;
+    let what = match axis {
+        Axis::X => "axial force",
+        Axis::Y => "side force",
+        Axis::Z => "normal force",
+        Axis::L => "rolling moment",
+        Axis::M => "pitching moment",
+        Axis::N => "yawing moment",
+    };
+    let names = r.names();
+    let form = if names.is_empty() {
+        "constant".to_string()
+    } else {
+        names.join("·")
+    };
+    let why = match (axis, names.join("*").as_str()) {
+        (Axis::L, "qbar*alpha*beta") => "dihedral effect growing with angle of attack",
+        (Axis::L, "qbar*beta") => "dihedral effect",
+        (Axis::L, "throttle^2") | (Axis::L, "thrust") | (Axis::L, "throttle") => {
+            "the propeller's torque"
+        }
+        (Axis::L, "") => "an asymmetry: a constant roll (rigging, fuel, torque)",
+        (Axis::X, "throttle^2") | (Axis::X, "throttle") => {
+            "drag of the propeller's slipstream (sign: negative drags)"
+        }
+        (Axis::X, "thrust") => "thrust mis-scaled",
+        (Axis::X, "airspeed^2") | (Axis::X, "qbar") => "parasite drag mis-estimated",
+        (Axis::M, "thrust") | (Axis::M, "throttle^2") | (Axis::M, "throttle") => {
+            "a thrust line off the centre of gravity (positive: below it)"
+        }
+        (Axis::M, "qbar*alpha") => "static stability mis-estimated",
+        (Axis::M, "qbar*alpha^2") => "pitch stability changing with angle of attack",
+        (Axis::N, "r*throttle") => "yaw damping from the propeller's slipstream over the fin",
+        (Axis::N, "throttle^2") | (Axis::N, "thrust") => "the propeller's asymmetric blade load",
+        (Axis::N, "qbar*beta") => "weathercock stability mis-estimated",
+        (Axis::N, "qbar*alpha*beta") => "directional stability changing with angle of attack",
+        (Axis::Y, "qbar*beta") => "side force of the fuselage and fin",
+        (Axis::Z, "qbar*alpha") | (Axis::Z, "qbar*sin(alpha)") => "lift slope mis-estimated",
+        (Axis::Z, "qbar*alpha^2") => "lift curve bending before the stall",
+        _ => "",
+    };
+    if why.is_empty() {
+        format!("{what} ∝ {form}")
+    } else {
+        format!("{what} ∝ {form}: {why}")
+    }
+}

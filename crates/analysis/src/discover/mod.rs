@@ -1,0 +1,684 @@
+//! What force or moment the model lacks, and the term that adds it (`wireflight discover`).
+//!
+//! The missing force and moment are read through the equations of motion at the measured
+//! states: the measured body accelerations (the smoothing differentiator of the body velocity,
+//! or the accelerometer's specific force where the flight has one) and angular accelerations,
+//! less the model's at the same state and commands, times the mass and the inertia matrix.
+//! The rates' coupling terms ω×Jω are the same in both and cancel: what is left is the force
+//! (N) and moment (N·m) the model does not have, on each body axis.
+//!
+//! Each axis is regressed on a library of candidate regressors ([`library`]) by forward
+//! stepwise selection: the candidate that removes most is admitted when its likelihood ratio,
+//! counted on the *effective* number of samples (the residuals are coloured by the smoothing
+//! and by the model's error: n/(1 + 2Σρₖ) over the lags until the autocorrelation first
+//! vanishes), passes χ²₁ at the Bonferroni level over every candidate of every axis, when it
+//! removes a material share of what is left, and when, fitted on four fifths of the flight, it
+//! also lowers the error on the fifth held out, for most of the five contiguous fifths.
+//!
+//! Biases: the regressors are measured states, so their noise biases every coefficient toward
+//! zero (errors in variables); the differentiator smooths over its window, so a force that
+//! changes faster is attenuated; a wind the model lacks is read as force. The coefficient is
+//! a start: the `add` spec names it as a free coefficient, fitted again by output error when
+//! the term is added.
+
+pub mod library;
+pub mod report;
+
+use wireflight_flight::expr::{Axis, Term, Var, VarValues, N_VARS};
+use wireflight_flight::model::{Model, Vehicle};
+use wireflight_flight::numeric::chi2_quantile;
+
+use crate::identify::equation_error::EeSample;
+use wireflight_flight::data::FlightData;
+use wireflight_flight::derive::{Differentiator, Window};
+use wireflight_flight::model::State;
+
+/// The family-wise false-alarm rate of the selection (split over every candidate of every axis).
+pub const FALSE_ALARM: f64 = 0.01;
+/// The least share of an axis's remaining sum of squares a term must remove.
+pub const MATERIAL: f64 = 0.02;
+/// The most terms admitted on one axis.
+pub const MAX_TERMS_PER_AXIS: usize = 3;
+/// At most this many samples enter the regression (evenly strided).
+const MAX_SAMPLES: usize = 4000;
+/// Contiguous parts of the flight for the validation.
+const FOLDS: usize = 5;
+/// Longest lag of the autocorrelation sum, samples.
+const MAX_LAG: usize = 400;
+
+/// Why no discovery could be made.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DiscoverError {
+    /// The vehicle has no body axes.
+    #[error("discover needs a fixed wing (a point mass has no body axes, moments or terms)")]
+    PointMass,
+    /// The flight lacks what the equations of motion need.
+    #[error(
+        "the flight has too few usable samples ({0}): discover needs attitude, body velocity, \
+         body rates and controls over at least {MIN_SAMPLES} samples"
+    )]
+    TooFewSamples(usize),
+}
+
+/// The fewest samples a discovery is made from.
+pub const MIN_SAMPLES: usize = 100;
+
+/// One term found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FoundTerm {
+    /// The axis it acts on.
+    pub axis: Axis,
+    /// Its regressor's factors as the term language writes them.
+    pub regressors: Vec<String>,
+    /// The expression with a free coefficient (`k_l1*qbar*alpha*beta`).
+    pub expression: String,
+    /// The coefficient's name in `expression`.
+    pub coefficient_name: String,
+    /// The estimated coefficient, N or N·m per unit of the regressor.
+    pub coefficient: f64,
+    /// Its standard error (from the effective number of samples).
+    pub sigma: f64,
+    /// RMS of the axis's missing force or moment before this term (after the axis's earlier
+    /// ones), N or N·m.
+    pub rms_before: f64,
+    /// And after it.
+    pub rms_after: f64,
+    /// The likelihood ratio of its admission.
+    pub likelihood_ratio: f64,
+    /// Held-out parts of the flight where it lowered the error, of [`FOLDS`].
+    pub folds_better: usize,
+    /// A physical reading of it.
+    pub reading: String,
+    /// The `--add` spec that adds it: `term:AXIS=EXPR`.
+    pub add: String,
+    /// The comparison's error (× the noise) with the term added, when measured.
+    pub error_after: Option<f64>,
+}
+
+/// One axis's missing force or moment.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisResidual {
+    /// The axis.
+    pub axis: Axis,
+    /// RMS of what the model lacks, N or N·m.
+    pub rms: f64,
+    /// Its mean.
+    pub mean: f64,
+    /// RMS after the terms found on it.
+    pub rms_after: f64,
+    /// The effective number of samples (for the coloured residuals).
+    pub effective_samples: f64,
+}
+
+/// What `discover` found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Discovery {
+    /// The terms, best (largest likelihood ratio) first.
+    pub terms: Vec<FoundTerm>,
+    /// Each axis's missing force or moment.
+    pub axes: Vec<AxisResidual>,
+    /// Samples of the regression.
+    pub samples: usize,
+    /// Candidate regressors per axis.
+    pub candidates: usize,
+    /// The likelihood ratio a term must pass.
+    pub threshold: f64,
+}
+
+/// Finds the terms the model lacks on this flight (module docs).
+///
+/// # Errors
+/// A point-mass model, or a flight without the channels the equations of motion need.
+pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverError> {
+    let Vehicle::FixedWing(params) = &model.vehicle else {
+        return Err(DiscoverError::PointMass);
+    };
+    let Some(series) = series(model, params, data) else {
+        return Err(DiscoverError::TooFewSamples(0));
+    };
+    let library = library::fixed_wing();
+    let jm = &params.mass;
+    let n_all = series.measured[0].len();
+    let half = Window::default().half_samples(&data.time);
+    if n_all <= 2 * half + MIN_SAMPLES {
+        return Err(DiscoverError::TooFewSamples(n_all.saturating_sub(2 * half)));
+    }
+    // Everything through the same filter: the differentiator of the running integral, the
+    // smoothing the measured derivative has (a measured acceleration is the smoothed one, and
+    // so must the model's and the regressors' be, or a fast manoeuvre reads as a force).
+    let diff = Differentiator::with_window(&data.time, Window::default());
+    let smooth = |x: &[f64]| -> Vec<f64> { diff.apply(&running_integral(&data.time, x)) };
+    let model_acc: Vec<Vec<f64>> = series.model.iter().map(|c| smooth(c)).collect();
+    let measured: Vec<Vec<f64>> = series
+        .measured
+        .iter()
+        .enumerate()
+        .map(|(c, m)| {
+            if c < 3 && !series.accelerometer {
+                m.clone()
+            } else {
+                smooth(m)
+            }
+        })
+        .collect();
+    // The regressors are read `gap` samples before and after each row, averaged: the noise
+    // of a measured state enters the model's acceleration at the row itself, and a regressor
+    // that read the same noisy state would correlate with it (a clean flight would "find"
+    // the model's own rate terms). Beyond the smoothing's reach the noise is independent;
+    // the average's error is the regressor's curvature over the gap, second order.
+    let gap = 2 * half + 1;
+    let edge = half + gap;
+    if n_all <= 2 * edge + MIN_SAMPLES {
+        return Err(DiscoverError::TooFewSamples(n_all.saturating_sub(2 * edge)));
+    }
+    let stride = ((n_all - 2 * edge) / MAX_SAMPLES).max(1);
+    let rows: Vec<usize> = (edge..n_all - edge).step_by(stride).collect();
+    let n = rows.len();
+    let mass = jm.mass_kg;
+    let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
+    for &i in &rows {
+        let d: [f64; 6] = std::array::from_fn(|c| measured[c][i] - model_acc[c][i]);
+        // ΔM = J·Δω̇ with J = [[Jx, 0, −Jxz], [0, Jy, 0], [−Jxz, 0, Jz]].
+        let missing = [
+            mass * d[0],
+            mass * d[1],
+            mass * d[2],
+            jm.jx * d[3] - jm.jxz * d[5],
+            jm.jy * d[4],
+            jm.jz * d[5] - jm.jxz * d[3],
+        ];
+        for (t, v) in targets.iter_mut().zip(missing) {
+            t.push(v);
+        }
+    }
+    let columns: Vec<Vec<f64>> = library
+        .iter()
+        .map(|r| {
+            let raw: Vec<f64> = series.vars.iter().map(|v| r.value(v)).collect();
+            let sm = smooth(&raw);
+            rows.iter()
+                .map(|&i| 0.5 * (sm[i - gap] + sm[i + gap]))
+                .collect()
+        })
+        .collect();
+    if targets
+        .iter()
+        .chain(&columns)
+        .any(|c| c.iter().any(|v| !v.is_finite()))
+    {
+        return Err(DiscoverError::TooFewSamples(0));
+    }
+    let threshold = chi2_quantile(1.0 - FALSE_ALARM / (6 * library.len()) as f64, 1.0);
+    let mut terms = Vec::new();
+    let mut axes = Vec::new();
+    for (axis, y) in Axis::ALL.into_iter().zip(&targets) {
+        let sel = select(y, &columns, threshold);
+        let mean = y.iter().sum::<f64>() / n as f64;
+        axes.push(AxisResidual {
+            axis,
+            rms: rms(y),
+            mean,
+            rms_after: sel.rms_after,
+            effective_samples: sel.effective_samples,
+        });
+        for (rank, step) in sel.steps.iter().enumerate() {
+            let r = &library[step.column];
+            let name = format!("k_{}{}", axis.name().to_lowercase(), rank + 1);
+            let expression = r.expression(&name);
+            // Every printed spec is one the term language takes as written.
+            if Term::new(axis.name(), &expression).is_err() {
+                continue;
+            }
+            terms.push(FoundTerm {
+                axis,
+                regressors: r.names(),
+                add: format!("term:{}={}", axis.name(), expression),
+                expression,
+                coefficient_name: name,
+                coefficient: sel.coefficients[rank],
+                sigma: sel.sigmas[rank],
+                rms_before: step.rms_before,
+                rms_after: step.rms_after,
+                likelihood_ratio: step.likelihood_ratio,
+                folds_better: step.folds_better,
+                reading: library::reading(axis, r),
+                error_after: None,
+            });
+        }
+    }
+    terms.sort_by(|a, b| b.likelihood_ratio.total_cmp(&a.likelihood_ratio));
+    Ok(Discovery {
+        terms,
+        axes,
+        samples: n,
+        candidates: library.len(),
+        threshold,
+    })
+}
+
+/// Every sample's measured accelerations (body velocity's derivative or the specific force;
+/// angular), the model's at the same state, and the term language's variables.
+struct Series {
+    measured: [Vec<f64>; 6],
+    model: [Vec<f64>; 6],
+    vars: Vec<VarValues>,
+    accelerometer: bool,
+}
+
+/// The [`Series`] of a flight; None without the channels or with a value not finite.
+fn series(
+    model: &Model,
+    params: &wireflight_flight::params::FixedWingParams,
+    d: &FlightData,
+) -> Option<Series> {
+    let (att, vb, rates, controls) = (
+        d.attitude.as_ref()?,
+        d.vel_body.as_ref()?,
+        d.rates_body.as_ref()?,
+        d.controls.as_ref()?,
+    );
+    let n = d.len();
+    if n < MIN_SAMPLES || [att.len(), vb.len(), rates.len(), controls.len()] != [n; 4] {
+        return None;
+    }
+    let diff = Differentiator::with_window(&d.time, Window::default());
+    if diff.len() != n {
+        return None;
+    }
+    let accel = d.accel_body.as_ref().filter(|a| a.len() == n);
+    let dv = match accel {
+        Some(a) => a.clone(),
+        None => diff.apply_vec3(vb),
+    };
+    let dw = diff.apply_vec3(rates);
+    let mut out = Series {
+        measured: std::array::from_fn(|_| Vec::with_capacity(n)),
+        model: std::array::from_fn(|_| Vec::with_capacity(n)),
+        vars: Vec::with_capacity(n),
+        accelerometer: accel.is_some(),
+    };
+    for i in 0..n {
+        let mut x = State::default();
+        x.set_pos_ned(d.pos_ned[i]);
+        x.set_vel(vb[i]);
+        x.set_attitude(att[i]);
+        x.set_omega(rates[i]);
+        let c = controls[i];
+        x.set_surfaces(glam::DVec3::new(c.elevator, c.aileron, c.rudder));
+        let s = EeSample {
+            t: d.time[i],
+            state: x,
+            controls: c,
+            measured: [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z],
+            accelerometer: accel.is_some(),
+        };
+        let m = s.modelled(model);
+        let vars = variables(model, params, &s);
+        if !(m
+            .iter()
+            .chain(&s.measured)
+            .chain(&vars)
+            .all(|v| v.is_finite()))
+        {
+            return None;
+        }
+        for (c, (meas, mod_c)) in out.measured.iter_mut().zip(&mut out.model).enumerate() {
+            meas.push(s.measured[c]);
+            mod_c.push(m[c]);
+        }
+        out.vars.push(vars);
+    }
+    Some(out)
+}
+
+/// The running trapezoid integral of a series over time (0 at the first sample).
+fn running_integral(time: &[f64], x: &[f64]) -> Vec<f64> {
+    let mut out = Vec::with_capacity(x.len());
+    let mut acc = 0.0;
+    for i in 0..x.len() {
+        if i > 0 {
+            acc += 0.5 * (x[i] + x[i - 1]) * (time[i] - time[i - 1]);
+        }
+        out.push(acc);
+    }
+    out
+}
+
+/// The term language's variables at a sample, as the model sees them.
+fn variables(
+    model: &Model,
+    params: &wireflight_flight::params::FixedWingParams,
+    s: &EeSample,
+) -> VarValues {
+    let air = model.air_data(s.t, &s.state);
+    let ctl = model.surfaces_in_effect(&s.state, &s.controls);
+    let omega = s.state.omega();
+    let va = air.airspeed;
+    let (half_b, half_c) = if va > 0.1 {
+        (
+            params.geometry.b / (2.0 * va),
+            params.geometry.c / (2.0 * va),
+        )
+    } else {
+        (0.0, 0.0)
+    };
+    let prop = &params.propulsion;
+    let k = prop.k_motor * s.controls.throttle;
+    let mut v = [0.0; N_VARS];
+    v[Var::Alpha.index()] = air.alpha;
+    v[Var::Beta.index()] = air.beta;
+    v[Var::PHat.index()] = omega.x * half_b;
+    v[Var::QHat.index()] = omega.y * half_c;
+    v[Var::RHat.index()] = omega.z * half_b;
+    v[Var::P.index()] = omega.x;
+    v[Var::Q.index()] = omega.y;
+    v[Var::R.index()] = omega.z;
+    v[Var::Elevator.index()] = ctl.elevator;
+    v[Var::Aileron.index()] = ctl.aileron;
+    v[Var::Rudder.index()] = ctl.rudder;
+    v[Var::Throttle.index()] = s.controls.throttle;
+    v[Var::Thrust.index()] = 0.5 * air.rho * prop.s_prop * prop.c_prop * (k * k - va * va);
+    v[Var::Airspeed.index()] = va;
+    v[Var::Qbar.index()] = 0.5 * air.rho * va * va;
+    v[Var::Rho.index()] = air.rho;
+    v[Var::Height.index()] = -s.state.pos_ned().z;
+    v[Var::G.index()] = wireflight_flight::G0;
+    v
+}
+
+fn rms(y: &[f64]) -> f64 {
+    (y.iter().map(|v| v * v).sum::<f64>() / y.len().max(1) as f64).sqrt()
+}
+
+/// One admitted step of the selection on an axis.
+struct Step {
+    column: usize,
+    rms_before: f64,
+    rms_after: f64,
+    likelihood_ratio: f64,
+    folds_better: usize,
+}
+
+/// The selection on one axis.
+struct Selection {
+    steps: Vec<Step>,
+    coefficients: Vec<f64>,
+    sigmas: Vec<f64>,
+    rms_after: f64,
+    effective_samples: f64,
+}
+
+/// The effective number of samples of a residual series: n/(1 + 2Σρₖ), the sum over the lags
+/// until the autocorrelation first falls to zero (at most [`MAX_LAG`]).
+fn effective_samples(r: &[f64]) -> f64 {
+    let n = r.len();
+    let c0: f64 = r.iter().map(|v| v * v).sum();
+    if n < 2 || c0 <= 0.0 {
+        return n as f64;
+    }
+    let mut tau = 1.0;
+    for lag in 1..MAX_LAG.min(n - 1) {
+        let c: f64 = r[lag..].iter().zip(r).map(|(a, b)| a * b).sum();
+        let rho = c / c0;
+        if rho <= 0.0 {
+            break;
+        }
+        tau += 2.0 * rho;
+    }
+    (n as f64 / tau).max(1.0)
+}
+
+/// Least squares of `y` on the chosen columns over the samples `keep` admits: the
+/// coefficients and the covariance's diagonal without the residual variance; None when
+/// singular.
+fn least_squares(
+    y: &[f64],
+    columns: &[Vec<f64>],
+    chosen: &[usize],
+    keep: impl Fn(usize) -> bool,
+) -> Option<(Vec<f64>, Vec<f64>)> {
+    let k = chosen.len();
+    let mut a = vec![0.0; k * k];
+    let mut b = vec![0.0; k];
+    for (i, &yi) in y.iter().enumerate() {
+        if !keep(i) {
+            continue;
+        }
+        for (r, &cr) in chosen.iter().enumerate() {
+            let xr = columns[cr][i];
+            b[r] += xr * yi;
+            for (c, &cc) in chosen.iter().enumerate() {
+                a[r * k + c] += xr * columns[cc][i];
+            }
+        }
+    }
+    let inv = invert(&a, k)?;
+    let coef: Vec<f64> = (0..k)
+        .map(|r| (0..k).map(|c| inv[r * k + c] * b[c]).sum())
+        .collect();
+    let diag = (0..k).map(|r| inv[r * k + r]).collect();
+    Some((coef, diag))
+}
+
+/// Gauss–Jordan inverse of a small symmetric matrix; None when (nearly) singular.
+fn invert(a: &[f64], k: usize) -> Option<Vec<f64>> {
+    let mut m = a.to_vec();
+    let mut inv = vec![0.0; k * k];
+    for i in 0..k {
+        inv[i * k + i] = 1.0;
+    }
+    let scale = (0..k).map(|i| a[i * k + i].abs()).fold(0.0, f64::max);
+    for col in 0..k {
+        let piv =
+            (col..k).max_by(|&x, &y| m[x * k + col].abs().total_cmp(&m[y * k + col].abs()))?;
+        if m[piv * k + col].abs() <= 1e-12 * scale || !scale.is_finite() {
+            return None;
+        }
+        for j in 0..k {
+            m.swap(col * k + j, piv * k + j);
+            inv.swap(col * k + j, piv * k + j);
+        }
+        let p = m[col * k + col];
+        for j in 0..k {
+            m[col * k + j] /= p;
+            inv[col * k + j] /= p;
+        }
+        for r in 0..k {
+            if r != col {
+                let f = m[r * k + col];
+                if f != 0.0 {
+                    for j in 0..k {
+                        m[r * k + j] -= f * m[col * k + j];
+                        inv[r * k + j] -= f * inv[col * k + j];
+                    }
+                }
+            }
+        }
+    }
+    Some(inv)
+}
+
+/// The residual of `y` after the chosen columns fitted on the samples `keep` admits, and the
+/// squared sum of that residual over the samples `score` admits.
+fn residual_sum(
+    y: &[f64],
+    columns: &[Vec<f64>],
+    chosen: &[usize],
+    keep: impl Fn(usize) -> bool,
+    score: impl Fn(usize) -> bool,
+) -> Option<f64> {
+    let coef = if chosen.is_empty() {
+        Vec::new()
+    } else {
+        least_squares(y, columns, chosen, keep)?.0
+    };
+    Some(
+        y.iter()
+            .enumerate()
+            .filter(|(i, _)| score(*i))
+            .map(|(i, &yi)| {
+                let fit: f64 = chosen
+                    .iter()
+                    .zip(&coef)
+                    .map(|(&c, &k)| k * columns[c][i])
+                    .sum();
+                (yi - fit).powi(2)
+            })
+            .sum(),
+    )
+}
+
+/// Forward stepwise selection on one axis (module docs).
+fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
+    let n = y.len();
+    // Columns divided by their RMS: the reduction a candidate brings is then a plain
+    // projection, whatever its units.
+    let unit: Vec<Option<Vec<f64>>> = columns
+        .iter()
+        .map(|c| {
+            let s = rms(c);
+            (s > 0.0 && s.is_finite()).then(|| c.iter().map(|v| v / s).collect())
+        })
+        .collect();
+    // An orthonormal basis of the chosen columns, and the residual after them.
+    let mut basis: Vec<Vec<f64>> = Vec::new();
+    let mut resid = y.to_vec();
+    let mut chosen: Vec<usize> = Vec::new();
+    let mut steps = Vec::new();
+    let fold_of = |i: usize| (i * FOLDS / n).min(FOLDS - 1);
+    for _ in 0..MAX_TERMS_PER_AXIS {
+        let rss: f64 = resid.iter().map(|v| v * v).sum();
+        if rss <= 0.0 || !rss.is_finite() {
+            break;
+        }
+        let mut best: Option<(usize, f64, Vec<f64>)> = None;
+        for (j, col) in unit.iter().enumerate() {
+            let Some(col) = col else { continue };
+            if chosen.contains(&j) {
+                continue;
+            }
+            let mut x = col.clone();
+            for q in &basis {
+                let d: f64 = x.iter().zip(q).map(|(a, b)| a * b).sum();
+                x.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
+            }
+            let xx: f64 = x.iter().map(|v| v * v).sum();
+            // A column (almost) inside the chosen ones adds nothing new.
+            if xx <= 1e-8 * n as f64 || !xx.is_finite() {
+                continue;
+            }
+            let xr: f64 = x.iter().zip(&resid).map(|(a, b)| a * b).sum();
+            let gain = xr * xr / xx;
+            if best.as_ref().is_none_or(|b| gain > b.1) {
+                let norm = xx.sqrt();
+                x.iter_mut().for_each(|v| *v /= norm);
+                best = Some((j, gain, x));
+            }
+        }
+        let Some((j, gain, q)) = best else { break };
+        let rss_after = (rss - gain).max(0.0);
+        let d: f64 = q.iter().zip(&resid).map(|(a, b)| a * b).sum();
+        let after: Vec<f64> = resid.iter().zip(&q).map(|(r, b)| r - d * b).collect();
+        let n_eff = effective_samples(&after);
+        let lr = if rss_after > 0.0 {
+            n_eff * (rss / rss_after).ln()
+        } else {
+            f64::INFINITY
+        };
+        let material = gain >= MATERIAL * rss;
+        let mut with = chosen.clone();
+        with.push(j);
+        let folds_better = (0..FOLDS)
+            .filter(|&f| {
+                let without = residual_sum(
+                    y,
+                    columns,
+                    &chosen,
+                    |i| fold_of(i) != f,
+                    |i| fold_of(i) == f,
+                );
+                let with =
+                    residual_sum(y, columns, &with, |i| fold_of(i) != f, |i| fold_of(i) == f);
+                matches!((without, with), (Some(a), Some(b)) if b < a)
+            })
+            .count();
+        if !(lr > threshold && material && 2 * folds_better > FOLDS) {
+            break;
+        }
+        steps.push(Step {
+            column: j,
+            rms_before: (rss / n as f64).sqrt(),
+            rms_after: (rss_after / n as f64).sqrt(),
+            likelihood_ratio: lr,
+            folds_better,
+        });
+        chosen = with;
+        basis.push(q);
+        resid = after;
+    }
+    let effective = effective_samples(&resid);
+    let rss: f64 = resid.iter().map(|v| v * v).sum();
+    let (coefficients, sigmas) = match least_squares(y, columns, &chosen, |_| true) {
+        Some((c, diag)) if !chosen.is_empty() => {
+            // σ² from the residual variance over the effective samples: (XᵀX)⁻¹·RSS/n_eff
+            // is the white-noise value inflated by n/n_eff for the colour.
+            let var = rss / (effective - chosen.len() as f64).max(1.0);
+            let s = diag.iter().map(|d| (d * var).sqrt());
+            (c, s.collect())
+        }
+        _ => (Vec::new(), Vec::new()),
+    };
+    if coefficients.len() != steps.len() {
+        steps.clear();
+    }
+    Selection {
+        steps,
+        coefficients,
+        sigmas,
+        rms_after: (rss / n as f64).sqrt(),
+        effective_samples: effective,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `n` uniform numbers in ±0.5 (xorshift from `seed`).
+    fn uniform_noise(n: usize, seed: u64) -> Vec<f64> {
+        let mut x = seed;
+        (0..n)
+            .map(|_| {
+                x ^= x << 13;
+                x ^= x >> 7;
+                x ^= x << 17;
+                (x as f64 / u64::MAX as f64) - 0.5
+            })
+            .collect()
+    }
+
+    #[test]
+    fn white_noise_has_as_many_effective_samples_as_samples_and_a_smooth_series_fewer() {
+        let white = uniform_noise(2000, 12345);
+        assert!(effective_samples(&white) > 1500.0);
+        let smooth: Vec<f64> = (0..2000).map(|i| (i as f64 * 0.01).sin()).collect();
+        assert!(effective_samples(&smooth) < 200.0);
+    }
+
+    #[test]
+    fn the_selection_finds_the_one_column_in_the_data_and_nothing_in_noise() {
+        let n = 1000;
+        let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.05).sin()).collect();
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.031).cos()).collect();
+        let noise = uniform_noise(n, 99);
+        let y: Vec<f64> = (0..n).map(|i| 3.0 * b[i] + 0.1 * noise[i]).collect();
+        let cols = vec![a.clone(), b.clone()];
+        let thr = chi2_quantile(1.0 - 0.01 / 12.0, 1.0);
+        let s = select(&y, &cols, thr);
+        assert_eq!(s.steps.len(), 1);
+        assert_eq!(s.steps[0].column, 1);
+        assert!((s.coefficients[0] - 3.0).abs() < 0.01);
+        let s = select(&noise, &cols, thr);
+        assert!(s.steps.is_empty());
+    }
+}

@@ -1,0 +1,41 @@
+//! `wireflight discover`: the force or moment the model lacks, as terms to add.
+
+use crate::analysis::compare::Prepared;
+use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
+use crate::analysis::discover::discover;
+use crate::analysis::discover::report::{discovery_json, discovery_text};
+use crate::analysis::report::model_label;
+use crate::app::cli::DiscoverArgs;
+
+/// Run `wireflight discover`.
+///
+/// # Errors
+/// Bad data or model, or a flight discover cannot read.
+pub fn run(args: &DiscoverArgs) -> anyhow::Result<()> {
+    let data = crate::app::data::load_flight(&args.flight, &args.data)?;
+    let mut model = args.model.choice().build(&args.flight, &data)?;
+    if !args.model.add.is_empty() {
+        let cfg = DiagnoseConfig {
+            compare: args.windows.config(model.vehicle.kind()),
+            ..DiagnoseConfig::default()
+        };
+        args.windows.check_fits(&args.flight, &data, &cfg.compare)?;
+        let prep = Prepared::new(&data, cfg.compare);
+        add_fitted(&mut model, &prep, &args.model.add_specs()?, &cfg)?;
+    }
+    let found = discover(&model, &data)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", crate::app::shown(&args.flight)))?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&discovery_json(&found))?);
+        return Ok(());
+    }
+    println!(
+        "{}: {} samples, {:.1} s; model {}",
+        crate::app::shown(&args.flight),
+        data.len(),
+        data.duration(),
+        model_label(&model)
+    );
+    print!("{}", discovery_text(&found));
+    Ok(())
+}
