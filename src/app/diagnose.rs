@@ -38,6 +38,10 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         let prep = Prepared::new(&data, cfg.compare);
         add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg)?;
     }
+    let mut declared = declared;
+    if args.discover {
+        declared.extend(discovered_terms(&base, &data, &args.flight, &declared)?);
+    }
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     let progress = crate::progress::Progress::spinner(
         &format!("diagnosing {:.0} s of data", data.duration()),
@@ -79,7 +83,43 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", diagnosis_text(&d));
     }
+    let fixed_wing = base.vehicle.kind() == crate::flight::VehicleKind::FixedWing;
+    if d.verdict == diagnose::Verdict::Unexplained && fixed_wing && !args.discover {
+        println!(
+            "  next: `wireflight discover --flight {}` estimates the force and moment the model \
+             lacks and proposes terms; `diagnose --discover` tries them as candidates",
+            crate::app::shown(&args.flight)
+        );
+    }
     keep(args, &data, &base, &d, &cfg)
+}
+
+/// How many of `discover`'s terms `diagnose --discover` tries.
+const DISCOVERED_CANDIDATES: usize = 5;
+
+/// The best terms `discover` proposes for `data` against `model`, as candidate effects
+/// (those not among `declared` already).
+fn discovered_terms(
+    model: &crate::flight::model::Model,
+    data: &crate::flight::data::FlightData,
+    flight: &std::path::Path,
+    declared: &[Box<dyn crate::flight::effects::Effect>],
+) -> anyhow::Result<Vec<Box<dyn crate::flight::effects::Effect>>> {
+    let found = crate::analysis::discover::discover(model, data)
+        .map_err(|e| anyhow::anyhow!("{}: --discover: {e}", crate::app::shown(flight)))?;
+    let ctx = model.effect_context();
+    let mut out: Vec<Box<dyn crate::flight::effects::Effect>> = Vec::new();
+    for term in found.terms.iter().take(DISCOVERED_CANDIDATES) {
+        let effect = crate::flight::spec::EffectSpec::parse(&term.add)?.build(&ctx)?;
+        let known = declared
+            .iter()
+            .chain(&out)
+            .any(|e| e.name() == effect.name());
+        if !known && !model.has_effect(effect.name()) {
+            out.push(effect);
+        }
+    }
+    Ok(out)
 }
 
 /// The `--reference` flights, read as the test flight is and each checked to be one

@@ -110,6 +110,10 @@ pub struct DiagnoseArgs {
     /// dropped, and the causes' joint values after it.
     #[arg(long)]
     pub iterate: bool,
+    /// Also try, as candidates, the formula terms `wireflight discover` proposes for this
+    /// flight (its best five), fitted and tested like every other candidate.
+    #[arg(long)]
+    pub discover: bool,
     /// Write the model with the causes found (effects with their fitted parameters, the
     /// aircraft's numbers changed) as a model file for --model (FILE.toml).
     #[arg(long, value_name = "FILE.toml")]

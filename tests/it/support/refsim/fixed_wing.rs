@@ -233,7 +233,8 @@ impl FwModel {
         let pqr = [x[ix::P], x[ix::Q], x[ix::R]];
         let surf = self.surfaces(x, cmd);
         let (mut f, mut m) = aero_force_moment(p, rho, va, alpha, beta, pqr, surf, induced);
-        f[0] += thrust(p, rho, va, cmd.throttle);
+        let t = thrust(p, rho, va, cmd.throttle);
+        f[0] += t;
         let hidden = hidden_force_moment(
             &self.effects.hidden_terms,
             rho,
@@ -241,7 +242,7 @@ impl FwModel {
             alpha,
             beta,
             pqr,
-            cmd.throttle,
+            (cmd.throttle, t),
         );
         (f, m) = (v_add(f, hidden.0), v_add(m, hidden.1));
         if let Some(k) = self.effects.prop_torque {

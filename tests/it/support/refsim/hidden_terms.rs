@@ -12,6 +12,8 @@ pub enum HiddenForm {
     ThrottleSquared,
     /// r·δt (yaw damping of the slipstream over the fin).
     YawRateThrottle,
+    /// The propeller's thrust T, N (a thrust line off the centre of gravity, on m).
+    Thrust,
 }
 
 /// One hidden term: axis 0..3 forces X, Y, Z (N), 3..6 moments l, m, n (N·m).
@@ -30,7 +32,7 @@ pub fn hidden_force_moment(
     alpha: f64,
     beta: f64,
     pqr: V3,
-    throttle: f64,
+    (throttle, thrust): (f64, f64),
 ) -> (V3, V3) {
     let mut fm = [0.0; 6];
     for t in terms {
@@ -38,6 +40,7 @@ pub fn hidden_force_moment(
             HiddenForm::QbarAlphaBeta => 0.5 * rho * va * va * alpha * beta,
             HiddenForm::ThrottleSquared => throttle * throttle,
             HiddenForm::YawRateThrottle => pqr[2] * throttle,
+            HiddenForm::Thrust => thrust,
         };
         fm[t.axis] += t.coefficient * x;
     }
