@@ -106,6 +106,27 @@ impl State {
     pub fn set_surfaces(&mut self, s: DVec3) {
         self.0[13..16].copy_from_slice(&s.to_array());
     }
+    /// A fixed wing's state from what a flight records: position (NED), body velocity,
+    /// attitude, body rates, and the surfaces where the controls put them.
+    pub fn measured(
+        pos_ned: DVec3,
+        vel_body: DVec3,
+        attitude: EulerZyx,
+        omega: DVec3,
+        controls: &Controls,
+    ) -> State {
+        let mut x = State::default();
+        x.set_pos_ned(pos_ned);
+        x.set_vel(vel_body);
+        x.set_attitude(attitude);
+        x.set_omega(omega);
+        x.set_surfaces(DVec3::new(
+            controls.elevator,
+            controls.aileron,
+            controls.rudder,
+        ));
+        x
+    }
     /// Body → NED rotation matrix.
     pub fn rot(&self) -> DMat3 {
         DMat3::from_quat(self.quat())
@@ -615,17 +636,13 @@ impl Model {
                 .as_ref()
                 .and_then(|c| c.get(i).copied())
                 .unwrap_or_default();
-            let mut x = State::default();
-            x.set_pos_ned(d.pos_ned[i]);
-            x.set_attitude(attitude[i]);
+            let omega = d.rates_body.as_ref().map_or(DVec3::ZERO, |r| r[i]);
+            let mut x = State::measured(d.pos_ned[i], DVec3::ZERO, attitude[i], omega, &cmd);
             let vel_ned = d.vel_ned.as_ref().map_or(DVec3::ZERO, |v| v[i]);
-            let body = match &d.vel_body {
+            x.set_vel(match &d.vel_body {
                 Some(v) => v[i],
                 None => x.rot().transpose() * vel_ned,
-            };
-            x.set_vel(body);
-            x.set_omega(d.rates_body.as_ref().map_or(DVec3::ZERO, |r| r[i]));
-            x.set_surfaces(DVec3::new(cmd.elevator, cmd.aileron, cmd.rudder));
+            });
             if !x.is_finite() {
                 continue;
             }

@@ -298,17 +298,11 @@ fn series(
         accelerometer: accel.is_some(),
     };
     for i in 0..n {
-        let mut x = State::default();
-        x.set_pos_ned(d.pos_ned[i]);
-        x.set_vel(vb[i]);
-        x.set_attitude(att[i]);
-        x.set_omega(rates[i]);
-        let c = controls[i];
-        x.set_surfaces(glam::DVec3::new(c.elevator, c.aileron, c.rudder));
+        let x = State::measured(d.pos_ned[i], vb[i], att[i], rates[i], &controls[i]);
         let s = EeSample {
             t: d.time[i],
             state: x,
-            controls: c,
+            controls: controls[i],
             measured: [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z],
             accelerometer: accel.is_some(),
         };

@@ -171,18 +171,12 @@ pub(crate) fn ee_samples(d: &FlightData) -> Vec<EeSample> {
     (half..n - half)
         .step_by(stride)
         .filter_map(|i| {
-            let mut x = State::default();
-            x.set_pos_ned(d.pos_ned[i]);
-            x.set_vel(vb[i]);
-            x.set_attitude(att[i]);
-            x.set_omega(rates[i]);
-            let c = controls[i];
-            x.set_surfaces(glam::DVec3::new(c.elevator, c.aileron, c.rudder));
+            let x = State::measured(d.pos_ned[i], vb[i], att[i], rates[i], &controls[i]);
             let measured = [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z];
             (x.is_finite() && measured.iter().all(|v| v.is_finite())).then_some(EeSample {
                 t: d.time[i],
                 state: x,
-                controls: c,
+                controls: controls[i],
                 measured,
                 accelerometer: accel.is_some(),
             })
