@@ -130,7 +130,7 @@ fn effects_are_rejected_on_the_wrong_vehicle_and_twice() {
     let ctx = EffectContext {
         origin: Origin::default(),
         span_m: 2.9,
-        airframe: Default::default(),
+        chord_m: 0.0,
     };
     for info in CATALOGUE {
         let name = info.name;

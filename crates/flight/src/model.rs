@@ -17,7 +17,7 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use super::effects::{Airframe, Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
+use super::effects::{Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
 use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
@@ -303,17 +303,13 @@ impl Model {
 
     /// What the defaults of an effect added to this model depend on.
     pub fn effect_context(&self) -> EffectContext {
-        let airframe = match &self.vehicle {
-            Vehicle::PointMass => Airframe::default(),
-            Vehicle::FixedWing(p) => Airframe {
-                span_m: p.geometry.b,
-                chord_m: p.geometry.c,
-            },
-        };
         EffectContext {
             origin: self.origin,
             span_m: self.vehicle.span(),
-            airframe,
+            chord_m: match &self.vehicle {
+                Vehicle::PointMass => 0.0,
+                Vehicle::FixedWing(p) => p.geometry.c,
+            },
         }
     }
 

@@ -107,7 +107,7 @@ pub use crate::effect_basics;
 /// let ctx = EffectContext {
 ///     origin: Origin::default(),
 ///     span_m: 0.0,
-///     airframe: Default::default(),
+///     chord_m: 0.0,
 /// };
 /// let mut e = UPDRAFT.build(&ctx);
 /// e.set_param("w_mps", 3.0).unwrap();
@@ -349,9 +349,9 @@ pub struct EffectContext {
     pub origin: Origin,
     /// Wing span, m (0 for a point mass).
     pub span_m: f64,
-    /// The airframe's reference lengths and propeller (all 0 for a point mass): what a
-    /// term's variables need ([`term`]).
-    pub airframe: Airframe,
+    /// Mean aerodynamic chord, m (0 for a point mass): with the span, the reference lengths
+    /// of a term's non-dimensional rates ([`term`]).
+    pub chord_m: f64,
 }
 
 /// Which vehicle families an effect means something for.
@@ -752,7 +752,7 @@ pub(crate) mod tests {
         EffectContext {
             origin: Origin::default(),
             span_m: 3.0,
-            airframe: Airframe::default(),
+            chord_m: 0.0,
         }
     }
 

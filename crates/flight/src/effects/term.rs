@@ -250,7 +250,7 @@ impl TermEffect {
             n_coeffs,
             airframe: Airframe {
                 span_m: ctx.span_m,
-                ..ctx.airframe
+                chord_m: ctx.chord_m,
             },
             used,
         }
@@ -395,10 +395,7 @@ mod tests {
         EffectContext {
             origin: super::super::Origin::default(),
             span_m: 3.0,
-            airframe: Airframe {
-                span_m: 3.0,
-                chord_m: 0.3,
-            },
+            chord_m: 0.3,
         }
     }
 
