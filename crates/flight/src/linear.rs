@@ -100,8 +100,11 @@ impl Model {
         let first = if self.varies_in_space() { 0 } else { 3 };
         // Nor does anything but gravity turn with the body: R' = R·(I + [δθ]×) makes the
         // body's gravity Rᵀg + Rᵀg × δθ, so the forces' rotation columns are [Rᵀg]× and the
-        // moments' zero — three more evaluations saved.
-        let bare = self.effects.is_empty() && matches!(self.vehicle, Vehicle::FixedWing(_));
+        // moments' zero — three more evaluations saved. (Not in moving air: turning the body
+        // turns the air-relative velocity.)
+        let bare = self.effects.is_empty()
+            && self.air_offset() == DVec3::ZERO
+            && matches!(self.vehicle, Vehicle::FixedWing(_));
         for j in first..n {
             if bare && (6..9).contains(&j) {
                 continue;
@@ -169,6 +172,7 @@ impl Model {
         let f0 = self.specific_force(t, x, cmd);
         let first = if self.varies_in_space() { 0 } else { 3 };
         let bare = self.effects.iter().all(|e| e.is_measurement())
+            && self.air_offset() == DVec3::ZERO
             && matches!(self.vehicle, Vehicle::FixedWing(_));
         let mut e = [0.0; ERROR_MAX];
         for j in first..n {

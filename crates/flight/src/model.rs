@@ -214,6 +214,8 @@ pub struct Model {
     gammas: Gammas,
     /// e^{M·α0} of the stall blend, taken once ([`super::aero::stall_blend_with`]).
     stall_c: f64,
+    /// A wind added to the effects' winds, NED, m/s ([`Model::set_air_offset`]).
+    air_offset: DVec3,
 }
 
 /// e^{M·α0} of a fixed wing's stall blend (NaN for a point mass: never used).
@@ -237,6 +239,7 @@ impl Model {
             origin,
             effects: Vec::new(),
             gammas,
+            air_offset: DVec3::ZERO,
         }
     }
 
@@ -350,7 +353,7 @@ impl Model {
             Vehicle::PointMass => RHO_SEA_LEVEL,
             Vehicle::FixedWing(p) => p.geometry.rho,
         };
-        let mut wind = DVec3::ZERO;
+        let mut wind = self.air_offset;
         let mut rho = base_rho;
         let mut g = G0;
         for e in &self.effects {
@@ -363,7 +366,25 @@ impl Model {
 
     /// Wind, NED, m/s, at a position and time (the sum of the effects' winds).
     pub fn wind_at(&self, pos_ned: DVec3, t: f64) -> DVec3 {
-        self.effects.iter().map(|e| e.wind_at(pos_ned, t)).sum()
+        self.air_offset
+            + self
+                .effects
+                .iter()
+                .map(|e| e.wind_at(pos_ned, t))
+                .sum::<DVec3>()
+    }
+
+    /// Add `wind` (NED, m/s) to the air everywhere, on top of the effects' winds: for a caller
+    /// that estimates the air's motion itself as it goes (the filter-error method's gust
+    /// states move it between steps). It is part of no effect: nothing fits it, and
+    /// [`Model::wind_at`], the air data and every derivative see it. Zero for a new model.
+    pub fn set_air_offset(&mut self, wind: DVec3) {
+        self.air_offset = wind;
+    }
+
+    /// The wind added by [`Model::set_air_offset`], NED, m/s.
+    pub fn air_offset(&self) -> DVec3 {
+        self.air_offset
     }
 
     /// Whether the equations depend on the position itself (an effect says so, or does not
