@@ -385,7 +385,7 @@ pub struct Prepared<'a> {
 
 /// Cut `n` samples at `time` into windows of `window_s` starting `offset_s` after the first
 /// sample; a trailing stub shorter than half a window joins the window before it.
-fn cut_windows(time: &[f64], cfg: &CompareConfig) -> Vec<(usize, usize)> {
+pub(crate) fn cut_windows(time: &[f64], cfg: &CompareConfig) -> Vec<(usize, usize)> {
     let n = time.len();
     let mut windows: Vec<(usize, usize)> = Vec::new();
     if n < 3 || cfg.window_s.is_nan() || cfg.window_s <= 0.0 {

@@ -32,6 +32,7 @@
 //! for the one added number. A steady wind or bias is deterministic: with a bias among the
 //! model's parameters the zero-mean gust states cannot claim it, and σ stays at zero.
 
+pub mod flight;
 mod matrix;
 
 pub use matrix::Mat;
