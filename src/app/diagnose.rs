@@ -47,7 +47,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         &format!("diagnosing {:.0} s of data", data.duration()),
         args.json,
     );
-    let d = if references.is_empty() {
+    let mut d = if references.is_empty() {
         diagnose::diagnose(&base, &data, &declared, &cfg)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
     } else {
@@ -56,6 +56,18 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         diagnose::reference::diagnose_against(&base, &data, &named, &declared, &cfg)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
     };
+    // (Against reference flights the diagnosis's noise is their floor, the model's own
+    // error included: the filter weighs its innovations by it as output error does.)
+    let compare = cfg.compare;
+    diagnose::turbulence::through_turbulence(
+        &base,
+        &mut d,
+        &data,
+        &cfg,
+        &compare,
+        args.method.into(),
+    )
+    .map_err(|e| anyhow::anyhow!("{}: --method filter-error: {e}", args.flight.display()))?;
     drop(progress);
     if args.json {
         let mut v = diagnosis_json(&d);

@@ -369,8 +369,33 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
         "evidence": d.evidence,
         "alternatives": d.alternatives,
         "reference": d.reference.as_ref().map(reference_json),
+        "turbulence": d.turbulence.as_ref().map(turbulence_json),
         "aircraft_scores": d.aircraft_scores.iter().take(10).map(|s| json!({
             "key": s.key.name, "term": s.key.term, "reduction_chi2": s.reduction,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// The filter-error method's account: the gusts (σ and scale lengths, m/s and m, north,
+/// east, down), the test against calm air, and the numbers refitted through the filter.
+pub fn turbulence_json(t: &crate::diagnose::turbulence::TurbulenceFinding) -> Value {
+    let g = &t.gusts;
+    json!({
+        "significant": t.significant(),
+        "forced": t.forced,
+        "sigma_mps": g.sigma_mps,
+        "sigma_se_mps": g.sigma_se_mps,
+        "length_m": g.length_m,
+        "length_se_m": g.length_se_m,
+        "likelihood_ratio": g.likelihood_ratio,
+        "output_error_noise_units": g.calm.noise_units,
+        "innovations_normalised": g.gusty.normalised,
+        "refits": t.refits.iter().map(|r| json!({
+            "cause": r.cause,
+            "param": r.param,
+            "value": r.value,
+            "sigma": r.sigma,
+            "output_error": r.output_error,
         })).collect::<Vec<_>>(),
     })
 }
@@ -557,6 +582,9 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     }
     if let Some(r) = &d.reference {
         out.push_str(&reference_changes_text(r));
+    }
+    if let Some(t) = &d.turbulence {
+        out.push_str(&turbulence_text(t));
     }
     let _ = writeln!(out, "  verdict: {}", verdict_text(d));
     if !d.alternatives.is_empty() {
@@ -935,7 +963,91 @@ fn verdict_against_noise(d: &Diagnosis, fall: &str) -> String {
             "unexplained — the error stays {} × the {unit} and no candidate is significant",
             fixed(d.noise_units, 2)
         ),
+        Verdict::Turbulence(names) => {
+            let gusts = d
+                .turbulence
+                .as_ref()
+                .map(|t| gusts_text(&t.gusts))
+                .unwrap_or_default();
+            if names.is_empty() {
+                format!("turbulence — {gusts}; no deterministic cause besides")
+            } else {
+                format!(
+                    "turbulence + {} — {gusts}; the causes' numbers fitted through the filter",
+                    names.join(" + ")
+                )
+            }
+        }
     }
+}
+
+/// The gust intensities in words: `gusts σ 0.83 ± 0.03 (north), … m/s`.
+pub fn gusts_text(g: &crate::filter_error::flight::GustEstimate) -> String {
+    let axes = ["north", "east", "down"];
+    let parts: Vec<String> = (0..3)
+        .map(|k| {
+            format!(
+                "{} ± {} {}",
+                fixed(g.sigma_mps[k], 2),
+                fixed(g.sigma_se_mps[k], 2),
+                axes[k]
+            )
+        })
+        .collect();
+    format!("gusts σ {} m/s", parts.join(", "))
+}
+
+/// The filter-error method's account of a flight: the gusts, their scale lengths, the test
+/// against calm air, and the numbers refitted through the filter.
+pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> String {
+    let g = &t.gusts;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "  filter-error method{}: {}",
+        if t.forced { " (forced)" } else { "" },
+        gusts_text(g)
+    );
+    let lengths: Vec<String> = [(0, "horizontal"), (2, "vertical")]
+        .iter()
+        .map(|&(k, name)| match g.length_se_m[k] {
+            Some(se) => format!("{name} {} ± {} m", fixed(g.length_m[k], 0), fixed(se, 0)),
+            None => format!(
+                "{name} not determined ({} m assumed)",
+                fixed(g.length_m[k], 0)
+            ),
+        })
+        .collect();
+    let _ = writeln!(out, "    scale lengths: {}", lengths.join("; "));
+    let _ = writeln!(
+        out,
+        "    likelihood ratio against calm air {} (significant above {}): {}; output error \
+         leaves {} × the noise, the filter's innovations {} × their expected spread",
+        fixed(g.likelihood_ratio, 1),
+        fixed(crate::filter_error::flight::TURBULENCE_LR_BOUND, 2),
+        if g.significant() {
+            "turbulence"
+        } else {
+            "calm"
+        },
+        fixed(g.calm.noise_units, 2),
+        fixed(g.gusty.normalised, 2)
+    );
+    if !t.refits.is_empty() {
+        out.push_str("    numbers fitted through the filter (output error's in brackets):\n");
+        let mut table = Table::new(["cause", "number", "value", "±1σ", "output error"]);
+        for r in &t.refits {
+            table.row([
+                r.cause.clone(),
+                r.param.clone(),
+                format!("{:.5}", r.value),
+                format!("{:.5}", r.sigma),
+                format!("({:.5})", r.output_error),
+            ]);
+        }
+        out.push_str(&table.render(4));
+    }
+    out
 }
 
 #[cfg(test)]

@@ -114,6 +114,12 @@ pub struct DiagnoseArgs {
     /// flight (its best five), fitted and tested like every other candidate.
     #[arg(long)]
     pub discover: bool,
+    /// How model and measurements are compared: `auto` uses output error, and the
+    /// filter-error method (a Kalman filter with Dryden gust states inside the fit) where
+    /// output error leaves the error unexplained and gusts are significant; `output-error`
+    /// assumes calm air; `filter-error` always runs the filter (docs/turbulence.md).
+    #[arg(long, value_enum, default_value_t = FitMethod::Auto)]
+    pub method: FitMethod,
     /// Write the model with the causes found (effects with their fitted parameters, the
     /// aircraft's numbers changed) as a model file for --model (FILE.toml).
     #[arg(long, value_name = "FILE.toml")]
@@ -229,4 +235,26 @@ pub struct DiscoverArgs {
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `--method`: how a fit compares model and measurements.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum FitMethod {
+    /// Output error; the filter-error method where turbulence is significant.
+    Auto,
+    /// Output error alone (calm air).
+    OutputError,
+    /// The filter-error method always.
+    FilterError,
+}
+
+impl From<FitMethod> for wireflight_analysis::diagnose::turbulence::Method {
+    fn from(m: FitMethod) -> Self {
+        use wireflight_analysis::diagnose::turbulence::Method;
+        match m {
+            FitMethod::Auto => Method::Auto,
+            FitMethod::OutputError => Method::OutputError,
+            FitMethod::FilterError => Method::FilterError,
+        }
+    }
 }

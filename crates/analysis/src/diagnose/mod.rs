@@ -44,6 +44,7 @@ mod fit;
 mod joint;
 pub mod reference;
 pub mod screen;
+pub mod turbulence;
 
 use std::fmt;
 
@@ -257,6 +258,9 @@ pub enum Verdict {
     None,
     /// The error is above the noise floor and no candidate brings it there.
     Unexplained,
+    /// What output error leaves is random: gusts the filter-error method estimates
+    /// ([`turbulence`]), with these causes besides (refitted through the filter).
+    Turbulence(Vec<String>),
 }
 
 impl fmt::Display for Verdict {
@@ -265,6 +269,8 @@ impl fmt::Display for Verdict {
             Verdict::Found(names) => f.write_str(&names.join(" + ")),
             Verdict::None => f.write_str("none"),
             Verdict::Unexplained => f.write_str("unexplained"),
+            Verdict::Turbulence(names) if names.is_empty() => f.write_str("turbulence"),
+            Verdict::Turbulence(names) => write!(f, "turbulence + {}", names.join(" + ")),
         }
     }
 }
@@ -314,6 +320,8 @@ pub struct Diagnosis {
     /// Against reference flights ([`reference::diagnose_against`]): the floor they measured
     /// and each cause's change from them. None for a diagnosis against the noise alone.
     pub reference: Option<reference::ReferenceVerdict>,
+    /// The filter-error method's account where it was tried ([`turbulence`]).
+    pub turbulence: Option<turbulence::TurbulenceFinding>,
 }
 
 /// Two candidates whose misfits left differ by less than this fraction explain the data
@@ -799,6 +807,7 @@ pub fn diagnose(
         Vec::new()
     };
     Ok(Diagnosis {
+        turbulence: None,
         base_error: base_cmp.total,
         noise_floor: noise_floor(base, &full),
         noise_units,

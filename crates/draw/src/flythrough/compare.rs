@@ -557,6 +557,10 @@ impl Compare {
                 verdict: Verdict::Unexplained,
                 ..
             } => "diagnosis: unexplained — no effect brings the error to the noise".into(),
+            Fit::Done {
+                verdict: v @ Verdict::Turbulence(_),
+                ..
+            } => format!("diagnosis: {v} — what is left is random"),
         }
     }
 }

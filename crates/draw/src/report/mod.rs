@@ -434,6 +434,18 @@ fn verdict_section(r: &Report) -> String {
                 fixed(d.noise_units, 2)
             ),
         ),
+        Verdict::Turbulence(_) => (
+            "found",
+            format!(
+                "Turbulence: what output error leaves is random, gusts the filter-error method \
+                 estimates{}.",
+                if names.is_empty() {
+                    String::new()
+                } else {
+                    format!(", with {} besides", names.join(" and "))
+                }
+            ),
+        ),
     };
     let _ = writeln!(
         out,
