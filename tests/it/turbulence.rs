@@ -1,7 +1,9 @@
 //! Turbulent flights: `simulate --turbulence` (MIL-F-8785C Dryden gusts in the truth's air)
-//! and refsim's independent gust model, cross-checked statistically.
+//! and refsim's independent gust model, cross-checked statistically; refsim's fixed wing
+//! flying through its own gusts, the turbulent flights made outside the product.
 
 use wireflight::flight::autopilot::Manoeuvre;
+use wireflight::flight::data::{self, FlightData};
 use wireflight::flight::effects::Origin;
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
@@ -11,7 +13,11 @@ use wireflight::flight::turbulence::{
 };
 
 use crate::cli::wireflight;
-use crate::support::refsim::{DrydenForm, DrydenGusts};
+use crate::support::assert_close;
+use crate::support::refsim::{
+    self, DrydenForm, DrydenGusts, FlightOptions, FwModel, FwState, GustLevel, GustTable, Noise,
+    RefGusts, Schedule, Stepper,
+};
 
 fn aerosonde() -> Model {
     Model::new(
@@ -20,7 +26,7 @@ fn aerosonde() -> Model {
     )
 }
 
-fn truth_of(flight: &wireflight::flight::data::FlightData) -> GustTruth {
+fn truth_of(flight: &FlightData) -> GustTruth {
     let record = flight
         .meta
         .other
@@ -292,5 +298,319 @@ fn jsbsim_turbulent_flights_carry_their_gust_truth() {
         );
         let text = std::fs::read_to_string(&path).unwrap();
         assert!(text.contains("# jsbsim_turbulence: Dryden milspec turbulence light"));
+    }
+}
+
+/// refsim's 60 s flight test (turns both ways, a climb, doublets on every surface, throttle
+/// steps) at 200 m and 25 m/s, in light turbulence of gust seed 7 when `gusty`.
+fn refsim_flight_test(gusty: bool) -> FlightOptions {
+    let calm = FlightOptions::new(Schedule::flight_test());
+    if gusty {
+        calm.in_turbulence(GustLevel::Light, 7)
+    } else {
+        calm
+    }
+}
+
+/// A refsim flight as the product reads it.
+fn read_refsim(flight: &refsim::Flight, noise: &Noise, seed: u64) -> FlightData {
+    data::parse(&flight.to_csv(noise, seed), "refsim.csv").expect("refsim's CSV reads")
+}
+
+/// Standard deviation about the mean.
+fn sigma(x: &[f64]) -> f64 {
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    (x.iter().map(|a| (a - mean).powi(2)).sum::<f64>() / x.len() as f64).sqrt()
+}
+
+/// refsim computes the MIL-F-8785C intensities and scales itself; they are the product's
+/// (low altitude, the blend between 1000 and 2000 ft, the exceedance table above), and the
+/// `# turbulence:` line of its flights is read by the product's parser and reader.
+#[test]
+fn refsim_turbulence_record_is_read_by_the_product() {
+    let levels = [
+        (GustLevel::Light, TurbulenceLevel::Light),
+        (GustLevel::Moderate, TurbulenceLevel::Moderate),
+        (GustLevel::Severe, TurbulenceLevel::Severe),
+    ];
+    for (ours, theirs) in levels {
+        for height_m in [1.0, 30.0, 200.0, 304.8, 450.0, 1000.0, 5000.0, 30000.0] {
+            let g = RefGusts::mil_8785c(ours, height_m, 1);
+            let p = DrydenIntensity::at(theirs, height_m);
+            for i in 0..3 {
+                assert!(
+                    (g.sigma_mps[i] - p.sigma_mps[i]).abs() < 1e-9
+                        && (g.length_m[i] - p.length_m[i]).abs() < 1e-6,
+                    "{ours:?} at {height_m} m: refsim {g:?}, product {p:?}"
+                );
+            }
+        }
+    }
+    let opts = refsim_flight_test(true);
+    let gusts = opts.turbulence.expect("turbulence");
+    let mut short = opts.clone();
+    short.duration_s = 2.0;
+    let flight = refsim::fly(&short).expect("refsim flies");
+    let csv = flight.to_csv_exact();
+    let line = csv
+        .lines()
+        .find(|l| l.starts_with("# turbulence: "))
+        .expect("a # turbulence: line");
+    assert_eq!(
+        line,
+        "# turbulence: light sigma_u=0.8815 sigma_v=0.8815 sigma_w=0.7717 L_u=298.12 \
+         L_v=298.12 L_w=200.00 V=25.000 seed=7"
+    );
+    let truth = truth_of(&read_refsim(&flight, &Noise::none(), 0));
+    assert_eq!(
+        truth.turbulence,
+        Turbulence {
+            level: TurbulenceLevel::Light,
+            seed: 7
+        }
+    );
+    assert_eq!(truth.airspeed_mps, 25.0);
+    for i in 0..3 {
+        assert!((truth.intensity.sigma_mps[i] - gusts.sigma_mps[i]).abs() < 1e-4);
+        assert!((truth.intensity.length_m[i] - gusts.length_m[i]).abs() < 1e-2);
+    }
+    // The calm flight's file has no such line.
+    let calm = refsim::fly(&FlightOptions {
+        turbulence: None,
+        ..short
+    })
+    .unwrap();
+    assert!(!calm.to_csv_exact().contains("# turbulence"));
+}
+
+/// Light turbulence leaves refsim's flight test flyable, for the Aerosonde and for one with
+/// hidden changes (C_mα × 0.85, C_ℓp × 0.7) in a steady wind: every number finite, the
+/// airspeed within 5 m/s of the schedule's (25 m/s, 28 from 50 to 56 s) at every sample and
+/// its mean within 1 m/s of the schedule's mean (25.3 m/s).
+#[test]
+fn refsim_light_turbulence_flight_stays_flyable() {
+    let plain = refsim_flight_test(true);
+    let mut changed = plain.clone();
+    changed.params.c_m_alpha *= 0.85;
+    changed.params.c_ell_p *= 0.7;
+    changed.effects = changed.effects.with("wind", &[3.0, -2.0, 0.0]).unwrap();
+    for (name, opts) in [("aerosonde", plain), ("changed, in wind", changed)] {
+        let flight = refsim::fly(&opts).expect("refsim flies in gusts");
+        assert_eq!(flight.rows.len(), 3001);
+        let d = read_refsim(&flight, &Noise::none(), 0);
+        let airspeed = d.airspeed.as_ref().expect("airspeed");
+        assert!(airspeed.iter().all(|v| v.is_finite()), "{name}");
+        assert!(d.pos_ned.iter().all(|p| p.is_finite()), "{name}");
+        let mut worst = 0.0f64;
+        for (t, va) in d.time.iter().zip(airspeed) {
+            let commanded = if (50.0..56.0).contains(t) { 28.0 } else { 25.0 };
+            worst = worst.max((va - commanded).abs());
+        }
+        assert!(
+            worst < 5.0,
+            "{name}: airspeed departs {worst} m/s from the schedule's"
+        );
+        let mean = airspeed.iter().sum::<f64>() / airspeed.len() as f64;
+        assert!((mean - 25.3).abs() < 1.0, "{name}: mean airspeed {mean}");
+    }
+}
+
+/// The gusts are flown, read off the data without a model: the airspeed minus the ground
+/// speed |v_NED| is exactly 0 in calm air without wind, and in gusts it is −v̂·w (the gust
+/// along the flight path) to first order, the second-order |w⊥|²/(2V) being about 0.03 m/s.
+/// So its σ is within 3 % of the σ of the flown gust along the path (the rows' truth; the
+/// second-order terms make it 1.9 % here), and the two series correlate above 0.99. Against
+/// the nominal σ_u (= σ_v) the tolerance is wide because a 60 s flight holds only five time
+/// scales T_u = 11.9 s: over 200 gust seeds the sample σ of 60 s of refsim's u gust ranged
+/// from 0.43 to 1.60 σ_u (95 % within 0.49–1.43), so the check is that range (this seed's
+/// flight: 0.55). And the forces see the gusts: the recorded specific force matches the
+/// differentiated velocity (0.18 m/s² rms, the centred difference across command steps), and
+/// the calm air's force at the same states does not (2.95 m/s²).
+#[test]
+fn refsim_flies_through_its_gusts() {
+    let calm_flight = refsim::fly(&refsim_flight_test(false)).unwrap();
+    let calm = read_refsim(&calm_flight, &Noise::none(), 0);
+    let path_air_minus_ground = |d: &FlightData| -> Vec<f64> {
+        d.airspeed
+            .as_ref()
+            .unwrap()
+            .iter()
+            .zip(d.vel_ned.as_ref().unwrap())
+            .map(|(va, v)| va - v.length())
+            .collect()
+    };
+    let calm_q = path_air_minus_ground(&calm);
+    let calm_worst = calm_q.iter().fold(0.0f64, |m, q| m.max(q.abs()));
+    assert!(
+        calm_worst < 1e-9,
+        "calm air: airspeed − ground speed {calm_worst}"
+    );
+
+    let opts = refsim_flight_test(true);
+    let sigma_u = opts.turbulence.unwrap().sigma_mps[0];
+    let flight = refsim::fly(&opts).unwrap();
+    let d = read_refsim(&flight, &Noise::none(), 0);
+    let q = path_air_minus_ground(&d);
+    let along: Vec<f64> = flight
+        .rows
+        .iter()
+        .map(|r| {
+            let v = glam::DVec3::from(r.vel_ned);
+            -v.normalize().dot(glam::DVec3::from(r.wind))
+        })
+        .collect();
+    let (sq, sa) = (sigma(&q), sigma(&along));
+    assert!(
+        (sq / sa - 1.0).abs() < 0.03,
+        "σ of airspeed − ground speed {sq}, of the gust along the path {sa}"
+    );
+    let mq = q.iter().sum::<f64>() / q.len() as f64;
+    let ma = along.iter().sum::<f64>() / along.len() as f64;
+    let cov = q
+        .iter()
+        .zip(&along)
+        .map(|(a, b)| (a - mq) * (b - ma))
+        .sum::<f64>()
+        / q.len() as f64;
+    assert!(cov / (sq * sa) > 0.99, "correlation {}", cov / (sq * sa));
+    assert!(
+        (0.43..1.60).contains(&(sq / sigma_u)),
+        "σ {sq} against σ_u {sigma_u}"
+    );
+
+    // Newton's law along the flight: the centred difference of the velocity against the
+    // specific force (+ gravity), in the gusts flown and in calm air at the same states.
+    let model = FwModel::new(&opts.params, &opts.effects, &opts.origin);
+    let dt = 1.0 / opts.rate_hz;
+    let (mut in_gusts, mut in_calm) = (0.0, 0.0);
+    let rows = &flight.rows;
+    for k in 1..rows.len() - 1 {
+        let r = &rows[k];
+        let a_ned = (glam::DVec3::from(rows[k + 1].vel_ned)
+            - glam::DVec3::from(rows[k - 1].vel_ned))
+            / (2.0 * dt);
+        let to_ned = refsim::rot_body_to_ned(r.euler[0], r.euler[1], r.euler[2]);
+        let predicted = |specific: [f64; 3]| {
+            let f = refsim::m_vec(&to_ned, specific);
+            glam::DVec3::new(f[0], f[1], f[2] + refsim::G0)
+        };
+        let x: FwState = [
+            r.pos[0],
+            r.pos[1],
+            r.pos[2],
+            r.uvw[0],
+            r.uvw[1],
+            r.uvw[2],
+            r.euler[0],
+            r.euler[1],
+            r.euler[2],
+            r.pqr[0],
+            r.pqr[1],
+            r.pqr[2],
+            r.surfaces[0],
+            r.surfaces[1],
+            r.surfaces[2],
+        ];
+        let (calm_force, _) = model.force_moment(&x, &r.controls);
+        let calm_specific = refsim::v_scale(calm_force, 1.0 / opts.params.mass_kg);
+        in_gusts += (a_ned - predicted(r.accel)).length_squared();
+        in_calm += (a_ned - predicted(calm_specific)).length_squared();
+    }
+    let n = (rows.len() - 2) as f64;
+    let (in_gusts, in_calm) = ((in_gusts / n).sqrt(), (in_calm / n).sqrt());
+    assert!(
+        in_gusts < 0.1 * in_calm,
+        "acceleration misfit {in_gusts} m/s² with the gusts, {in_calm} m/s² without"
+    );
+}
+
+/// The same spec with and without turbulence: the same trim, the same first state, the same
+/// measurement-noise draw in every column; only the air differs.
+#[test]
+fn refsim_turbulence_changes_only_the_air() {
+    let noise = Noise::new(0.1, 0.1, 0.05, 0.2, 0.1);
+    let mut calm_opts = refsim_flight_test(false);
+    calm_opts.duration_s = 20.0;
+    let calm = refsim::fly(&calm_opts).unwrap();
+    let gusty = refsim::fly(&calm_opts.clone().in_turbulence(GustLevel::Light, 7)).unwrap();
+    assert_eq!(calm.trim, gusty.trim);
+    let (c0, g0) = (&calm.rows[0], &gusty.rows[0]);
+    assert_eq!(
+        (c0.pos, c0.uvw, c0.euler, c0.pqr),
+        (g0.pos, g0.uvw, g0.euler, g0.pqr)
+    );
+    assert_eq!(c0.wind, [0.0; 3]);
+    assert_ne!(g0.wind, [0.0; 3], "a gust from the first sample on");
+    // The noise each cell got: the noisy file's minus the exact one's.
+    let cells = |csv: &str| -> Vec<Vec<f64>> {
+        csv.lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with("time_s"))
+            .map(|l| l.split(',').map(|c| c.parse().unwrap()).collect())
+            .collect()
+    };
+    let drawn = |f: &refsim::Flight| -> Vec<Vec<f64>> {
+        let (noisy, exact) = (cells(&f.to_csv(&noise, 5)), cells(&f.to_csv_exact()));
+        noisy
+            .iter()
+            .zip(&exact)
+            .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x - y).collect())
+            .collect()
+    };
+    let (dc, dg) = (drawn(&calm), drawn(&gusty));
+    let mut worst = 0.0f64;
+    for (a, b) in dc.iter().zip(&dg) {
+        for (col, (x, y)) in a.iter().zip(b).enumerate() {
+            let mut d = x - y;
+            // Roll and yaw (columns 4 and 6) are wrapped after the noise: a difference may
+            // be off by 360°.
+            if col == 4 || col == 6 {
+                d -= 360.0 * (d / 360.0).round();
+            }
+            worst = worst.max(d.abs());
+        }
+    }
+    assert!(worst < 1e-6, "noise draws differ by {worst}");
+    // The air does differ.
+    let q_calm: Vec<f64> = calm.rows.iter().map(|r| r.airspeed).collect();
+    let q_gusty: Vec<f64> = gusty.rows.iter().map(|r| r.airspeed).collect();
+    assert_ne!(q_calm, q_gusty);
+}
+
+/// refsim's gust table holds its sum of sinusoids at every grid point (the phasors turned
+/// sample by sample stay on the cosines), interpolates linearly between and holds the ends;
+/// its integrators read a forcing that varies in time at each stage's own time.
+#[test]
+fn refsim_gust_table_and_integrators_follow_time() {
+    let gusts = RefGusts::mil_8785c(GustLevel::Moderate, 200.0, 3);
+    let table = GustTable::new(&gusts, 25.0, 30.0).unwrap();
+    assert_eq!(table.step_s, 0.005);
+    let field = gusts.field(25.0);
+    for k in (0..table.samples.len()).step_by(37) {
+        let exact = field.wind_at(k as f64 * table.step_s);
+        assert_close!(table.samples[k], exact, 1e-11, "sample {k}");
+    }
+    let (a, b) = (table.samples[2], table.samples[3]);
+    let halfway = [0, 1, 2].map(|i| (a[i] + b[i]) / 2.0);
+    assert_close!(table.at(2.5 * table.step_s), halfway, 1e-12);
+    assert_eq!(table.at(-1.0), table.samples[0]);
+    assert_eq!(table.at(f64::NAN), table.samples[0]);
+    assert_eq!(table.at(1e9), *table.samples.last().unwrap());
+    assert!(GustTable::new(&gusts, 0.0, 30.0).is_err());
+    assert!(GustTable::new(&gusts, 25.0, 1e9).is_err());
+
+    // y' = cos(t0 + s) over spans from t0: y = sin.
+    for integrator in [
+        refsim::Integrator::rk4_1ms(),
+        refsim::Integrator::dopri(1e-10),
+    ] {
+        let mut stepper = Stepper::new(integrator);
+        let mut y = [0.0];
+        let span = 0.02;
+        for k in 0..100 {
+            let t0 = k as f64 * span;
+            stepper.advance_in_time(&mut y, span, |s, _| [(t0 + s).cos()]);
+        }
+        let err = (y[0] - 2f64.sin()).abs();
+        assert!(err < 1e-10, "{integrator:?}: {err}");
     }
 }

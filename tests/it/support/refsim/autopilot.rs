@@ -300,8 +300,10 @@ pub struct ApState {
     pub i_v: f64,
 }
 
-/// Command for flight time `t` given the true state: autopilot (if on) + open-loop offsets.
-/// `dt` is the sample period (integrators advance by one sample per call).
+/// Command for flight time `t` given the true state and the wind (NED, m/s) it flies in now:
+/// autopilot (if on) + open-loop offsets. The autopilot holds the airspeed and β of the air
+/// it is in, gusts included, as its air-data sensors would read them. `dt` is the sample
+/// period (integrators advance by one sample per call).
 #[allow(clippy::too_many_arguments)]
 pub fn command_at(
     model: &FwModel,
@@ -311,11 +313,12 @@ pub fn command_at(
     ap: &mut ApState,
     t: f64,
     x: &FwState,
+    wind: V3,
     dt: f64,
 ) -> Controls {
     let mut c = tr.controls;
     if sched.autopilot {
-        let (va, _alpha, beta) = model.air_data(x);
+        let (va, _alpha, beta) = air_data_in(x, wind);
         let (bank_c, pitch_c) = sched.target(t);
         let theta_c = tr.theta + pitch_c;
         let va_c = tr.airspeed + latest(&sched.airspeed_steps, t, 0.0);

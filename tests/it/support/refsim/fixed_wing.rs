@@ -164,14 +164,19 @@ pub fn gamma_rates(p: &Params, pqr: V3, moment: V3) -> V3 {
     ]
 }
 
-/// Air data (Va, α, β) of a state. β = 0 when Va = 0.
+/// Air data (Va, α, β) of a state in the steady wind. β = 0 when Va = 0.
 pub fn air_data(env: &Env, x: &FwState) -> (f64, f64, f64) {
-    let r = rot_body_to_ned(x[ix::PHI], x[ix::THETA], x[ix::PSI]);
-    air_data_r(env, x, &r)
+    air_data_in(x, env.wind)
 }
 
-fn air_data_r(env: &Env, x: &FwState, r: &M3) -> (f64, f64, f64) {
-    let wb = m_t_vec(r, env.wind);
+/// Air data (Va, α, β) of a state in the wind `wind` (NED, m/s). β = 0 when Va = 0.
+pub fn air_data_in(x: &FwState, wind: V3) -> (f64, f64, f64) {
+    let r = rot_body_to_ned(x[ix::PHI], x[ix::THETA], x[ix::PSI]);
+    air_data_r(wind, x, &r)
+}
+
+fn air_data_r(wind: V3, x: &FwState, r: &M3) -> (f64, f64, f64) {
+    let wb = m_t_vec(r, wind);
     let ur = [x[ix::U] - wb[0], x[ix::V] - wb[1], x[ix::W] - wb[2]];
     let va = v_norm(ur);
     let alpha = ur[2].atan2(ur[0]);
@@ -214,15 +219,21 @@ impl FwModel {
         }
     }
 
-    /// Total body force (N) and moment (N·m), excluding gravity and the inertial accelerations.
+    /// Total body force (N) and moment (N·m), excluding gravity and the inertial accelerations,
+    /// in the steady wind.
     pub fn force_moment(&self, x: &FwState, cmd: &Controls) -> (V3, V3) {
-        let r = rot_body_to_ned(x[ix::PHI], x[ix::THETA], x[ix::PSI]);
-        self.force_moment_r(x, cmd, &r)
+        self.force_moment_in(x, cmd, self.env.wind)
     }
 
-    fn force_moment_r(&self, x: &FwState, cmd: &Controls, r: &M3) -> (V3, V3) {
+    /// [`force_moment`](Self::force_moment) in the wind `wind` (NED, m/s: steady and gusts).
+    pub fn force_moment_in(&self, x: &FwState, cmd: &Controls, wind: V3) -> (V3, V3) {
+        let r = rot_body_to_ned(x[ix::PHI], x[ix::THETA], x[ix::PSI]);
+        self.force_moment_r(x, cmd, &r, wind)
+    }
+
+    fn force_moment_r(&self, x: &FwState, cmd: &Controls, r: &M3, wind: V3) -> (V3, V3) {
         let p = &self.params;
-        let (va, alpha, beta) = air_data_r(&self.env, x, r);
+        let (va, alpha, beta) = air_data_r(wind, x, r);
         let down = x[ix::D];
         let rho = self.env.rho(down);
         let induced = if self.effects.ground_effect {
@@ -254,12 +265,19 @@ impl FwModel {
         (f, m)
     }
 
-    /// Time derivative of the state under constant commands.
+    /// Time derivative of the state under constant commands in the steady wind.
     pub fn derivative(&self, x: &FwState, cmd: &Controls) -> FwState {
+        self.derivative_in(x, cmd, self.env.wind)
+    }
+
+    /// Time derivative of the state under constant commands in the wind `wind` (NED, m/s:
+    /// the steady wind and the gusts of the moment). Only the air-relative velocity sees the
+    /// wind; gravity, the kinematics and the Earth's terms use the inertial velocity.
+    pub fn derivative_in(&self, x: &FwState, cmd: &Controls, wind: V3) -> FwState {
         let p = &self.params;
         let (phi, theta, psi) = (x[ix::PHI], x[ix::THETA], x[ix::PSI]);
         let r = rot_body_to_ned(phi, theta, psi);
-        let (f, mom) = self.force_moment_r(x, cmd, &r);
+        let (f, mom) = self.force_moment_r(x, cmd, &r, wind);
         let uvw = [x[ix::U], x[ix::V], x[ix::W]];
         let pqr = [x[ix::P], x[ix::Q], x[ix::R]];
         let pos = [x[ix::N], x[ix::E], x[ix::D]];
@@ -298,7 +316,7 @@ impl FwModel {
         ]
     }
 
-    /// Air data of a state.
+    /// Air data of a state in the steady wind.
     pub fn air_data(&self, x: &FwState) -> (f64, f64, f64) {
         air_data(&self.env, x)
     }

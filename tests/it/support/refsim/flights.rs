@@ -23,9 +23,12 @@ pub struct Row {
     /// φ, θ, ψ in rad, ψ unwrapped.
     pub euler: V3,
     pub pqr: V3,
+    /// The air-relative speed (what an airspeed sensor reads), m/s.
     pub airspeed: f64,
     pub alpha: f64,
     pub beta: f64,
+    /// The wind the aircraft is in (NED, m/s): the steady wind and, in turbulence, the gust.
+    pub wind: V3,
     /// Commands in force from this row until the next.
     pub controls: Controls,
     /// Surface positions (= commands unless actuator lag).
@@ -50,6 +53,9 @@ pub struct Flight {
     pub rows: Vec<Row>,
     pub trim: Option<Trim>,
     pub stats: IntegStats,
+    /// `# turbulence:` value (the gusts' truth, [`RefGusts::record`]) of a flight flown in
+    /// turbulence.
+    pub turbulence: Option<String>,
 }
 
 /// Shortest round-trip text of a number, plain decimal notation (no exponent) except for
@@ -95,6 +101,9 @@ impl Flight {
             let _ = writeln!(s, "# reference_area_m2: {}", fmt_num(a));
         }
         let _ = writeln!(s, "# source: {}", self.source);
+        if let Some(record) = &self.turbulence {
+            let _ = writeln!(s, "# turbulence: {record}");
+        }
         let fw = self.vehicle == VehicleKind::FixedWing;
         let acc = fw && accelerometer;
         if acc {
@@ -195,6 +204,9 @@ pub struct FlightOptions {
     pub aircraft: String,
     /// `# source:` value; None = "refsim (<integrator>, <schedule>)".
     pub source: Option<String>,
+    /// Gusts to fly through (on top of the steady wind of `effects`); None = calm air. The
+    /// trim, the schedule and the noise draw are those of the calm flight.
+    pub turbulence: Option<RefGusts>,
 }
 
 impl FlightOptions {
@@ -219,7 +231,15 @@ impl FlightOptions {
             record_start_s: 0.0,
             aircraft: "aerosonde".into(),
             source: None,
+            turbulence: None,
         }
+    }
+
+    /// These options in MIL-F-8785C turbulence of `level` at the start height (set the start
+    /// height first), gust phases from `gust_seed`.
+    pub fn in_turbulence(mut self, level: GustLevel, gust_seed: u64) -> Self {
+        self.turbulence = Some(RefGusts::mil_8785c(level, self.start_height_m, gust_seed));
+        self
     }
 }
 
@@ -232,6 +252,8 @@ pub(super) fn valid_nonneg(x: f64) -> bool {
 }
 
 /// Fly a fixed-wing flight: trim, then per sample: command (ZOH) → integrate to the next sample.
+/// In turbulence the gusts are tabulated first and the wind is read at every integration
+/// stage's own time.
 pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
     if !valid_pos(opts.rate_hz)
         || !valid_nonneg(opts.duration_s)
@@ -250,18 +272,44 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
     let dt = 1.0 / rate;
     let n_pre = (opts.record_start_s * rate).round() as usize;
     let n_rec = (opts.duration_s * rate).round() as usize;
+    let gusts = match &opts.turbulence {
+        Some(g) => Some(GustTable::new(
+            g,
+            opts.airspeed_mps,
+            (n_pre + n_rec) as f64 / rate,
+        )?),
+        None => None,
+    };
+    // The wind at flight time t: in calm air the steady wind itself (not plus a zero gust,
+    // so a calm flight's numbers owe nothing to the gust code), in turbulence plus the gust
+    // of the moment.
+    let wind_at = |t: f64| match &gusts {
+        Some(table) => v_add(model.env.wind, table.at(t)),
+        None => model.env.wind,
+    };
     let mut x = tr.state;
     let mut ap = ApState::default();
     let mut stepper = Stepper::new(opts.integrator);
     let mut rows = Vec::with_capacity(n_rec + 1);
     for i in 0..=(n_pre + n_rec) {
         let t = i as f64 / rate;
-        let cmd = command_at(&model, &opts.schedule, &opts.gains, &tr, &mut ap, t, &x, dt);
+        let wind = wind_at(t);
+        let cmd = command_at(
+            &model,
+            &opts.schedule,
+            &opts.gains,
+            &tr,
+            &mut ap,
+            t,
+            &x,
+            wind,
+            dt,
+        );
         if i >= n_pre {
             let r = rot_body_to_ned(x[ix::PHI], x[ix::THETA], x[ix::PSI]);
             let uvw = [x[ix::U], x[ix::V], x[ix::W]];
-            let (va, alpha, beta) = model.air_data(&x);
-            let (force, _) = model.force_moment(&x, &cmd);
+            let (va, alpha, beta) = air_data_in(&x, wind);
+            let (force, _) = model.force_moment_in(&x, &cmd, wind);
             rows.push(Row {
                 time_s: opts.time_offset_s + (i - n_pre) as f64 / rate,
                 t_flight: t,
@@ -273,6 +321,7 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
                 airspeed: va,
                 alpha,
                 beta,
+                wind,
                 controls: cmd,
                 surfaces: model.surfaces(&x, &cmd),
                 accel: v_scale(force, 1.0 / opts.params.mass_kg),
@@ -280,7 +329,9 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
         }
         if i < n_pre + n_rec {
             let span = (i + 1) as f64 / rate - t;
-            stepper.advance(&mut x, span, |y| model.derivative(y, &cmd));
+            stepper.advance_in_time(&mut x, span, |s, y| {
+                model.derivative_in(y, &cmd, wind_at(t + s))
+            });
             if x.iter().any(|v| !v.is_finite()) {
                 return Err(format!("state became non-finite at t = {t}"));
             }
@@ -303,6 +354,10 @@ pub fn fly(opts: &FlightOptions) -> Result<Flight, String> {
         rows,
         trim: Some(tr),
         stats: stepper.stats,
+        turbulence: opts
+            .turbulence
+            .as_ref()
+            .map(|g| g.record(opts.airspeed_mps)),
     })
 }
 

@@ -75,6 +75,17 @@ impl Stepper {
         span: f64,
         f: F,
     ) {
+        self.advance_in_time(y, span, |_, y| f(y));
+    }
+
+    /// Integrate ẏ = f(s, y) from s = 0 to `span` (s the time since the span began: a wind
+    /// that varies in time is read at every stage's own time).
+    pub fn advance_in_time<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
+        &mut self,
+        y: &mut [f64; N],
+        span: f64,
+        f: F,
+    ) {
         if span <= 0.0 {
             return;
         }
@@ -82,11 +93,13 @@ impl Stepper {
             Integrator::Rk4 { dt_s } => {
                 let n = ((span / dt_s) - 1e-9).ceil().max(1.0) as usize;
                 let h = span / n as f64;
-                for _ in 0..n {
-                    let k1 = f(y);
-                    let k2 = f(&axpy(y, 0.5 * h, &[(1.0, &k1)]));
-                    let k3 = f(&axpy(y, 0.5 * h, &[(1.0, &k2)]));
-                    let k4 = f(&axpy(y, h, &[(1.0, &k3)]));
+                for k in 0..n {
+                    let (s0, s1) = (k as f64 * h, (k + 1) as f64 * h);
+                    let mid = 0.5 * (s0 + s1);
+                    let k1 = f(s0, y);
+                    let k2 = f(mid, &axpy(y, 0.5 * h, &[(1.0, &k1)]));
+                    let k3 = f(mid, &axpy(y, 0.5 * h, &[(1.0, &k2)]));
+                    let k4 = f(s1, &axpy(y, h, &[(1.0, &k3)]));
                     *y = axpy(
                         y,
                         h / 6.0,
@@ -100,7 +113,7 @@ impl Stepper {
         }
     }
 
-    fn dopri<const N: usize, F: Fn(&[f64; N]) -> [f64; N]>(
+    fn dopri<const N: usize, F: Fn(f64, &[f64; N]) -> [f64; N]>(
         &mut self,
         y: &mut [f64; N],
         span: f64,
@@ -108,6 +121,10 @@ impl Stepper {
         rtol: f64,
         atol: f64,
     ) {
+        const C2: f64 = 1.0 / 5.0;
+        const C3: f64 = 3.0 / 10.0;
+        const C4: f64 = 4.0 / 5.0;
+        const C5: f64 = 8.0 / 9.0;
         const A21: f64 = 1.0 / 5.0;
         const A31: f64 = 3.0 / 40.0;
         const A32: f64 = 9.0 / 40.0;
@@ -136,32 +153,38 @@ impl Stepper {
         const E7: f64 = -1.0 / 40.0;
 
         let mut t = 0.0;
-        let mut k1 = f(y);
+        let mut k1 = f(0.0, y);
         self.stats.evals += 1;
         let mut h = self.h_next.min(span);
         loop {
             let remaining = span - t;
             let last = h >= remaining * (1.0 - 1e-12);
             let hh = if last { remaining } else { h };
-            let k2 = f(&axpy(y, hh, &[(A21, &k1)]));
-            let k3 = f(&axpy(y, hh, &[(A31, &k1), (A32, &k2)]));
-            let k4 = f(&axpy(y, hh, &[(A41, &k1), (A42, &k2), (A43, &k3)]));
-            let k5 = f(&axpy(
-                y,
-                hh,
-                &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)],
-            ));
-            let k6 = f(&axpy(
-                y,
-                hh,
-                &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
-            ));
+            let k2 = f(t + C2 * hh, &axpy(y, hh, &[(A21, &k1)]));
+            let k3 = f(t + C3 * hh, &axpy(y, hh, &[(A31, &k1), (A32, &k2)]));
+            let k4 = f(
+                t + C4 * hh,
+                &axpy(y, hh, &[(A41, &k1), (A42, &k2), (A43, &k3)]),
+            );
+            let k5 = f(
+                t + C5 * hh,
+                &axpy(y, hh, &[(A51, &k1), (A52, &k2), (A53, &k3), (A54, &k4)]),
+            );
+            let k6 = f(
+                t + hh,
+                &axpy(
+                    y,
+                    hh,
+                    &[(A61, &k1), (A62, &k2), (A63, &k3), (A64, &k4), (A65, &k5)],
+                ),
+            );
             let y5 = axpy(
                 y,
                 hh,
                 &[(B1, &k1), (B3, &k3), (B4, &k4), (B5, &k5), (B6, &k6)],
             );
-            let k7 = f(&y5);
+            // The next step's first stage (FSAL), at its start.
+            let k7 = f(t + hh, &y5);
             self.stats.evals += 6;
             let mut acc = 0.0;
             for i in 0..N {

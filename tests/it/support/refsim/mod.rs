@@ -12,6 +12,10 @@
 //!   interval is integrated on its own so no step straddles a command change (zero-order hold);
 //! * own trim (Newton with a finite-difference Jacobian), own autopilot, own RNG (SplitMix64 seeding
 //!   xoshiro256**, Box–Muller), own CSV writer.
+//! * turbulence (`FlightOptions::turbulence`): Dryden gusts as sums of sinusoids (`gusts.rs`),
+//!   their MIL-F-8785C intensities computed here, tabulated once per flight and read at every
+//!   integration stage's own time; the air-relative velocity (air data, every aerodynamic force
+//!   and moment, the airspeed sensor, the autopilot's air data) sees steady wind + gust.
 //!
 //! std only, no `unsafe`. Everything is `pub` so tests can perturb any number.
 #![allow(dead_code)]

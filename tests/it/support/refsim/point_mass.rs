@@ -100,6 +100,7 @@ pub fn fly_ballistic(opts: &BallisticOptions) -> Result<Flight, String> {
             pos: [y[0], y[1], y[2]],
             vel_ned: [y[3], y[4], y[5]],
             airspeed: v_norm(v_sub([y[3], y[4], y[5]], env.wind)),
+            wind: env.wind,
             ..Row::default()
         });
         if opts.stop_at_ground && y[2] > 0.0 {
@@ -131,6 +132,7 @@ pub fn fly_ballistic(opts: &BallisticOptions) -> Result<Flight, String> {
         rows,
         trim: None,
         stats: stepper.stats,
+        turbulence: None,
     })
 }
 
