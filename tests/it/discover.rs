@@ -176,3 +176,26 @@ fn the_models_own_flight_lacks_nothing() {
         }
     }
 }
+
+/// The error each term leaves, as `compare --add` reports it: the refsim flight with the
+/// yawing moment ∝ r·δt is at 5.9 × the noise with the model as given, and at the noise (1.01)
+/// with the term `discover` proposes added and fitted.
+#[test]
+fn the_error_after_the_term_found_is_the_noise() {
+    use wireflight::analysis::compare::Prepared;
+    use wireflight::analysis::diagnose::DiagnoseConfig;
+    use wireflight::analysis::discover::error_after::measure_errors;
+    let d = flight(hidden(5, HiddenForm::YawRateThrottle, -2.0), 73);
+    let model = ModelChoice::default()
+        .build(std::path::Path::new("refsim.csv"), &d)
+        .expect("model");
+    let mut found = discover(&model, &d).expect("discovers");
+    let cfg = DiagnoseConfig::default();
+    measure_errors(&model, &Prepared::new(&d, cfg.compare), &mut found, &cfg);
+    let text = format!("{found:#?}");
+    let before = found.error_before.expect("measured");
+    let after = found.terms.first().and_then(|t| t.error_after);
+    let after = after.unwrap_or_else(|| panic!("no error after: {text}"));
+    assert!(before > 3.0, "{before}: {text}");
+    assert!((0.9..1.1).contains(&after), "{after}: {text}");
+}

@@ -28,6 +28,7 @@
 //! a start: the `add` spec names it as a free coefficient, fitted again by output error when
 //! the term is added.
 
+pub mod error_after;
 pub mod library;
 pub mod report;
 
@@ -99,7 +100,8 @@ pub struct FoundTerm {
     pub reading: String,
     /// The `--add` spec that adds it: `term:AXIS=EXPR`.
     pub add: String,
-    /// The comparison's error (× the noise) with the term added, when measured.
+    /// The comparison's error (× the noise) with this term and the terms listed before it
+    /// added and fitted, when measured ([`error_after::measure_errors`]).
     pub error_after: Option<f64>,
 }
 
@@ -131,6 +133,9 @@ pub struct Discovery {
     pub candidates: usize,
     /// The likelihood ratio a term must pass.
     pub threshold: f64,
+    /// The comparison's error (× the noise) of the model as given, when measured
+    /// ([`error_after::measure_errors`]).
+    pub error_before: Option<f64>,
 }
 
 /// Finds the terms the model lacks on this flight (module docs).
@@ -287,6 +292,7 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
         samples: n,
         candidates: library.len(),
         threshold,
+        error_before: None,
     })
 }
 
