@@ -166,28 +166,20 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     // The rates are read continuously, so their derivative follows the commands as they were
     // held; the accelerometer reads each sample under that sample's commands, and its readings
     // are integrated as samples. The model and the regressors are integrated the way the
-    // measurement of their axis was.
+    // measurement of their axis was. Each acceleration the model lacks, smoothed once: the
+    // differentiator's output is smoothed already, the accelerometer's readings less the
+    // model's here.
     let read_as_samples = |c: usize| c < 3 && series.accelerometer;
-    let model_acc: Vec<Vec<f64>> = (0..6)
+    let channel = |rows: &[[f64; 6]], c: usize| -> Vec<f64> { rows.iter().map(|m| m[c]).collect() };
+    let lacking: Vec<Vec<f64>> = (0..6)
         .map(|c| {
-            let at_row: Vec<f64> = series.model.iter().map(|m| m[c]).collect();
+            let (measured, model) = (channel(&series.measured, c), channel(&series.model, c));
             if read_as_samples(c) {
-                smooth(&at_row, &at_row)
+                let d: Vec<f64> = measured.iter().zip(&model).map(|(a, b)| a - b).collect();
+                smooth(&d, &d)
             } else {
-                let held: Vec<f64> = series.model_held.iter().map(|m| m[c]).collect();
-                smooth(&at_row, &held)
-            }
-        })
-        .collect();
-    // The differentiator's output is smoothed once already; the accelerometer's readings are
-    // smoothed here, once, as the model's accelerations are.
-    let measured: Vec<Vec<f64>> = (0..6)
-        .map(|c| {
-            let m: Vec<f64> = series.measured.iter().map(|m| m[c]).collect();
-            if read_as_samples(c) {
-                smooth(&m, &m)
-            } else {
-                m
+                let model = smooth(&model, &channel(&series.model_held, c));
+                measured.iter().zip(&model).map(|(a, b)| a - b).collect()
             }
         })
         .collect();
@@ -202,7 +194,7 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     let mass = jm.mass_kg;
     let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
     for &i in &rows {
-        let d: [f64; 6] = std::array::from_fn(|c| measured[c][i] - model_acc[c][i]);
+        let d: [f64; 6] = std::array::from_fn(|c| lacking[c][i]);
         // ΔM = J·Δω̇ with J = [[Jx, 0, −Jxz], [0, Jy, 0], [−Jxz, 0, Jz]].
         let missing = [
             mass * d[0],
@@ -572,41 +564,31 @@ fn held_out_errors(
     for (i, &yi) in y.iter().enumerate() {
         let f = fold_of(i);
         yy[f] += yi * yi;
-        for r in 0..k {
-            let xr = cols[r][i];
+        let x: [f64; MAX_FIT] = std::array::from_fn(|r| if r < k { cols[r][i] } else { 0.0 });
+        for (r, &xr) in x.iter().enumerate() {
             xy[f][r] += xr * yi;
-            for c in r..k {
-                xx[f][r][c] += xr * cols[c][i];
+            for (c, &xc) in x.iter().enumerate() {
+                xx[f][r][c] += xr * xc;
             }
         }
     }
     let mut out = [0.0; FOLDS];
     for (f, err) in out.iter_mut().enumerate() {
-        // The other parts' sums, symmetric.
+        // The other parts' sums (the rows and columns past k stay 0).
         let mut a = [[0.0; MAX_FIT]; MAX_FIT];
         let mut b = [0.0; MAX_FIT];
         for g in (0..FOLDS).filter(|&g| g != f) {
-            for r in 0..k {
-                b[r] += xy[g][r];
-                for c in r..k {
-                    a[r][c] += xx[g][r][c];
-                }
+            for (ar, xr) in a.iter_mut().zip(&xx[g]) {
+                ar.iter_mut().zip(xr).for_each(|(av, xv)| *av += xv);
             }
-        }
-        for r in 0..k {
-            for c in 0..r {
-                a[r][c] = a[c][r];
-            }
+            b.iter_mut().zip(&xy[g]).for_each(|(bv, xv)| *bv += xv);
         }
         let beta = solve_small(a, b, k)?;
         // Σ (y − xβ)² over the part = yᵀy − 2βᵀXᵀy + βᵀXᵀXβ.
         let mut e = yy[f];
-        for r in 0..k {
-            e -= 2.0 * beta[r] * xy[f][r];
-            for c in 0..k {
-                let m = if c >= r { xx[f][r][c] } else { xx[f][c][r] };
-                e += beta[r] * m * beta[c];
-            }
+        for ((br, xyr), xxr) in beta.iter().zip(&xy[f]).zip(&xx[f]) {
+            e -= 2.0 * br * xyr;
+            e += br * xxr.iter().zip(&beta).map(|(m, bc)| m * bc).sum::<f64>();
         }
         *err = e.max(0.0);
     }
@@ -631,12 +613,14 @@ fn solve_small(
         }
         a.swap(col, piv);
         b.swap(col, piv);
+        let (pivot, pivot_b) = (a[col], b[col]);
         for r in col + 1..k {
-            let f = a[r][col] / a[col][col];
-            for c in col..k {
-                a[r][c] -= f * a[col][c];
-            }
-            b[r] -= f * b[col];
+            let f = a[r][col] / pivot[col];
+            a[r][col..k]
+                .iter_mut()
+                .zip(&pivot[col..k])
+                .for_each(|(v, p)| *v -= f * p);
+            b[r] -= f * pivot_b;
         }
     }
     let mut x = [0.0; MAX_FIT];
