@@ -542,7 +542,7 @@ const MAX_FIT: usize = MAX_TERMS_PER_AXIS + 1;
 
 /// Each contiguous part's held-out squared error: `y` fitted on `set`'s columns over the other
 /// parts, and the fit's error summed over the part. The sums are gathered in one pass, part by
-/// part, and each part's fit is the whole's sums less its own. None when a fit is singular.
+/// part, and each part's fit is made from the other parts' sums. None when a fit is singular.
 fn held_out_errors(
     y: &[f64],
     columns: &[Option<Vec<f64>>],
@@ -562,7 +562,7 @@ fn held_out_errors(
     let mut xy = [[0.0; MAX_FIT]; FOLDS];
     let mut yy = [0.0; FOLDS];
     for (i, &yi) in y.iter().enumerate() {
-        let f = fold_of(i);
+        let f = fold_of(i).min(FOLDS - 1);
         yy[f] += yi * yi;
         let x: [f64; MAX_FIT] = std::array::from_fn(|r| if r < k { cols[r][i] } else { 0.0 });
         for (r, &xr) in x.iter().enumerate() {
