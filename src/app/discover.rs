@@ -3,6 +3,7 @@
 use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
 use crate::analysis::discover::discover;
+use crate::analysis::discover::error_after::measure_errors;
 use crate::analysis::discover::report::{discovery_json, discovery_text};
 use crate::analysis::report::model_label;
 use crate::app::cli::DiscoverArgs;
@@ -14,17 +15,27 @@ use crate::app::cli::DiscoverArgs;
 pub fn run(args: &DiscoverArgs) -> anyhow::Result<()> {
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let mut model = args.model.choice().build(&args.flight, &data)?;
+    let cfg = DiagnoseConfig {
+        compare: args.windows.config(model.vehicle.kind()),
+        ..DiagnoseConfig::default()
+    };
+    args.windows.check_fits(&args.flight, &data, &cfg.compare)?;
+    let prep = Prepared::new(&data, cfg.compare);
     if !args.model.add.is_empty() {
-        let cfg = DiagnoseConfig {
-            compare: args.windows.config(model.vehicle.kind()),
-            ..DiagnoseConfig::default()
-        };
-        args.windows.check_fits(&args.flight, &data, &cfg.compare)?;
-        let prep = Prepared::new(&data, cfg.compare);
         add_fitted(&mut model, &prep, &args.model.add_specs()?, &cfg)?;
     }
-    let found = discover(&model, &data)
+    let mut found = discover(&model, &data)
         .map_err(|e| anyhow::anyhow!("{}: {e}", crate::app::shown(&args.flight)))?;
+    // The error the terms leave, as `compare --add` would report it: worth its fits only
+    // where there are terms, and where the flight makes windows.
+    if !found.terms.is_empty() && !prep.windows.is_empty() {
+        let progress = crate::progress::Progress::spinner(
+            &format!("fitting the {} terms found", found.terms.len()),
+            args.json,
+        );
+        measure_errors(&model, &prep, &mut found, &cfg);
+        drop(progress);
+    }
     if args.json {
         println!("{}", serde_json::to_string_pretty(&discovery_json(&found))?);
         return Ok(());

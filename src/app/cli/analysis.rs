@@ -214,7 +214,8 @@ Examples:
 What the model lacks is read through the equations of motion at the measured states (the
 measured accelerations less the model's, times the mass and inertia), on each body axis, and
 regressed on a library of candidate terms by stepwise selection; each term found is printed
-with its reading, its coefficient ± σ and the --add spec that adds it.";
+with its reading, its coefficient ± σ, the flight's error (× the noise) with it and the terms
+before it added and fitted, as compare --add reports it, and the --add spec that adds it.";
 
 /// `wireflight discover` options.
 #[derive(Debug, Args)]
@@ -229,7 +230,7 @@ pub struct DiscoverArgs {
     /// The model to start from (--add effects are fitted to the flight first).
     #[command(flatten)]
     pub model: ModelArgs,
-    /// How the flight is cut into windows (for fitting the --add effects).
+    /// How the flight is cut into windows (for fitting the --add effects and the terms found).
     #[command(flatten)]
     pub windows: WindowArgs,
     /// Machine-readable output (JSON) on stdout.

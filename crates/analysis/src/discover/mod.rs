@@ -7,13 +7,20 @@
 //! The rates' coupling terms ω×Jω are the same in both and cancel: what is left is the force
 //! (N) and moment (N·m) the model does not have, on each body axis.
 //!
+//! The measured derivative is a smoothed one, so the model's accelerations and every regressor
+//! pass through the same smoothing (the differentiator of their running integral), integrated
+//! as the commands were held: from one sample to the next (docs/flight-data.md).
+//!
 //! Each axis is regressed on a library of candidate regressors ([`library`]) by forward
-//! stepwise selection: the candidate that removes most is admitted when its likelihood ratio,
-//! counted on the *effective* number of samples (the residuals are coloured by the smoothing
-//! and by the model's error: n/(1 + 2Σρₖ) over the lags until the autocorrelation first
-//! vanishes), passes χ²₁ at the Bonferroni level over every candidate of every axis, when it
-//! removes a material share of what is left, and when, fitted on four fifths of the flight, it
-//! also lowers the error on the fifth held out, for most of the five contiguous fifths.
+//! stepwise selection. The candidates are ranked by their held-out error over five contiguous
+//! parts of the flight (fitted on four, the error on the fifth, summed): in closed loop a
+//! correlate can remove as much over the whole flight as the true form, but its coefficient
+//! does not carry from one part of the flight to another. The first is admitted when its
+//! likelihood ratio, counted on the *effective* number of samples (the residuals are coloured
+//! by the smoothing and by the model's error: n/(1 + 2Σρₖ) over the lags until the
+//! autocorrelation first vanishes), passes χ²₁ at the Bonferroni level over every candidate of
+//! every axis, when it removes a material share of what is left, and when it lowers the
+//! held-out error on most of the five parts.
 //!
 //! Biases: the regressors are measured states, so their noise biases every coefficient toward
 //! zero (errors in variables); the differentiator smooths over its window, so a force that
@@ -21,6 +28,7 @@
 //! a start: the `add` spec names it as a free coefficient, fitted again by output error when
 //! the term is added.
 
+pub mod error_after;
 pub mod library;
 pub mod report;
 
@@ -32,6 +40,7 @@ use crate::identify::equation_error::EeSample;
 use wireflight_flight::data::FlightData;
 use wireflight_flight::derive::{Differentiator, Window};
 use wireflight_flight::model::State;
+use wireflight_flight::Controls;
 
 /// The family-wise false-alarm rate of the selection (split over every candidate of every axis).
 pub const FALSE_ALARM: f64 = 0.01;
@@ -91,7 +100,8 @@ pub struct FoundTerm {
     pub reading: String,
     /// The `--add` spec that adds it: `term:AXIS=EXPR`.
     pub add: String,
-    /// The comparison's error (× the noise) with the term added, when measured.
+    /// The comparison's error (× the noise) with this term and the terms listed before it
+    /// added and fitted, when measured ([`error_after::measure_errors`]).
     pub error_after: Option<f64>,
 }
 
@@ -123,6 +133,9 @@ pub struct Discovery {
     pub candidates: usize,
     /// The likelihood ratio a term must pass.
     pub threshold: f64,
+    /// The comparison's error (× the noise) of the model as given, when measured
+    /// ([`error_after::measure_errors`]).
+    pub error_before: Option<f64>,
 }
 
 /// Finds the terms the model lacks on this flight (module docs).
@@ -138,7 +151,7 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     };
     let library = library::fixed_wing();
     let jm = &params.mass;
-    let n_all = series.measured[0].len();
+    let n_all = series.measured.len();
     let half = Window::default().half_samples(&data.time);
     if n_all <= 2 * half + MIN_SAMPLES {
         return Err(DiscoverError::TooFewSamples(n_all.saturating_sub(2 * half)));
@@ -147,37 +160,41 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     // smoothing the measured derivative has (a measured acceleration is the smoothed one, and
     // so must the model's and the regressors' be, or a fast manoeuvre reads as a force).
     let diff = Differentiator::with_window(&data.time, Window::default());
-    let smooth = |x: &[f64]| -> Vec<f64> { diff.apply(&running_integral(&data.time, x)) };
-    let model_acc: Vec<Vec<f64>> = series.model.iter().map(|c| smooth(c)).collect();
-    let measured: Vec<Vec<f64>> = series
-        .measured
-        .iter()
-        .enumerate()
-        .map(|(c, m)| {
-            if c < 3 && !series.accelerometer {
-                m.clone()
+    let smooth = |at_row: &[f64], held: &[f64]| -> Vec<f64> {
+        diff.apply(&held_integral(&data.time, at_row, held))
+    };
+    // The rates are read continuously, so their derivative follows the commands as they were
+    // held; the accelerometer reads each sample under that sample's commands, and its readings
+    // are integrated as samples. The model and the regressors are integrated the way the
+    // measurement of their axis was. Each acceleration the model lacks, smoothed once: the
+    // differentiator's output is smoothed already, the accelerometer's readings less the
+    // model's here.
+    let read_as_samples = |c: usize| c < 3 && series.accelerometer;
+    let channel = |rows: &[[f64; 6]], c: usize| -> Vec<f64> { rows.iter().map(|m| m[c]).collect() };
+    let lacking: Vec<Vec<f64>> = (0..6)
+        .map(|c| {
+            let (measured, model) = (channel(&series.measured, c), channel(&series.model, c));
+            if read_as_samples(c) {
+                let d: Vec<f64> = measured.iter().zip(&model).map(|(a, b)| a - b).collect();
+                smooth(&d, &d)
             } else {
-                smooth(m)
+                let model = smooth(&model, &channel(&series.model_held, c));
+                measured.iter().zip(&model).map(|(a, b)| a - b).collect()
             }
         })
         .collect();
-    // The regressors are read `gap` samples before and after each row, averaged: the noise
-    // of a measured state enters the model's acceleration at the row itself, and a regressor
-    // that read the same noisy state would correlate with it (a clean flight would "find"
-    // the model's own rate terms). Beyond the smoothing's reach the noise is independent;
-    // the average's error is the regressor's curvature over the gap, second order.
-    let gap = 2 * half + 1;
-    let edge = half + gap;
-    if n_all <= 2 * edge + MIN_SAMPLES {
-        return Err(DiscoverError::TooFewSamples(n_all.saturating_sub(2 * edge)));
-    }
-    let stride = ((n_all - 2 * edge) / MAX_SAMPLES).max(1);
-    let rows: Vec<usize> = (edge..n_all - edge).step_by(stride).collect();
+    // The rows: every sample whose smoothing window lies inside the flight, strided. Each
+    // regressor is read at the row itself: the noise of the measured state enters the model's
+    // acceleration there too, but its share of a smoothed regressor is small beside the
+    // regressor's own excursions, and a regressor read anywhere else is attenuated where it
+    // changes fast (read 0.4 s away, a yawing moment ∝ r·δt was taken for one ∝ q̄·q̂·r̂).
+    let stride = ((n_all - 2 * half) / MAX_SAMPLES).max(1);
+    let rows: Vec<usize> = (half..n_all - half).step_by(stride).collect();
     let n = rows.len();
     let mass = jm.mass_kg;
     let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
     for &i in &rows {
-        let d: [f64; 6] = std::array::from_fn(|c| measured[c][i] - model_acc[c][i]);
+        let d: [f64; 6] = std::array::from_fn(|c| lacking[c][i]);
         // ΔM = J·Δω̇ with J = [[Jx, 0, −Jxz], [0, Jy, 0], [−Jxz, 0, Jz]].
         let missing = [
             mass * d[0],
@@ -191,19 +208,29 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
             t.push(v);
         }
     }
-    let columns: Vec<Vec<f64>> = library
-        .iter()
-        .map(|r| {
-            let raw: Vec<f64> = series.vars.iter().map(|v| r.value(v)).collect();
-            let sm = smooth(&raw);
-            rows.iter()
-                .map(|&i| 0.5 * (sm[i - gap] + sm[i + gap]))
-                .collect()
-        })
-        .collect();
+    // Each regressor smoothed as the moments' measurement is (commands held), and, with an
+    // accelerometer, as its samples are, for the forces.
+    let regressors = |as_samples: bool| -> Vec<Vec<f64>> {
+        library
+            .iter()
+            .map(|r| {
+                let at_row: Vec<f64> = series.vars.iter().map(|v| r.value(v)).collect();
+                let sm = if as_samples {
+                    smooth(&at_row, &at_row)
+                } else {
+                    let held: Vec<f64> = series.vars_held.iter().map(|v| r.value(v)).collect();
+                    smooth(&at_row, &held)
+                };
+                rows.iter().map(|&i| sm[i]).collect()
+            })
+            .collect()
+    };
+    let held_columns = regressors(false);
+    let sampled_columns = series.accelerometer.then(|| regressors(true));
     if targets
         .iter()
-        .chain(&columns)
+        .chain(&held_columns)
+        .chain(sampled_columns.iter().flatten())
         .any(|c| c.iter().any(|v| !v.is_finite()))
     {
         return Err(DiscoverError::TooFewSamples(0));
@@ -211,8 +238,12 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     let threshold = chi2_quantile(1.0 - FALSE_ALARM / (6 * library.len()) as f64, 1.0);
     let mut terms = Vec::new();
     let mut axes = Vec::new();
-    for (axis, y) in Axis::ALL.into_iter().zip(&targets) {
-        let sel = select(y, &columns, threshold);
+    for (c, (axis, y)) in Axis::ALL.into_iter().zip(&targets).enumerate() {
+        let columns = match &sampled_columns {
+            Some(sampled) if read_as_samples(c) => sampled,
+            _ => &held_columns,
+        };
+        let sel = select(y, columns, threshold);
         let mean = y.iter().sum::<f64>() / n as f64;
         axes.push(AxisResidual {
             axis,
@@ -253,15 +284,22 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
         samples: n,
         candidates: library.len(),
         threshold,
+        error_before: None,
     })
 }
 
 /// Every sample's measured accelerations (body velocity's derivative or the specific force;
 /// angular), the model's at the same state, and the term language's variables.
 struct Series {
-    measured: [Vec<f64>; 6],
-    model: [Vec<f64>; 6],
+    measured: Vec<[f64; 6]>,
+    model: Vec<[f64; 6]>,
+    /// The model's accelerations at each sample's state under the previous sample's commands:
+    /// the end of the interval that leads to the sample, over which those commands were held
+    /// (the first sample: under its own).
+    model_held: Vec<[f64; 6]>,
     vars: Vec<VarValues>,
+    /// The variables likewise under the previous sample's commands.
+    vars_held: Vec<VarValues>,
     accelerometer: bool,
 }
 
@@ -292,46 +330,58 @@ fn series(
     };
     let dw = diff.apply_vec3(rates);
     let mut out = Series {
-        measured: std::array::from_fn(|_| Vec::with_capacity(n)),
-        model: std::array::from_fn(|_| Vec::with_capacity(n)),
+        measured: Vec::with_capacity(n),
+        model: Vec::with_capacity(n),
+        model_held: Vec::with_capacity(n),
         vars: Vec::with_capacity(n),
+        vars_held: Vec::with_capacity(n),
         accelerometer: accel.is_some(),
     };
     for i in 0..n {
-        let x = State::measured(d.pos_ned[i], vb[i], att[i], rates[i], &controls[i]);
-        let s = EeSample {
+        let measured = [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z];
+        let sample = |commands: &Controls| EeSample {
             t: d.time[i],
-            state: x,
-            controls: controls[i],
-            measured: [dv[i].x, dv[i].y, dv[i].z, dw[i].x, dw[i].y, dw[i].z],
+            state: State::measured(d.pos_ned[i], vb[i], att[i], rates[i], commands),
+            controls: *commands,
+            measured,
             accelerometer: accel.is_some(),
         };
-        let m = s.modelled(model);
-        let vars = variables(model, params, &s);
-        if !(m
-            .iter()
-            .chain(&s.measured)
-            .chain(&vars)
-            .all(|v| v.is_finite()))
-        {
+        let own = sample(&controls[i]);
+        let held = sample(&controls[i.saturating_sub(1)]);
+        let (m, m_held) = (own.modelled(model), held.modelled(model));
+        let (vars, vars_held) = (
+            variables(model, params, &own),
+            variables(model, params, &held),
+        );
+        let all = [&measured[..], &m, &m_held, &vars, &vars_held];
+        if !all.iter().all(|x| x.iter().all(|v| v.is_finite())) {
             return None;
         }
-        for (c, (meas, mod_c)) in out.measured.iter_mut().zip(&mut out.model).enumerate() {
-            meas.push(s.measured[c]);
-            mod_c.push(m[c]);
-        }
+        out.measured.push(measured);
+        out.model.push(m);
+        out.model_held.push(m_held);
         out.vars.push(vars);
+        out.vars_held.push(vars_held);
     }
     Some(out)
 }
 
-/// The running trapezoid integral of a series over time (0 at the first sample).
-fn running_integral(time: &[f64], x: &[f64]) -> Vec<f64> {
-    let mut out = Vec::with_capacity(x.len());
+/// The running trapezoid integral over time (0 at the first sample) of a quantity that reads
+/// the commands: `at_row[i]` is it at sample i under sample i's commands, `held[i]` at sample
+/// i under sample i − 1's.
+///
+/// The commands are held from one sample to the next (docs/flight-data.md): over the interval
+/// from sample i − 1 to i the quantity follows sample i − 1's commands, from `at_row[i − 1]`
+/// to `held[i]`. A trapezoid of `at_row` alone would ramp each command's step over the
+/// interval before it, half a sample early, and through the smoothing read as a force
+/// wherever a command jumps (a throttle step, an autopilot's aileron).
+fn held_integral(time: &[f64], at_row: &[f64], held: &[f64]) -> Vec<f64> {
+    let n = time.len().min(at_row.len()).min(held.len());
+    let mut out = Vec::with_capacity(n);
     let mut acc = 0.0;
-    for i in 0..x.len() {
+    for i in 0..n {
         if i > 0 {
-            acc += 0.5 * (x[i] + x[i - 1]) * (time[i] - time[i - 1]);
+            acc += 0.5 * (at_row[i - 1] + held[i]) * (time[i] - time[i - 1]);
         }
         out.push(acc);
     }
@@ -422,22 +472,17 @@ fn effective_samples(r: &[f64]) -> f64 {
     (n as f64 / tau).max(1.0)
 }
 
-/// Least squares of `y` on the chosen columns over the samples `keep` admits: the
-/// coefficients and the covariance's diagonal without the residual variance; None when
-/// singular.
+/// Least squares of `y` on the chosen columns: the coefficients and the covariance's diagonal
+/// without the residual variance; None when singular.
 fn least_squares(
     y: &[f64],
     columns: &[Vec<f64>],
     chosen: &[usize],
-    keep: impl Fn(usize) -> bool,
 ) -> Option<(Vec<f64>, Vec<f64>)> {
     let k = chosen.len();
     let mut a = vec![0.0; k * k];
     let mut b = vec![0.0; k];
     for (i, &yi) in y.iter().enumerate() {
-        if !keep(i) {
-            continue;
-        }
         for (r, &cr) in chosen.iter().enumerate() {
             let xr = columns[cr][i];
             b[r] += xr * yi;
@@ -492,37 +537,109 @@ fn invert(a: &[f64], k: usize) -> Option<Vec<f64>> {
     Some(inv)
 }
 
-/// The residual of `y` after the chosen columns fitted on the samples `keep` admits, and the
-/// squared sum of that residual over the samples `score` admits.
-fn residual_sum(
+/// The most columns one held-out fit carries: the chosen ones and a candidate.
+const MAX_FIT: usize = MAX_TERMS_PER_AXIS + 1;
+
+/// Each contiguous part's held-out squared error: `y` fitted on `set`'s columns over the other
+/// parts, and the fit's error summed over the part. The sums are gathered in one pass, part by
+/// part, and each part's fit is made from the other parts' sums. None when a fit is singular.
+fn held_out_errors(
     y: &[f64],
-    columns: &[Vec<f64>],
-    chosen: &[usize],
-    keep: impl Fn(usize) -> bool,
-    score: impl Fn(usize) -> bool,
-) -> Option<f64> {
-    let coef = if chosen.is_empty() {
-        Vec::new()
-    } else {
-        least_squares(y, columns, chosen, keep)?.0
-    };
-    Some(
-        y.iter()
-            .enumerate()
-            .filter(|(i, _)| score(*i))
-            .map(|(i, &yi)| {
-                let fit: f64 = chosen
-                    .iter()
-                    .zip(&coef)
-                    .map(|(&c, &k)| k * columns[c][i])
-                    .sum();
-                (yi - fit).powi(2)
-            })
-            .sum(),
-    )
+    columns: &[Option<Vec<f64>>],
+    set: &[usize],
+    fold_of: impl Fn(usize) -> usize,
+) -> Option<[f64; FOLDS]> {
+    let k = set.len();
+    if k > MAX_FIT {
+        return None;
+    }
+    let mut cols: [&[f64]; MAX_FIT] = [&[]; MAX_FIT];
+    for (slot, &c) in cols.iter_mut().zip(set) {
+        *slot = columns.get(c)?.as_deref().filter(|x| x.len() == y.len())?;
+    }
+    // Per part: XᵀX, Xᵀy and yᵀy over its samples.
+    let mut xx = [[[0.0; MAX_FIT]; MAX_FIT]; FOLDS];
+    let mut xy = [[0.0; MAX_FIT]; FOLDS];
+    let mut yy = [0.0; FOLDS];
+    for (i, &yi) in y.iter().enumerate() {
+        let f = fold_of(i).min(FOLDS - 1);
+        yy[f] += yi * yi;
+        let x: [f64; MAX_FIT] = std::array::from_fn(|r| if r < k { cols[r][i] } else { 0.0 });
+        for (r, &xr) in x.iter().enumerate() {
+            xy[f][r] += xr * yi;
+            for (c, &xc) in x.iter().enumerate() {
+                xx[f][r][c] += xr * xc;
+            }
+        }
+    }
+    let mut out = [0.0; FOLDS];
+    for (f, err) in out.iter_mut().enumerate() {
+        // The other parts' sums (the rows and columns past k stay 0).
+        let mut a = [[0.0; MAX_FIT]; MAX_FIT];
+        let mut b = [0.0; MAX_FIT];
+        for g in (0..FOLDS).filter(|&g| g != f) {
+            for (ar, xr) in a.iter_mut().zip(&xx[g]) {
+                ar.iter_mut().zip(xr).for_each(|(av, xv)| *av += xv);
+            }
+            b.iter_mut().zip(&xy[g]).for_each(|(bv, xv)| *bv += xv);
+        }
+        let beta = solve_small(a, b, k)?;
+        // Σ (y − xβ)² over the part = yᵀy − 2βᵀXᵀy + βᵀXᵀXβ.
+        let mut e = yy[f];
+        for ((br, xyr), xxr) in beta.iter().zip(&xy[f]).zip(&xx[f]) {
+            e -= 2.0 * br * xyr;
+            e += br * xxr.iter().zip(&beta).map(|(m, bc)| m * bc).sum::<f64>();
+        }
+        *err = e.max(0.0);
+    }
+    Some(out)
+}
+
+/// Solve the k×k system a·x = b (Gaussian elimination with partial pivoting); None when
+/// (nearly) singular.
+fn solve_small(
+    mut a: [[f64; MAX_FIT]; MAX_FIT],
+    mut b: [f64; MAX_FIT],
+    k: usize,
+) -> Option<[f64; MAX_FIT]> {
+    let scale = (0..k).map(|i| a[i][i].abs()).fold(0.0, f64::max);
+    if !scale.is_finite() {
+        return None;
+    }
+    for col in 0..k {
+        let piv = (col..k).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+        if a[piv][col].abs() <= 1e-12 * scale {
+            return None;
+        }
+        a.swap(col, piv);
+        b.swap(col, piv);
+        let (pivot, pivot_b) = (a[col], b[col]);
+        for r in col + 1..k {
+            let f = a[r][col] / pivot[col];
+            a[r][col..k]
+                .iter_mut()
+                .zip(&pivot[col..k])
+                .for_each(|(v, p)| *v -= f * p);
+            b[r] -= f * pivot_b;
+        }
+    }
+    let mut x = [0.0; MAX_FIT];
+    for r in (0..k).rev() {
+        let s: f64 = (r + 1..k).map(|c| a[r][c] * x[c]).sum();
+        x[r] = (b[r] - s) / a[r][r];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
 /// Forward stepwise selection on one axis (module docs).
+///
+/// Each step ranks the candidates by their held-out error: fitted (with the terms already
+/// chosen) on four of the five contiguous parts of the flight, how far the fit misses on the
+/// fifth, summed over the five. In closed loop several regressors follow one another (the
+/// rudder follows β, the throttle the airspeed), and over the whole flight a correlate can
+/// remove as much as the true form; the held-out error prefers the form whose coefficient
+/// carries from one part of the flight to another — the form with the right structure across
+/// conditions. The candidate so ranked first is then admitted or not on the whole flight.
 fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
     let n = y.len();
     // Columns divided by their RMS: the reduction a candidate brings is then a plain
@@ -537,41 +654,49 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
     // An orthonormal basis of the chosen columns, and the residual after them.
     let mut basis: Vec<Vec<f64>> = Vec::new();
     let mut resid = y.to_vec();
-    let mut chosen: Vec<usize> = Vec::new();
+    let mut chosen: Vec<usize> = Vec::with_capacity(MAX_FIT);
     let mut steps = Vec::new();
     let fold_of = |i: usize| (i * FOLDS / n).min(FOLDS - 1);
+    let mut x = vec![0.0; n];
     for _ in 0..MAX_TERMS_PER_AXIS {
         let rss: f64 = resid.iter().map(|v| v * v).sum();
         if rss <= 0.0 || !rss.is_finite() {
             break;
         }
-        let mut best: Option<(usize, f64, Vec<f64>)> = None;
+        let Some(without) = held_out_errors(y, &unit, &chosen, fold_of) else {
+            break;
+        };
+        // The candidate with the least held-out error, and its error in each part.
+        let mut best: Option<(usize, f64, [f64; FOLDS])> = None;
         for (j, col) in unit.iter().enumerate() {
             let Some(col) = col else { continue };
             if chosen.contains(&j) {
                 continue;
             }
-            let mut x = col.clone();
-            for q in &basis {
-                let d: f64 = x.iter().zip(q).map(|(a, b)| a * b).sum();
-                x.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
-            }
-            let xx: f64 = x.iter().map(|v| v * v).sum();
             // A column (almost) inside the chosen ones adds nothing new.
+            x.copy_from_slice(col);
+            let xx = orthogonalise(&mut x, &basis);
             if xx <= 1e-8 * n as f64 || !xx.is_finite() {
                 continue;
             }
-            let xr: f64 = x.iter().zip(&resid).map(|(a, b)| a * b).sum();
-            let gain = xr * xr / xx;
-            if best.as_ref().is_none_or(|b| gain > b.1) {
-                let norm = xx.sqrt();
-                x.iter_mut().for_each(|v| *v /= norm);
-                best = Some((j, gain, x));
+            chosen.push(j);
+            let errors = held_out_errors(y, &unit, &chosen, fold_of);
+            chosen.pop();
+            let Some(errors) = errors else { continue };
+            let total: f64 = errors.iter().sum();
+            if best.as_ref().is_none_or(|b| total < b.1) {
+                best = Some((j, total, errors));
             }
         }
-        let Some((j, gain, q)) = best else { break };
-        let rss_after = (rss - gain).max(0.0);
+        let Some((j, _, with)) = best else { break };
+        let Some(col) = &unit[j] else { break };
+        let mut q = col.clone();
+        let xx = orthogonalise(&mut q, &basis);
+        let norm = xx.sqrt();
+        q.iter_mut().for_each(|v| *v /= norm);
         let d: f64 = q.iter().zip(&resid).map(|(a, b)| a * b).sum();
+        let gain = d * d;
+        let rss_after = (rss - gain).max(0.0);
         let after: Vec<f64> = resid.iter().zip(&q).map(|(r, b)| r - d * b).collect();
         let n_eff = effective_samples(&after);
         let lr = if rss_after > 0.0 {
@@ -580,22 +705,7 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
             f64::INFINITY
         };
         let material = gain >= MATERIAL * rss;
-        let mut with = chosen.clone();
-        with.push(j);
-        let folds_better = (0..FOLDS)
-            .filter(|&f| {
-                let without = residual_sum(
-                    y,
-                    columns,
-                    &chosen,
-                    |i| fold_of(i) != f,
-                    |i| fold_of(i) == f,
-                );
-                let with =
-                    residual_sum(y, columns, &with, |i| fold_of(i) != f, |i| fold_of(i) == f);
-                matches!((without, with), (Some(a), Some(b)) if b < a)
-            })
-            .count();
+        let folds_better = with.iter().zip(&without).filter(|(a, b)| a < b).count();
         if !(lr > threshold && material && 2 * folds_better > FOLDS) {
             break;
         }
@@ -606,13 +716,13 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
             likelihood_ratio: lr,
             folds_better,
         });
-        chosen = with;
+        chosen.push(j);
         basis.push(q);
         resid = after;
     }
     let effective = effective_samples(&resid);
     let rss: f64 = resid.iter().map(|v| v * v).sum();
-    let (coefficients, sigmas) = match least_squares(y, columns, &chosen, |_| true) {
+    let (coefficients, sigmas) = match least_squares(y, columns, &chosen) {
         Some((c, diag)) if !chosen.is_empty() => {
             // σ² from the residual variance over the effective samples: (XᵀX)⁻¹·RSS/n_eff
             // is the white-noise value inflated by n/n_eff for the colour.
@@ -632,6 +742,15 @@ fn select(y: &[f64], columns: &[Vec<f64>], threshold: f64) -> Selection {
         rms_after: (rss / n as f64).sqrt(),
         effective_samples: effective,
     }
+}
+
+/// Remove from `x` its projection on the orthonormal `basis`; its squared norm after.
+fn orthogonalise(x: &mut [f64], basis: &[Vec<f64>]) -> f64 {
+    for q in basis {
+        let d: f64 = x.iter().zip(q).map(|(a, b)| a * b).sum();
+        x.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
+    }
+    x.iter().map(|v| v * v).sum()
 }
 
 #[cfg(test)]
@@ -657,6 +776,81 @@ mod tests {
         assert!(effective_samples(&white) > 1500.0);
         let smooth: Vec<f64> = (0..2000).map(|i| (i as f64 * 0.01).sin()).collect();
         assert!(effective_samples(&smooth) < 200.0);
+    }
+
+    #[test]
+    fn a_command_step_is_integrated_from_the_sample_it_is_held_from() {
+        // The quantity is 0 under the first command and 1 under the second, which is held
+        // from sample 1: nothing accrues over the first interval.
+        let time = [0.0, 1.0, 2.0, 3.0];
+        let at_row = [0.0, 1.0, 1.0, 1.0];
+        let held = [0.0, 0.0, 1.0, 1.0];
+        assert_eq!(
+            held_integral(&time, &at_row, &held),
+            vec![0.0, 0.0, 1.0, 2.0]
+        );
+    }
+
+    #[test]
+    fn the_held_out_errors_are_each_parts_error_of_the_fit_on_the_others() {
+        let n = 500;
+        let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.05).sin()).collect();
+        let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.031).cos() + 0.3).collect();
+        let noise = uniform_noise(n, 7);
+        let y: Vec<f64> = (0..n).map(|i| 2.0 * a[i] - b[i] + noise[i]).collect();
+        let fold_of = |i: usize| (i * FOLDS / n).min(FOLDS - 1);
+        let cols = vec![Some(a.clone()), Some(b.clone())];
+        let errors = held_out_errors(&y, &cols, &[0, 1], fold_of).expect("regular");
+        for (f, e) in errors.iter().enumerate() {
+            // The fit on the other parts, the long way.
+            let (mut aa, mut ab, mut bb, mut ay, mut by) = (0.0, 0.0, 0.0, 0.0, 0.0);
+            for i in (0..n).filter(|&i| fold_of(i) != f) {
+                aa += a[i] * a[i];
+                ab += a[i] * b[i];
+                bb += b[i] * b[i];
+                ay += a[i] * y[i];
+                by += b[i] * y[i];
+            }
+            let det = aa * bb - ab * ab;
+            let (ka, kb) = ((bb * ay - ab * by) / det, (aa * by - ab * ay) / det);
+            let direct: f64 = (0..n)
+                .filter(|&i| fold_of(i) == f)
+                .map(|i| (y[i] - ka * a[i] - kb * b[i]).powi(2))
+                .sum();
+            assert!(
+                (e - direct).abs() <= 1e-9 * direct.max(1.0),
+                "{f}: {e} vs {direct}"
+            );
+        }
+    }
+
+    /// A power effect: the moment is t·g, g rising by half in the last part of the flight.
+    /// Its regressor is read with noise; a correlate that rises by a fifth there is read
+    /// without. Over the whole flight the correlate removes more (98.96% against 98.75%), but
+    /// its coefficient does not carry into the last part, and the selection takes the truth.
+    #[test]
+    fn the_selection_prefers_the_form_that_holds_in_every_part_of_the_flight() {
+        let n = 1000;
+        let last = |i: usize| i * FOLDS / n == FOLDS - 1;
+        let t: Vec<f64> = (0..n).map(|i| (i as f64 * 0.07).sin()).collect();
+        let (noise, read_noise) = (uniform_noise(n, 3), uniform_noise(n, 11));
+        let truth = |i: usize| t[i] * if last(i) { 1.5 } else { 1.0 };
+        let y: Vec<f64> = (0..n).map(|i| truth(i) + 0.05 * noise[i]).collect();
+        let read: Vec<f64> = (0..n).map(|i| truth(i) + 0.3 * read_noise[i]).collect();
+        let correlate: Vec<f64> = (0..n)
+            .map(|i| t[i] * if last(i) { 1.2 } else { 1.0 })
+            .collect();
+        let removes = |c: &[f64]| {
+            let cy: f64 = c.iter().zip(&y).map(|(a, b)| a * b).sum();
+            cy * cy / c.iter().map(|v| v * v).sum::<f64>()
+        };
+        assert!(
+            removes(&correlate) > removes(&read),
+            "the correlate removes more in all"
+        );
+        let thr = chi2_quantile(1.0 - 0.01 / 12.0, 1.0);
+        let s = select(&y, &[correlate, read], thr);
+        assert_eq!(s.steps.first().map(|s| s.column), Some(1));
     }
 
     #[test]

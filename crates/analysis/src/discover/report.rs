@@ -38,7 +38,17 @@ pub fn discovery_text(d: &Discovery) -> String {
         );
         return s;
     }
-    let _ = writeln!(s, "  terms found, best first:");
+    match d.error_before {
+        Some(e) => {
+            let _ = writeln!(
+                s,
+                "  terms found, best first (the flight's error without them: {e:.2} × the noise):"
+            );
+        }
+        None => {
+            let _ = writeln!(s, "  terms found, best first:");
+        }
+    }
     for (i, t) in d.terms.iter().enumerate() {
         let _ = writeln!(s, "  {}. {}: {}", i + 1, t.axis.name(), t.reading);
         let _ =
@@ -59,7 +69,15 @@ pub fn discovery_text(d: &Discovery) -> String {
             t.folds_better
         );
         if let Some(e) = t.error_after {
-            let _ = writeln!(s, "     error with it added: {e:.2} × the noise");
+            let which = if i == 0 {
+                "it".to_string()
+            } else {
+                format!("terms 1–{}", i + 1)
+            };
+            let _ = writeln!(
+                s,
+                "     error with {which} added and fitted: {e:.2} × the noise"
+            );
         }
         let _ = writeln!(s, "     add: --add '{}'", t.add);
     }
@@ -95,5 +113,6 @@ pub fn discovery_json(d: &Discovery) -> Value {
         "samples": d.samples,
         "candidates": d.candidates,
         "threshold": d.threshold,
+        "error_before": d.error_before,
     })
 }
