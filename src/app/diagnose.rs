@@ -59,10 +59,13 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     // (Against reference flights the diagnosis's noise is their floor, the model's own
     // error included: the filter weighs its innovations by it as output error does.)
     let compare = cfg.compare;
+    let named: Vec<(&str, &crate::flight::data::FlightData)> =
+        references.iter().map(|(n, d)| (n.as_str(), d)).collect();
     diagnose::turbulence::through_turbulence(
         &base,
         &mut d,
         &data,
+        &named,
         &cfg,
         &compare,
         args.method.into(),

@@ -39,5 +39,6 @@ mod sensors;
 mod several_causes;
 mod terms;
 mod turbulence;
+mod turbulence_fit;
 mod view;
 mod view_gimbal;

@@ -385,6 +385,8 @@ pub fn turbulence_json(t: &crate::diagnose::turbulence::TurbulenceFinding) -> Va
         "forced": t.forced,
         "sigma_mps": g.sigma_mps,
         "sigma_se_mps": g.sigma_se_mps,
+        "rotary_radps2": g.rotary_radps2,
+        "rotary_se_radps2": g.rotary_se_radps2,
         "length_m": g.length_m,
         "length_se_m": g.length_se_m,
         "likelihood_ratio": g.likelihood_ratio,
@@ -395,7 +397,8 @@ pub fn turbulence_json(t: &crate::diagnose::turbulence::TurbulenceFinding) -> Va
             "param": r.param,
             "value": r.value,
             "sigma": r.sigma,
-            "output_error": r.output_error,
+            "output_error": (!r.added).then_some(r.output_error),
+            "added": r.added,
         })).collect::<Vec<_>>(),
     })
 }
@@ -1019,6 +1022,17 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
         })
         .collect();
     let _ = writeln!(out, "    scale lengths: {}", lengths.join("; "));
+    let rotary: Vec<String> = (0..3)
+        .map(|k| {
+            format!(
+                "{} ± {} {}",
+                fixed(g.rotary_radps2[k], 2),
+                fixed(g.rotary_se_radps2[k], 2),
+                ["x", "y", "z"][k]
+            )
+        })
+        .collect();
+    let _ = writeln!(out, "    rotary disturbance σ {} rad/s²", rotary.join(", "));
     let _ = writeln!(
         out,
         "    likelihood ratio against calm air {} (significant above {}): {}; output error \
@@ -1034,7 +1048,10 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
         fixed(g.gusty.normalised, 2)
     );
     if !t.refits.is_empty() {
-        out.push_str("    numbers fitted through the filter (output error's in brackets):\n");
+        out.push_str(
+            "    numbers fitted through the filter (output error's in brackets; \"—\": found by \
+             the filter's own search):\n",
+        );
         let mut table = Table::new(["cause", "number", "value", "±1σ", "output error"]);
         for r in &t.refits {
             table.row([
@@ -1042,7 +1059,11 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
                 r.param.clone(),
                 format!("{:.5}", r.value),
                 format!("{:.5}", r.sigma),
-                format!("({:.5})", r.output_error),
+                if r.added {
+                    "—".to_string()
+                } else {
+                    format!("({:.5})", r.output_error)
+                },
             ]);
         }
         out.push_str(&table.render(4));

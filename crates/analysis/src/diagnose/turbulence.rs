@@ -10,12 +10,35 @@
 //! number of the causes kept is fitted again through the filter, so that it no longer
 //! carries the gusts' bias. A steady wind, a sensor bias or a wrong number stay what they are:
 //! they are causes output error finds and keeps, and the filter refits them.
+//!
+//! In turbulence output error may keep nothing: the gusts' response hides a wrong number from
+//! its tests. The filter then searches the aircraft's numbers itself: each scored by how much
+//! one Gauss–Newton step on it would raise the filter's likelihood, the best [`SEARCHED`]
+//! fitted, and the best of those kept when its likelihood ratio — deflated by the square of
+//! the innovations' spread over the filter's own account of it, so that a model that is not
+//! exact does not make every number significant — beats the χ² bound at the family-wise
+//! level shared over every number (Bonferroni). Up to [`MOST_CAUSES`] numbers are added this
+//! way, the gusts estimated again after each.
+//!
+//! Against reference flights the search stays off. On JSBSim's c172p in its own light
+//! turbulence the filter moves numbers on an *unchanged* flight as well as on a changed one
+//! (the lift slope by +35 to +56 %, the roll damping by −36 %, the wing area by +7 %), where
+//! calm reference flights cannot show it: the way JSBSim's gusts, rotary ones included, act
+//! on its aircraft is not the filter's. Naming those would name the wrong cause; the verdict
+//! is turbulence with the causes output error kept, refitted.
 
 use super::{Correction, DiagnoseConfig, Diagnosis, Verdict};
 use crate::compare::CompareConfig;
 use crate::filter_error::flight::{FilterError, FlightFilter, GustEstimate};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
+use wireflight_flight::numeric::chi2_quantile;
+use wireflight_flight::params::keys::KEYS;
+
+/// Aircraft numbers the filter fits in its own search, the best-scored first.
+pub const SEARCHED: usize = 6;
+/// Numbers the filter's own search adds at most.
+pub const MOST_CAUSES: usize = 2;
 
 /// How model and measurements are compared.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -41,8 +64,10 @@ pub struct Refit {
     pub output_error: f64,
     /// The filter-error method's value.
     pub value: f64,
-    /// Its 1σ.
+    /// Its 1σ (scaled up by the innovations' spread where it exceeds the filter's account).
     pub sigma: f64,
+    /// Found by the filter's own search, not by output error (its `output_error` is NaN).
+    pub added: bool,
 }
 
 /// Turbulence found in a flight.
@@ -94,6 +119,7 @@ pub fn through_turbulence(
     base: &Model,
     d: &mut Diagnosis,
     data: &FlightData,
+    references: &[(&str, &FlightData)],
     cfg: &DiagnoseConfig,
     compare: &CompareConfig,
     method: Method,
@@ -102,7 +128,6 @@ pub fn through_turbulence(
     if method == Method::OutputError || (!forced && d.verdict != Verdict::Unexplained) {
         return Ok(());
     }
-    let _ = cfg;
     let mut model = base.clone();
     for c in &d.found {
         let _ = c.correction.apply(&mut model);
@@ -130,6 +155,7 @@ pub fn through_turbulence(
                         output_error: ch.value,
                         value: ch.value,
                         sigma: f64::NAN,
+                        added: false,
                     });
                 }
             }
@@ -143,6 +169,7 @@ pub fn through_turbulence(
                             output_error: *value,
                             value: *value,
                             sigma: f64::NAN,
+                            added: false,
                         });
                     }
                 }
@@ -155,9 +182,10 @@ pub fn through_turbulence(
         let set = |m: &mut Model, theta: &[f64]| set_slots(m, &slots, theta);
         let fit = filter.fit(&model, &set, &theta0, &scales, &gusts.model());
         set_slots(&mut model, &slots, &fit.theta);
+        let spread = fit.pass.normalised.max(1.0);
         for ((r, v), s) in refits.iter_mut().zip(&fit.theta).zip(&fit.sigma) {
             r.value = *v;
-            r.sigma = *s;
+            r.sigma = *s * spread;
         }
         // The causes carry the filter's values from here on (the verdict, `--out`).
         for c in d.found.iter_mut() {
@@ -180,17 +208,96 @@ pub fn through_turbulence(
         // The gusts again on the refitted model: the causes no longer hide part of them.
         gusts = filter.estimate_gusts(&model);
     }
+    // Against reference flights the search stays off: the filter's values on a turbulent
+    // flight and on calm ones differ by more than a changed number where the gust model and
+    // the aircraft's response to gusts are not exact (module docs).
+    if gusts.significant() && references.is_empty() {
+        let mut taken: Vec<String> = refits.iter().map(|r| r.param.clone()).collect();
+        for _ in 0..MOST_CAUSES {
+            let Some(r) = search_number(&filter, &model, &gusts, &taken, cfg) else {
+                break;
+            };
+            let key = KEYS.iter().find(|k| k.name == r.param).map(|k| k.name);
+            if let Some(key) = key {
+                let _ = model.set_aircraft(key, r.value);
+            }
+            taken.push(r.param.clone());
+            refits.push(r);
+            gusts = filter.estimate_gusts(&model);
+        }
+    }
     let finding = TurbulenceFinding {
         gusts,
         refits,
         forced,
     };
     if finding.significant() {
-        d.verdict = Verdict::Turbulence(d.found.iter().map(|c| c.effect.clone()).collect());
+        let mut names: Vec<String> = d.found.iter().map(|c| c.effect.clone()).collect();
+        names.extend(
+            finding
+                .refits
+                .iter()
+                .filter(|r| r.added)
+                .map(|r| r.cause.clone()),
+        );
+        d.verdict = Verdict::Turbulence(names);
         // Where output error's error lies, and which numbers would reduce it, describe the
         // gusts' response: no longer evidence of a missing cause.
         d.evidence.clear();
     }
     d.turbulence = Some(finding);
     Ok(())
+}
+
+/// The filter's own search for a wrong number of the aircraft (module docs): the best one
+/// that is significant, fitted; None when none is.
+fn search_number(
+    filter: &FlightFilter,
+    model: &Model,
+    gusts: &GustEstimate,
+    taken: &[String],
+    cfg: &DiagnoseConfig,
+) -> Option<Refit> {
+    let g = gusts.model();
+    let (at, white) = filter.whitened(model, &g);
+    let spread2 = at.normalised.max(1.0).powi(2);
+    let mut scored: Vec<(f64, &'static str, f64)> = KEYS
+        .iter()
+        .filter(|k| !taken.iter().any(|t| t == k.name))
+        .filter_map(|k| {
+            let v = model.aircraft(k.name)?;
+            let scale = (0.1 * v.abs()).max(1e-3);
+            let set = |m: &mut Model, x: f64| {
+                let _ = m.set_aircraft(k.name, x);
+            };
+            Some((filter.score(model, &set, v, scale, &g, &white), k.name, v))
+        })
+        .collect();
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let critical = chi2_quantile(1.0 - cfg.alpha / KEYS.len().max(1) as f64, 1.0);
+    let mut best: Option<(f64, Refit)> = None;
+    for &(_, key, v) in scored.iter().take(SEARCHED) {
+        let set = |m: &mut Model, x: &[f64]| {
+            let _ = m.set_aircraft(key, x[0]);
+        };
+        let scale = (0.1 * v.abs()).max(1e-3);
+        let fit = filter.fit(model, &set, &[v], &[scale], &g);
+        let lr = 2.0 * (at.neg_log_likelihood - fit.pass.neg_log_likelihood) / spread2;
+        if !(lr > critical) {
+            continue;
+        }
+        let sigma = fit.sigma[0] * fit.pass.normalised.max(1.0);
+        let refit = Refit {
+            cause: format!("aircraft:{key}"),
+            param: key.to_string(),
+            output_error: f64::NAN,
+            value: fit.theta[0],
+            sigma,
+            added: true,
+        };
+        if best.as_ref().is_none_or(|(b, _)| lr > *b) {
+            best = Some((lr, refit));
+        }
+    }
+    best.map(|(_, r)| r)
 }

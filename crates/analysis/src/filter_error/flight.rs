@@ -60,8 +60,13 @@ use wireflight_flight::model::{Model, State, Vehicle};
 const AIRCRAFT: usize = 12;
 /// Gust axes: north, east, down.
 pub const GUST_AXES: usize = 3;
-/// States of the gust shaping filters: one for u, two each for v and w.
-const GUST_STATES: usize = 5;
+/// States of the gust shaping filters: one for u, two each for v and w, one for each axis
+/// of the rotary disturbance.
+const GUST_STATES: usize = 8;
+/// The first rotary disturbance state.
+const ROTARY: usize = 5;
+/// Intensities the filter estimates: three gust velocities, three rotary disturbances.
+pub const INTENSITIES: usize = 6;
 /// Filter states: the aircraft's error state and the gust filters'.
 const NA: usize = AIRCRAFT + GUST_STATES;
 /// Measurement rows the filter can use: position 3, NED velocity 3, attitude 3, rates 3,
@@ -78,10 +83,13 @@ const LENGTH_RANGE: (f64, f64) = (20.0, 3000.0);
 /// Scale length of the gusts when the data do not determine it, m (between MIL-F-8785C's
 /// low-altitude lengths and its 1750 ft above 2000 ft).
 pub const DEFAULT_LENGTH_M: f64 = 300.0;
-/// Golden-section steps of one search (the bracket shrinks by 0.618 each: ln σ to 1 %).
-const GOLDEN_STEPS: usize = 15;
-/// χ² with three degrees of freedom at 0.1 %: three intensities must earn their place.
-pub const TURBULENCE_LR_BOUND: f64 = 16.27;
+/// Golden-section steps of one search (the bracket shrinks by 0.618 each: ln σ to 3 %, well
+/// inside its ±).
+const GOLDEN_STEPS: usize = 12;
+/// Rotary disturbances searched, rad/s².
+const ROTARY_RANGE: (f64, f64) = (1e-4, 50.0);
+/// χ² with six degrees of freedom at 0.1 %: six intensities must earn their place.
+pub const TURBULENCE_LR_BOUND: f64 = 22.46;
 
 /// The gust field the filter assumes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,6 +98,10 @@ pub struct GustModel {
     pub sigma_mps: [f64; GUST_AXES],
     /// Dryden scale lengths L of the three, m (time scales L/V).
     pub length_m: [f64; GUST_AXES],
+    /// Stationary deviation of the rotary disturbance, the angular acceleration turbulence
+    /// adds about the body axes x, y, z, rad/s² (MIL-F-8785C's rotary gusts p_g, q_g, r_g
+    /// act through the rate damping; JSBSim flies them).
+    pub rotary_radps2: [f64; 3],
 }
 
 impl GustModel {
@@ -97,7 +109,27 @@ impl GustModel {
     pub const CALM: GustModel = GustModel {
         sigma_mps: [0.0; GUST_AXES],
         length_m: [DEFAULT_LENGTH_M; GUST_AXES],
+        rotary_radps2: [0.0; 3],
     };
+
+    /// Intensity `j`: the gusts' σ (0..3), then the rotary disturbances' (3..6).
+    pub fn intensity(&self, j: usize) -> f64 {
+        if j < GUST_AXES {
+            self.sigma_mps[j]
+        } else {
+            self.rotary_radps2[j - GUST_AXES]
+        }
+    }
+
+    /// The same model with intensity `j` set to `v`.
+    pub fn with_intensity(mut self, j: usize, v: f64) -> Self {
+        if j < GUST_AXES {
+            self.sigma_mps[j] = v;
+        } else if j < INTENSITIES {
+            self.rotary_radps2[j - GUST_AXES] = v;
+        }
+        self
+    }
 }
 
 /// The Dryden shaping filters of a gust model at an airspeed, in the filter's gust states
@@ -109,10 +141,16 @@ struct DrydenFilters {
     c: [[f64; GUST_STATES]; GUST_AXES],
     /// Stationary covariance of the states.
     p_inf: [[f64; GUST_STATES]; GUST_STATES],
+    /// Angular acceleration per unit rotary state, rad/s² (its σ), body x, y, z.
+    rotary: [f64; 3],
+    /// Time constant of the rotary disturbance, s.
+    rotary_tau: f64,
 }
 
 impl DrydenFilters {
-    fn new(g: &GustModel, airspeed: f64) -> Self {
+    /// The filters of `g` at `airspeed` for an aircraft of `span` (the rotary disturbance's
+    /// time constant is Dryden's 4b/(πV)).
+    fn new(g: &GustModel, airspeed: f64, span: f64) -> Self {
         let mut a = [[0.0; GUST_STATES]; GUST_STATES];
         let mut c = [[0.0; GUST_STATES]; GUST_AXES];
         let mut p_inf = [[0.0; GUST_STATES]; GUST_STATES];
@@ -135,7 +173,18 @@ impl DrydenFilters {
             c[axis][first] = k / (tt * tt);
             c[axis][first + 1] = k * 3f64.sqrt() / tt;
         }
-        Self { a, c, p_inf }
+        let rotary_tau = (4.0 * span / (std::f64::consts::PI * airspeed)).max(1e-3);
+        for k in 0..3 {
+            a[ROTARY + k][ROTARY + k] = -1.0 / rotary_tau;
+            p_inf[ROTARY + k][ROTARY + k] = 1.0;
+        }
+        Self {
+            a,
+            c,
+            p_inf,
+            rotary: g.rotary_radps2,
+            rotary_tau,
+        }
     }
 
     /// The exact transition over `dt` and its driving noise P∞ − Φ·P∞·Φᵀ.
@@ -202,6 +251,10 @@ pub struct GustEstimate {
     pub sigma_mps: [f64; GUST_AXES],
     /// Their 1σ uncertainty, m/s (from the likelihood's curvature).
     pub sigma_se_mps: [f64; GUST_AXES],
+    /// Stationary deviation of the rotary disturbance about body x, y, z, rad/s².
+    pub rotary_radps2: [f64; 3],
+    /// Its 1σ uncertainty, rad/s².
+    pub rotary_se_radps2: [f64; 3],
     /// Scale lengths used, m (north, east, down; north and east are one number).
     pub length_m: [f64; GUST_AXES],
     /// Their 1σ uncertainty, m, where the data determine them (under half the length);
@@ -221,11 +274,12 @@ impl GustEstimate {
         GustModel {
             sigma_mps: self.sigma_mps,
             length_m: self.length_m,
+            rotary_radps2: self.rotary_radps2,
         }
     }
 
     /// Whether the gusts are significant: the likelihood ratio beats
-    /// [`TURBULENCE_LR_BOUND`] and some intensity is more than twice its uncertainty.
+    /// [`TURBULENCE_LR_BOUND`] and some gust intensity is more than twice its uncertainty.
     pub fn significant(&self) -> bool {
         self.likelihood_ratio > TURBULENCE_LR_BOUND
             && self
@@ -283,6 +337,8 @@ pub struct FlightFilter<'d> {
     noise: [f64; ROWS],
     /// Mean airspeed, m/s (the frozen field's speed).
     airspeed_mps: f64,
+    /// Wing span, m (the rotary disturbance's time scale).
+    span_m: f64,
     accel: bool,
     max_dt: f64,
     vel_body: Vec<DVec3>,
@@ -372,6 +428,7 @@ impl<'d> FlightFilter<'d> {
             rows,
             noise: sigma,
             airspeed_mps,
+            span_m: model.vehicle.span(),
             accel: measured.accel,
             max_dt: cfg.max_dt,
             vel_body: vb,
@@ -396,6 +453,44 @@ impl<'d> FlightFilter<'d> {
     /// One pass of the filter over every window with the gusts `gusts`.
     pub fn pass(&self, model: &Model, gusts: &GustModel) -> Pass {
         self.pass_whitened(model, gusts, false).0
+    }
+
+    /// How much the likelihood could fall if the number `set` puts into the model moved
+    /// from `value` (by one Gauss–Newton step from there, with the gusts `gusts`): the score
+    /// test (Jᵀr)²/(2·JᵀJ) of the whitened innovations r; one pass besides `at`, the pass at
+    /// `value` with its whitened innovations ([`FlightFilter::whitened`]).
+    pub fn score(
+        &self,
+        model: &Model,
+        set: &(dyn Fn(&mut Model, f64) + Sync),
+        value: f64,
+        scale: f64,
+        gusts: &GustModel,
+        at: &[f64],
+    ) -> f64 {
+        let h = 1e-4 * scale.abs().max(1e-9);
+        let mut m = model.clone();
+        set(&mut m, value + h);
+        let (p, moved) = self.pass_whitened(&m, gusts, true);
+        if !p.finite || moved.len() != at.len() {
+            return 0.0;
+        }
+        let (mut jr, mut jj) = (0.0, 0.0);
+        for (a, b) in moved.iter().zip(at) {
+            let j = (a - b) / h;
+            jr += j * b;
+            jj += j * j;
+        }
+        if jj > 0.0 {
+            0.5 * jr * jr / jj
+        } else {
+            0.0
+        }
+    }
+
+    /// One pass and its whitened innovations L⁻¹·ν (S = L·Lᵀ), every sample in order.
+    pub fn whitened(&self, model: &Model, gusts: &GustModel) -> (Pass, Vec<f64>) {
+        self.pass_whitened(model, gusts, true)
     }
 
     /// [`FlightFilter::pass`], and with `white` the whitened innovations L⁻¹·ν (S = L·Lᵀ)
@@ -446,19 +541,26 @@ impl<'d> FlightFilter<'d> {
         let mut gusts = GustModel {
             sigma_mps: [0.5; GUST_AXES],
             length_m: [DEFAULT_LENGTH_M; GUST_AXES],
+            rotary_radps2: [0.0; 3],
         };
-        let intensities = |gusts: &mut GustModel| {
-            for j in 0..GUST_AXES {
-                gusts.sigma_mps[j] = golden(SIGMA_RANGE, |ln_s| {
-                    let mut g = *gusts;
-                    g.sigma_mps[j] = ln_s.exp();
-                    nll(&g)
-                });
+        let range = |j: usize| {
+            if j < GUST_AXES {
+                SIGMA_RANGE
+            } else {
+                ROTARY_RANGE
+            }
+        };
+        // The first round leaves the rotary disturbances at zero: the gust velocities drive
+        // most of what is measured, and the second round settles all six.
+        let intensities = |gusts: &mut GustModel, count: usize| {
+            for j in 0..count {
+                let best = golden(range(j), |ln_s| nll(&gusts.with_intensity(j, ln_s.exp())));
+                *gusts = gusts.with_intensity(j, best);
             }
         };
         // The intensities in turn, the lengths (horizontal, vertical), the intensities again:
         // each axis drives mostly its own channels, so one more round settles them.
-        intensities(&mut gusts);
+        intensities(&mut gusts, GUST_AXES);
         let mut length_se_m = [None; GUST_AXES];
         let mut best = self.pass(model, &gusts);
         for axes in [&[0usize, 1][..], &[2][..]] {
@@ -485,27 +587,22 @@ impl<'d> FlightFilter<'d> {
                 }
             }
         }
-        intensities(&mut gusts);
+        intensities(&mut gusts, INTENSITIES);
         let mut gusty = self.pass(model, &gusts);
-        // An intensity at the bottom of the range is calm on that axis.
-        for j in 0..GUST_AXES {
-            let mut g = gusts;
-            g.sigma_mps[j] = 0.0;
+        // An intensity at the bottom of its range is none on that axis.
+        for j in 0..INTENSITIES {
+            let g = gusts.with_intensity(j, 0.0);
             let p = self.pass(model, &g);
             if p.neg_log_likelihood <= gusty.neg_log_likelihood {
                 gusts = g;
                 gusty = p;
             }
         }
-        let mut sigma_se_mps = [0.0; GUST_AXES];
-        for (j, se) in sigma_se_mps.iter_mut().enumerate() {
-            let s = gusts.sigma_mps[j];
-            let h = (0.05 * s).max(0.01);
-            let at = |v: f64| {
-                let mut g = gusts;
-                g.sigma_mps[j] = v;
-                nll(&g)
-            };
+        let mut se = [0.0; INTENSITIES];
+        for (j, se) in se.iter_mut().enumerate() {
+            let s = gusts.intensity(j);
+            let h = (0.05 * s).max(0.01 * range(j).1 / SIGMA_RANGE.1);
+            let at = |v: f64| nll(&gusts.with_intensity(j, v));
             *se = if s > h {
                 curvature_se(s, gusty.neg_log_likelihood, at)
             } else {
@@ -521,7 +618,9 @@ impl<'d> FlightFilter<'d> {
         }
         GustEstimate {
             sigma_mps: gusts.sigma_mps,
-            sigma_se_mps,
+            sigma_se_mps: [se[0], se[1], se[2]],
+            rotary_radps2: gusts.rotary_radps2,
+            rotary_se_radps2: [se[3], se[4], se[5]],
             length_m: gusts.length_m,
             length_se_m,
             calm,
@@ -655,7 +754,7 @@ impl<'d> FlightFilter<'d> {
     ) -> Pass {
         let d = self.data;
         let p = self.rows.len();
-        let dryden = DrydenFilters::new(gusts, self.airspeed_mps);
+        let dryden = DrydenFilters::new(gusts, self.airspeed_mps, self.span_m);
         let att = d.attitude.as_ref().map(|a| a[start]).unwrap_or_default();
         let rates = d.rates_body.as_ref().map(|r| r[start]).unwrap_or_default();
         let mut x = State::measured(
@@ -729,6 +828,16 @@ impl<'d> FlightFilter<'d> {
             let (steps, h) = Model::substeps(dt, self.max_dt);
             for k in 0..steps {
                 x = model.step(t0 + k as f64 * h, &x, &cmd, h);
+            }
+            // The rotary disturbance's angular acceleration, decaying over the step, added
+            // to the rates: ∫ σ·z·e^(−s/τ) ds = σ·z·τ·(1 − e^(−Δt/τ)).
+            let tau_r = dryden.rotary_tau;
+            let gain = tau_r * (1.0 - (-dt / tau_r).exp());
+            let spin = DVec3::from_array(std::array::from_fn(|k| {
+                dryden.rotary[k] * z[ROTARY + k] * gain
+            }));
+            if spin != DVec3::ZERO {
+                x.set_omega(x.omega() + spin);
             }
             z = std::array::from_fn(|r| (0..GUST_STATES).map(|c| gust_phi[r][c] * z[c]).sum());
             if !x.is_finite() {
@@ -905,6 +1014,10 @@ fn augmented_jacobian(
             a[(AIRCRAFT + i) * NA + AIRCRAFT + j] = dryden.a[i][j];
         }
     }
+    // The rotary disturbance drives the rates (error 9..12) directly.
+    for k in 0..3 {
+        a[(9 + k) * NA + AIRCRAFT + ROTARY + k] = dryden.rotary[k];
+    }
     a
 }
 
@@ -989,7 +1102,7 @@ struct Update {
 }
 
 /// The Kalman update for innovation `nu` on the measured `rows` (of the full `h`, noise
-/// `noise`): the correction, νᵀS⁻¹ν and ln det S, and P by Joseph's form. None when S is
+/// `noise`): the correction, νᵀS⁻¹ν and ln det S, and P updated. None when S is
 /// not positive definite.
 fn kalman_update(
     h: &[[f64; NA]; ROWS],
@@ -1058,36 +1171,24 @@ fn kalman_update(
     for (i, c) in correction.iter_mut().enumerate() {
         *c = (0..p).map(|r| pht[i][r] * s_inv_nu[r]).sum();
     }
-    // K = PHᵀS⁻¹, row by row (each row of K solves S·kᵀ = (PHᵀ)ᵀ's row).
+    // K = PHᵀS⁻¹, row by row (each row of K solves S·kᵀ = (PHᵀ)ᵀ's row), and
+    // P ← P − K·(PHᵀ)ᵀ, symmetrised (R is the measured noise, never near zero, so the short
+    // form keeps P positive; Joseph's form would cost four times as much).
     let mut k = [[0.0; ROWS]; NA];
     for i in 0..NA {
         k[i] = solve(&pht[i][..p]);
     }
-    // Joseph: P ← (I − KH)·P·(I − KH)ᵀ + K·R·Kᵀ.
-    let mut ikh = [0.0; NA * NA];
-    for i in 0..NA {
-        for j in 0..NA {
-            let kh: f64 = rows
-                .iter()
-                .enumerate()
-                .map(|(r, &row)| k[i][r] * h[row][j])
-                .sum();
-            ikh[i * NA + j] = if i == j { 1.0 } else { 0.0 } - kh;
-        }
-    }
-    let mut tmp = [0.0; NA * NA];
-    mul(&ikh, cov, &mut tmp);
-    let mut next = [0.0; NA * NA];
+    let mut next = *cov;
     for i in 0..NA {
         for j in 0..=i {
-            let mut v: f64 = (0..NA).map(|m| tmp[i * NA + m] * ikh[j * NA + m]).sum();
-            v += rows
-                .iter()
-                .enumerate()
-                .map(|(r, &row)| k[i][r] * noise[row] * noise[row] * k[j][r])
-                .sum::<f64>();
-            next[i * NA + j] = v;
-            next[j * NA + i] = v;
+            let v = 0.5
+                * (0..p)
+                    .map(|r| k[i][r] * pht[j][r] + k[j][r] * pht[i][r])
+                    .sum::<f64>();
+            next[i * NA + j] -= v;
+            if i != j {
+                next[j * NA + i] -= v;
+            }
         }
     }
     *cov = next;
