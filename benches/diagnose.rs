@@ -121,5 +121,47 @@ fn one_hour(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, one_hour);
+/// The filter-error method on a minute of 50 Hz flight in light turbulence: one pass of the
+/// filter (the unit every estimate is made of), and the estimate of the six intensities.
+fn filter_error(c: &mut Criterion) {
+    use wireflight::analysis::compare::estimate_noise;
+    use wireflight::analysis::filter_error::flight::{FlightFilter, GustModel};
+    use wireflight::flight::turbulence::{Turbulence, TurbulenceLevel};
+    let model = ModelSpec::baseline(VehicleKind::FixedWing)
+        .build(Origin::default())
+        .unwrap();
+    let spec = SimSpec {
+        noise: Noise {
+            pos_m: 0.5,
+            att_deg: 0.2,
+            vel_mps: 0.1,
+            rate_dps: 0.2,
+        },
+        turbulence: Some(Turbulence {
+            level: TurbulenceLevel::Light,
+            seed: 3,
+        }),
+        ..SimSpec::new(Manoeuvre::FlightTest, 60.0)
+    };
+    let data = simulate(&model, &spec).unwrap();
+    let filter = FlightFilter::new(
+        &model,
+        &data,
+        &estimate_noise(&data),
+        &CompareConfig::default(),
+    )
+    .unwrap();
+    let mut gusts = GustModel::CALM;
+    gusts.sigma_mps = [0.88, 0.88, 0.77];
+    let mut group = c.benchmark_group("filter_error_60s_50hz");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(data.len() as u64));
+    group.bench_function("one pass", |b| b.iter(|| filter.pass(&model, &gusts)));
+    group.bench_function("estimate the intensities", |b| {
+        b.iter(|| filter.estimate_gusts(&model))
+    });
+    group.finish();
+}
+
+criterion_group!(benches, one_hour, filter_error);
 criterion_main!(benches);

@@ -382,6 +382,7 @@ pub fn turbulence_json(t: &crate::diagnose::turbulence::TurbulenceFinding) -> Va
     let g = &t.gusts;
     json!({
         "significant": t.significant(),
+        "reference_sigma_mps": t.reference_sigma_mps.map(|r| r.0),
         "forced": t.forced,
         "sigma_mps": g.sigma_mps,
         "sigma_se_mps": g.sigma_se_mps,
@@ -1033,13 +1034,24 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
         })
         .collect();
     let _ = writeln!(out, "    rotary disturbance σ {} rad/s²", rotary.join(", "));
+    if let Some((floor, se)) = &t.reference_sigma_mps {
+        let parts: Vec<String> = (0..3)
+            .map(|k| format!("{} ± {}", fixed(floor[k], 2), fixed(se[k], 2)))
+            .collect();
+        let _ = writeln!(
+            out,
+            "    on the reference flights (calm: the model's own error) the filter finds gusts σ \
+             {} m/s; turbulence must exceed them",
+            parts.join(", ")
+        );
+    }
     let _ = writeln!(
         out,
         "    likelihood ratio against calm air {} (significant above {}): {}; output error \
          leaves {} × the noise, the filter's innovations {} × their expected spread",
         fixed(g.likelihood_ratio, 1),
         fixed(crate::filter_error::flight::TURBULENCE_LR_BOUND, 2),
-        if g.significant() {
+        if t.significant() {
             "turbulence"
         } else {
             "calm"

@@ -28,7 +28,7 @@
 //! is turbulence with the causes output error kept, refitted.
 
 use super::{Correction, DiagnoseConfig, Diagnosis, Verdict};
-use crate::compare::CompareConfig;
+use crate::compare::{combined, estimate_noise, CompareConfig};
 use crate::filter_error::flight::{FilterError, FlightFilter, GustEstimate};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
@@ -79,13 +79,55 @@ pub struct TurbulenceFinding {
     pub refits: Vec<Refit>,
     /// Whether the filter was forced (`--method filter-error`) rather than chosen.
     pub forced: bool,
+    /// Against reference flights: the largest gust σ the filter finds on them (north, east,
+    /// down, m/s) and its ±, the floor a model that is not exact puts under the estimate.
+    pub reference_sigma_mps: Option<([f64; 3], [f64; 3])>,
 }
 
 impl TurbulenceFinding {
-    /// Whether the gusts are significant.
+    /// Whether the gusts are significant: by the likelihood ratio against calm air, and,
+    /// against reference flights, above what the filter finds on them on some axis by more
+    /// than twice the two ± together.
     pub fn significant(&self) -> bool {
-        self.gusts.significant()
+        let beyond = match &self.reference_sigma_mps {
+            None => true,
+            Some((floor, floor_se)) => (0..3).any(|k| {
+                let se = self.gusts.sigma_se_mps[k].hypot(floor_se[k]);
+                self.gusts.sigma_mps[k] - floor[k] > 2.0 * se
+            }),
+        };
+        self.gusts.significant() && beyond
     }
+}
+
+/// The gusts the filter finds on calm reference flights, axis by axis the largest (with its
+/// ±): what a model that is not exact leaves that looks like gusts.
+fn reference_floor(
+    base: &Model,
+    references: &[(&str, &FlightData)],
+    compare: &CompareConfig,
+    d: &Diagnosis,
+) -> Option<([f64; 3], [f64; 3])> {
+    let model_error = d.reference.as_ref()?.floor.model_error;
+    let mut floor = ([0.0; 3], [0.0; 3]);
+    for (_, r) in references {
+        let noise = combined(&estimate_noise(r), &model_error);
+        let Ok(f) = FlightFilter::new(base, r, &noise, compare) else {
+            continue;
+        };
+        let g = f.estimate_gusts(base);
+        for k in 0..3 {
+            if g.sigma_mps[k] > floor.0[k] {
+                floor.0[k] = g.sigma_mps[k];
+                floor.1[k] = if g.sigma_se_mps[k].is_finite() {
+                    g.sigma_se_mps[k]
+                } else {
+                    0.0
+                };
+            }
+        }
+    }
+    Some(floor)
 }
 
 /// How one refitted number is put into a model.
@@ -138,7 +180,21 @@ pub fn through_turbulence(
         Err(_) => return Ok(()),
     };
     let mut gusts = filter.estimate_gusts(&model);
-    if !forced && !gusts.significant() {
+    let reference_sigma_mps = if references.is_empty() {
+        None
+    } else {
+        reference_floor(base, references, compare, d)
+    };
+    let beyond_references = |g: &GustEstimate| {
+        TurbulenceFinding {
+            gusts: *g,
+            refits: Vec::new(),
+            forced,
+            reference_sigma_mps,
+        }
+        .significant()
+    };
+    if !forced && !beyond_references(&gusts) {
         return Ok(());
     }
     // The causes' fitted numbers, refitted through the filter with these gusts.
@@ -230,6 +286,7 @@ pub fn through_turbulence(
         gusts,
         refits,
         forced,
+        reference_sigma_mps,
     };
     if finding.significant() {
         let mut names: Vec<String> = d.found.iter().map(|c| c.effect.clone()).collect();

@@ -550,8 +550,6 @@ impl<'d> FlightFilter<'d> {
                 ROTARY_RANGE
             }
         };
-        // The first round leaves the rotary disturbances at zero: the gust velocities drive
-        // most of what is measured, and the second round settles all six.
         let intensities = |gusts: &mut GustModel, count: usize| {
             for j in 0..count {
                 let best = golden(range(j), |ln_s| nll(&gusts.with_intensity(j, ln_s.exp())));
@@ -560,7 +558,7 @@ impl<'d> FlightFilter<'d> {
         };
         // The intensities in turn, the lengths (horizontal, vertical), the intensities again:
         // each axis drives mostly its own channels, so one more round settles them.
-        intensities(&mut gusts, GUST_AXES);
+        intensities(&mut gusts, INTENSITIES);
         let mut length_se_m = [None; GUST_AXES];
         let mut best = self.pass(model, &gusts);
         for axes in [&[0usize, 1][..], &[2][..]] {
