@@ -69,7 +69,14 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
         })
         .collect::<anyhow::Result<_>>()?;
     let free = free_keys(&args.free)?;
-    let id = identify(&base, &flights, &free, &cfg)?;
+    let mut id = identify(&base, &flights, &free, &cfg)?;
+    let turbulent = crate::analysis::identify::turbulence::through_turbulence(
+        &flights,
+        &mut id,
+        &cfg,
+        args.method.into(),
+    )
+    .map_err(|e| anyhow::anyhow!("--method filter-error: {e}"))?;
     let validations: Vec<Validation> = args
         .validate
         .iter()
@@ -107,16 +114,28 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
             .with_context(|| format!("writing {}", out.display()))?;
     }
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&identification_json(&id, &validations))?
-        );
+        let mut v = identification_json(&id, &validations);
+        v["turbulence"] = turbulent.as_ref().map_or(serde_json::Value::Null, |t| {
+            serde_json::json!({
+                "forced": t.forced,
+                "flights": t.gusts.iter().map(|g| serde_json::json!({
+                    "significant": g.significant(),
+                    "sigma_mps": g.sigma_mps,
+                    "sigma_se_mps": g.sigma_se_mps,
+                })).collect::<Vec<_>>(),
+                "output_error": t.output_error,
+            })
+        });
+        println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
     print!(
         "{}",
         identification_text(args, &base, &flights, &id, &validations)
     );
+    if let Some(t) = &turbulent {
+        print!("{}", turbulence_text(args, &id, t));
+    }
     if let Some(out) = &args.out {
         println!("  wrote {}", crate::app::shown(out));
     }
@@ -326,4 +345,42 @@ fn identification_text(
 fn fmt_prior_percent(prior: f64) -> String {
     let p = format!("{:.4}", 100.0 * prior);
     p.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// What the filter-error method found and changed: each flight's gusts, and each number
+/// against output error's value.
+fn turbulence_text(
+    args: &IdentifyArgs,
+    id: &Identification,
+    t: &crate::analysis::identify::turbulence::ThroughTurbulence,
+) -> String {
+    use std::fmt::Write as _;
+    let mut out = format!(
+        "  through turbulence (filter-error method{}): the values above are the filter's\n",
+        if t.forced { ", forced" } else { "" }
+    );
+    for (path, g) in args.flight.iter().zip(&t.gusts) {
+        let _ = writeln!(
+            out,
+            "    {}: {}{}",
+            crate::app::shown(path),
+            crate::analysis::report::gusts_text(g),
+            if g.significant() {
+                ""
+            } else {
+                " (not significant)"
+            }
+        );
+    }
+    for (e, oe) in id.estimates.iter().zip(&t.output_error) {
+        let _ = writeln!(
+            out,
+            "    {} {} ± {} (output error {})",
+            e.key.name,
+            crate::numeric::format::fmt_number(e.value),
+            crate::numeric::format::fmt_number(e.sigma),
+            crate::numeric::format::fmt_number(*oe)
+        );
+    }
+    out
 }

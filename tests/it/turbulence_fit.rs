@@ -271,3 +271,52 @@ fn calm_changes_are_not_turbulence_and_the_method_can_be_forced() {
     assert_eq!(oe["verdict"], "unexplained");
     assert!(oe["turbulence"].is_null());
 }
+
+/// `identify` in light turbulence: output error's roll damping is pulled by the gusts; the
+/// values `identify` reports are refitted through the filter, within 1% of the truth, closer
+/// than output error's by more than three of their σ; `--method output-error` keeps output
+/// error's.
+#[test]
+fn identify_refits_through_turbulence() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = -0.357;
+    let (path, _) = simulate_gusty(
+        dir.path(),
+        "light",
+        &["--hidden", "aircraft:c_ell_p=-0.357"],
+    );
+    let run = |method: &str| -> Value {
+        let out = wireflight(&[
+            "-q",
+            "identify",
+            "--flight",
+            path.to_str().unwrap(),
+            "--free",
+            "c_ell_p",
+            "--method",
+            method,
+            "--json",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let fe = run("auto");
+    let (value, sigma) = (
+        fe["estimates"][0]["value"].as_f64().unwrap(),
+        fe["estimates"][0]["sigma"].as_f64().unwrap(),
+    );
+    let oe = fe["turbulence"]["output_error"][0].as_f64().unwrap();
+    assert_eq!(fe["turbulence"]["flights"][0]["significant"], true);
+    assert!((value / truth - 1.0).abs() < 0.01, "{value}");
+    assert!(
+        (oe - truth).abs() > (value - truth).abs() + 3.0 * sigma,
+        "{oe} {value} ± {sigma}"
+    );
+    let calm = run("output-error");
+    assert!(calm["turbulence"].is_null());
+    assert_eq!(calm["estimates"][0]["value"].as_f64().unwrap(), oe);
+}

@@ -185,6 +185,12 @@ pub struct IdentifyArgs {
     /// Machine-readable output (JSON) on stdout.
     #[arg(long)]
     pub json: bool,
+    /// How the numbers are fitted: `output-error` assumes calm air; `auto` refits them
+    /// through the filter-error method where a flight's gusts are significant; `filter-error`
+    /// always does (docs/turbulence.md). Not `auto` by default: without reference flights a
+    /// model that is not exact leaves what the filter can take for gusts.
+    #[arg(long, value_enum, default_value_t = FitMethod::OutputError)]
+    pub method: FitMethod,
 }
 
 /// Narrowest and widest `--prior`: below 1 % the prior pins the numbers (the fit cannot move

@@ -290,7 +290,126 @@ impl GustEstimate {
     }
 }
 
-/// Numbers fitted through the filter ([`FlightFilter::fit`]).
+/// Fit the numbers `set` puts into the model (`theta0` their start, `scales` their typical
+/// sizes) through the filter on every flight of `flights` (each with its gusts): Gauss–Newton
+/// on the whitened innovations of all of them, the gain recomputed at every trial, each step
+/// halved until the likelihood falls. With `prior` (a centre and a σ per number), the
+/// numbers are held to it as `identify` holds them, so a number the flights do not
+/// determine stays where it was. Returns the numbers, their 1σ (Cramér–Rao, the innovations
+/// being white; posterior with a prior), and the flights' passes merged.
+pub fn fit_flights(
+    flights: &[(&FlightFilter, GustModel)],
+    model: &Model,
+    set: &(dyn Fn(&mut Model, &[f64]) + Sync),
+    theta0: &[f64],
+    scales: &[f64],
+    prior: Option<(&[f64], &[f64])>,
+) -> FilterFit {
+    let np = theta0.len();
+    // The objective's residuals at θ: every flight's whitened innovations, then the prior's.
+    let evaluate = |theta: &[f64]| -> (Pass, Vec<f64>) {
+        let mut m = model.clone();
+        set(&mut m, theta);
+        let mut merged = Pass {
+            finite: true,
+            ..Pass::default()
+        };
+        let mut r = Vec::new();
+        let mut squares = 0.0;
+        for (f, g) in flights {
+            let (p, w) = f.pass_whitened(&m, g, true);
+            merged.neg_log_likelihood += p.neg_log_likelihood;
+            merged.finite &= p.finite;
+            squares += p.normalised * p.normalised * p.residuals as f64;
+            merged.noise_units += p.noise_units * p.noise_units * p.residuals as f64;
+            merged.residuals += p.residuals;
+            r.extend(w);
+        }
+        let n = merged.residuals.max(1) as f64;
+        merged.normalised = (squares / n).sqrt();
+        merged.noise_units = (merged.noise_units / n).sqrt();
+        if let Some((centre, sd)) = prior {
+            for ((t, t0), s) in theta.iter().zip(centre).zip(sd) {
+                let z = (t - t0) / s;
+                r.push(z);
+                merged.neg_log_likelihood += 0.5 * z * z;
+            }
+        }
+        if !merged.finite {
+            merged.neg_log_likelihood = f64::INFINITY;
+        }
+        (merged, r)
+    };
+    let mut theta = theta0.to_vec();
+    let (mut pass, mut r) = evaluate(&theta);
+    let mut info = vec![0.0; np * np];
+    let mut iterations = 0;
+    for it in 0..FIT_ITERATIONS {
+        iterations = it + 1;
+        // Forward differences of the residuals, one evaluation per number.
+        let columns: Vec<Option<Vec<f64>>> = (0..np)
+            .map(|i| {
+                let h = 1e-4 * scales[i].abs().max(1e-9);
+                let mut t = theta.clone();
+                t[i] += h;
+                let (p, ri) = evaluate(&t);
+                (p.finite && ri.len() == r.len())
+                    .then(|| ri.iter().zip(&r).map(|(a, b)| (a - b) / h).collect())
+            })
+            .collect();
+        let Some(columns) = columns.into_iter().collect::<Option<Vec<Vec<f64>>>>() else {
+            break;
+        };
+        let mut grad = vec![0.0; np];
+        for i in 0..np {
+            grad[i] = columns[i].iter().zip(&r).map(|(a, b)| a * b).sum();
+            for j in 0..=i {
+                let v: f64 = columns[i].iter().zip(&columns[j]).map(|(a, b)| a * b).sum();
+                info[i * np + j] = v;
+                info[j * np + i] = v;
+            }
+        }
+        let Some(inv) = wireflight_flight::numeric::invert(&info, np) else {
+            break;
+        };
+        let step: Vec<f64> = (0..np)
+            .map(|i| -(0..np).map(|j| inv[i * np + j] * grad[j]).sum::<f64>())
+            .collect();
+        let mut accepted = false;
+        let mut fraction = 1.0;
+        for _ in 0..12 {
+            let trial: Vec<f64> = theta
+                .iter()
+                .zip(&step)
+                .map(|(t, s)| t + fraction * s)
+                .collect();
+            let (p, rt) = evaluate(&trial);
+            if p.finite && p.neg_log_likelihood < pass.neg_log_likelihood {
+                let fall = pass.neg_log_likelihood - p.neg_log_likelihood;
+                theta = trial;
+                pass = p;
+                r = rt;
+                accepted = fall > 1e-6 * (1.0 + pass.neg_log_likelihood.abs());
+                break;
+            }
+            fraction *= 0.5;
+        }
+        if !accepted {
+            break;
+        }
+    }
+    let sigma = wireflight_flight::numeric::invert(&info, np)
+        .map(|inv| (0..np).map(|i| inv[i * np + i].max(0.0).sqrt()).collect())
+        .unwrap_or_else(|| vec![f64::INFINITY; np]);
+    FilterFit {
+        theta,
+        sigma,
+        pass,
+        iterations,
+    }
+}
+
+/// Numbers fitted through the filter ([`FlightFilter::fit`], [`fit_flights`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FilterFit {
     /// The fitted numbers.
@@ -628,10 +747,8 @@ impl<'d> FlightFilter<'d> {
     }
 
     /// Fit the numbers `set` puts into the model (`theta0` their start, `scales` their typical
-    /// sizes) through the filter with the gusts `gusts`: Gauss–Newton on the whitened
-    /// innovations, the gain recomputed at every trial, each step halved until the likelihood
-    /// falls. Returns the numbers, their 1σ (Cramér–Rao, the innovations being white), and the
-    /// final pass.
+    /// sizes) through the filter with the gusts `gusts` ([`fit_flights`] on this flight alone,
+    /// without a prior).
     pub fn fit(
         &self,
         model: &Model,
@@ -640,79 +757,7 @@ impl<'d> FlightFilter<'d> {
         scales: &[f64],
         gusts: &GustModel,
     ) -> FilterFit {
-        let np = theta0.len();
-        let with = |theta: &[f64]| {
-            let mut m = model.clone();
-            set(&mut m, theta);
-            m
-        };
-        let mut theta = theta0.to_vec();
-        let (mut pass, mut r) = self.pass_whitened(&with(&theta), gusts, true);
-        let mut info = vec![0.0; np * np];
-        let mut iterations = 0;
-        for it in 0..FIT_ITERATIONS {
-            iterations = it + 1;
-            // Forward differences of the whitened innovations, one pass per number.
-            let columns: Vec<Option<Vec<f64>>> = (0..np)
-                .map(|i| {
-                    let h = 1e-4 * scales[i].abs().max(1e-9);
-                    let mut t = theta.clone();
-                    t[i] += h;
-                    let (p, ri) = self.pass_whitened(&with(&t), gusts, true);
-                    (p.finite && ri.len() == r.len())
-                        .then(|| ri.iter().zip(&r).map(|(a, b)| (a - b) / h).collect())
-                })
-                .collect();
-            let Some(columns) = columns.into_iter().collect::<Option<Vec<Vec<f64>>>>() else {
-                break;
-            };
-            let mut grad = vec![0.0; np];
-            for i in 0..np {
-                grad[i] = columns[i].iter().zip(&r).map(|(a, b)| a * b).sum();
-                for j in 0..=i {
-                    let v: f64 = columns[i].iter().zip(&columns[j]).map(|(a, b)| a * b).sum();
-                    info[i * np + j] = v;
-                    info[j * np + i] = v;
-                }
-            }
-            let Some(inv) = wireflight_flight::numeric::invert(&info, np) else {
-                break;
-            };
-            let step: Vec<f64> = (0..np)
-                .map(|i| -(0..np).map(|j| inv[i * np + j] * grad[j]).sum::<f64>())
-                .collect();
-            let mut accepted = false;
-            let mut fraction = 1.0;
-            for _ in 0..12 {
-                let trial: Vec<f64> = theta
-                    .iter()
-                    .zip(&step)
-                    .map(|(t, s)| t + fraction * s)
-                    .collect();
-                let (p, rt) = self.pass_whitened(&with(&trial), gusts, true);
-                if p.finite && p.neg_log_likelihood < pass.neg_log_likelihood {
-                    let fall = pass.neg_log_likelihood - p.neg_log_likelihood;
-                    theta = trial;
-                    pass = p;
-                    r = rt;
-                    accepted = fall > 1e-6 * (1.0 + pass.neg_log_likelihood.abs());
-                    break;
-                }
-                fraction *= 0.5;
-            }
-            if !accepted {
-                break;
-            }
-        }
-        let sigma = wireflight_flight::numeric::invert(&info, np)
-            .map(|inv| (0..np).map(|i| inv[i * np + i].max(0.0).sqrt()).collect())
-            .unwrap_or_else(|| vec![f64::INFINITY; np]);
-        FilterFit {
-            theta,
-            sigma,
-            pass,
-            iterations,
-        }
+        fit_flights(&[(self, *gusts)], model, set, theta0, scales, None)
     }
 
     /// The measured rows at sample `i`.

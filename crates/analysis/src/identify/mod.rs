@@ -24,6 +24,7 @@
 //! data cannot separate.
 
 pub(crate) mod equation_error;
+pub mod turbulence;
 
 use equation_error::equation_error;
 
