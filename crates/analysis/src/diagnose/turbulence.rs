@@ -340,7 +340,8 @@ fn search_number(
         let scale = (0.1 * v.abs()).max(1e-3);
         let fit = filter.fit(model, &set, &[v], &[scale], &g);
         let lr = 2.0 * (at.neg_log_likelihood - fit.pass.neg_log_likelihood) / spread2;
-        if !(lr > critical) {
+        // (A NaN ratio is no evidence either.)
+        if lr.is_nan() || lr <= critical {
             continue;
         }
         let sigma = fit.sigma[0] * fit.pass.normalised.max(1.0);

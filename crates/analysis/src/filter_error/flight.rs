@@ -1105,8 +1105,8 @@ fn taylor_transition(a: &[f64; NA * NA], h: f64, phi: &mut [f64; NA * NA], s: &m
     }
     for order in (1..=4).rev() {
         mul(&ha, &acc, &mut s.m1);
-        for k in 0..NA * NA {
-            acc[k] = s.m1[k] / order as f64;
+        for (a, m) in acc.iter_mut().zip(&s.m1) {
+            *a = m / order as f64;
         }
         for k in 0..NA {
             acc[k * NA + k] += 1.0;
@@ -1172,19 +1172,18 @@ fn kalman_update(
     // Cholesky S = LLᵀ.
     let mut l = [[0.0; ROWS]; ROWS];
     for j in 0..p {
-        let mut dsum = s[j][j];
-        for k in 0..j {
-            dsum -= l[j][k] * l[j][k];
-        }
+        let dsum = s[j][j] - l[j][..j].iter().map(|v| v * v).sum::<f64>();
         if dsum.is_nan() || dsum <= 0.0 || !dsum.is_finite() {
             return None;
         }
         l[j][j] = dsum.sqrt();
         for i in j + 1..p {
-            let mut v = s[i][j];
-            for k in 0..j {
-                v -= l[i][k] * l[j][k];
-            }
+            let v = s[i][j]
+                - l[i][..j]
+                    .iter()
+                    .zip(&l[j][..j])
+                    .map(|(a, b)| a * b)
+                    .sum::<f64>();
             l[i][j] = v / l[j][j];
         }
     }
