@@ -1244,31 +1244,9 @@ fn kalman_update(
 
 /// The minimiser over `range` (searched in ln) of `f(ln v)`, by golden section.
 fn golden(range: (f64, f64), mut f: impl FnMut(f64) -> f64) -> f64 {
-    let (mut a, mut b) = (range.0.ln(), range.1.ln());
-    let ratio = 0.5 * (5f64.sqrt() - 1.0);
-    let mut c = b - ratio * (b - a);
-    let mut d = a + ratio * (b - a);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..GOLDEN_STEPS {
-        if fc < fd {
-            b = d;
-            d = c;
-            fd = fc;
-            c = b - ratio * (b - a);
-            fc = f(c);
-        } else {
-            a = c;
-            c = d;
-            fc = fd;
-            d = a + ratio * (b - a);
-            fd = f(d);
-        }
-    }
-    if fc < fd {
-        c.exp()
-    } else {
-        d.exp()
-    }
+    let found: Result<_, std::convert::Infallible> =
+        super::golden_ln(range, GOLDEN_STEPS, |v| Ok(f(v)));
+    found.map_or(range.0, |(v, _)| v)
 }
 
 /// 1σ of a likelihood's minimiser `at` (value `f0` there) from its curvature: central

@@ -478,13 +478,28 @@ fn best_gust_sigma(
     theta: &[f64],
     nu: &mut Vec<f64>,
 ) -> Result<(f64, f64), FitError> {
-    let mut f = |s: f64| neg_log_likelihood(model, record, theta, s.exp(), nu);
-    let (mut a, mut b) = (MIN_GUST_SIGMA.ln(), MAX_GUST_SIGMA.ln());
+    let (s, fs) = golden_ln(
+        (MIN_GUST_SIGMA, MAX_GUST_SIGMA),
+        GOLDEN_ITERATIONS,
+        |s: f64| neg_log_likelihood(model, record, theta, s.exp(), nu),
+    )?;
+    let f0 = neg_log_likelihood(model, record, theta, 0.0, nu)?;
+    Ok(if f0 <= fs { (0.0, f0) } else { (s, fs) })
+}
+
+/// The minimiser over `range` (positive; searched in ln) of `f(ln v)` by `steps` steps of
+/// golden section, and `f` there; the first error `f` returns stops it.
+pub(crate) fn golden_ln<E>(
+    range: (f64, f64),
+    steps: usize,
+    mut f: impl FnMut(f64) -> Result<f64, E>,
+) -> Result<(f64, f64), E> {
+    let (mut a, mut b) = (range.0.ln(), range.1.ln());
     let ratio = 0.5 * (5f64.sqrt() - 1.0);
     let mut c = b - ratio * (b - a);
     let mut d = a + ratio * (b - a);
     let (mut fc, mut fd) = (f(c)?, f(d)?);
-    for _ in 0..GOLDEN_ITERATIONS {
+    for _ in 0..steps {
         if fc < fd {
             b = d;
             d = c;
@@ -499,9 +514,11 @@ fn best_gust_sigma(
             fd = f(d)?;
         }
     }
-    let (s, fs) = if fc < fd { (c, fc) } else { (d, fd) };
-    let f0 = neg_log_likelihood(model, record, theta, 0.0, nu)?;
-    Ok(if f0 <= fs { (0.0, f0) } else { (s.exp(), fs) })
+    Ok(if fc < fd {
+        (c.exp(), fc)
+    } else {
+        (d.exp(), fd)
+    })
 }
 
 fn lag1(nu: &[f64], p: usize) -> f64 {
