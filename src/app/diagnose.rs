@@ -177,8 +177,22 @@ fn keep(
     for c in &d.found {
         c.correction.apply(&mut model)?;
     }
+    // The numbers the filter's own search found in turbulence.
+    let added: Vec<&diagnose::turbulence::Refit> = d
+        .turbulence
+        .iter()
+        .flat_map(|t| t.refits.iter().filter(|r| r.added))
+        .collect();
+    for r in &added {
+        model.set_aircraft(&r.param, r.value)?;
+    }
     if let Some(out) = &args.out {
-        let names: Vec<&str> = d.found.iter().map(|c| c.effect.as_str()).collect();
+        let names: Vec<&str> = d
+            .found
+            .iter()
+            .map(|c| c.effect.as_str())
+            .chain(added.iter().map(|r| r.cause.as_str()))
+            .collect();
         let comment = format!(
             "The model of `wireflight diagnose --flight {}` with the causes found: {}.\n\
              verdict: {}",
