@@ -7,11 +7,14 @@
 //! outputs are the gust velocities g (north, east, down, m/s): the first-order form
 //! (1 + sT)⁻¹ for u and the second-order (1 + √3·sT)/(1 + sT)² for v and w (MIL-F-8785C's
 //! spectra, the forms `simulate` and JSBSim fly), T = L/V with V the flight's mean airspeed
-//! (the frozen field of Taylor's hypothesis), each scaled to its stationary deviation σ. The
-//! model flies in the air the gusts move ([`Model::set_air_offset`]): every force and
-//! moment, the airspeed and the accelerometer see them. The filter's error state is the
-//! model's (module [`wireflight_flight::linear`]: δp, δv body, δθ, δω) and the five gust
-//! filter states: 17 numbers.
+//! (the frozen field of Taylor's hypothesis), each scaled to its stationary deviation σ; and
+//! three rotary disturbances, first-order angular accelerations about the body axes with
+//! Dryden's rotary time constant 4b/(πV) (rotary gusts act through the rate damping; JSBSim
+//! flies them). The model flies in the air the gusts move ([`Model::set_air_offset`]): every
+//! force and moment, the airspeed and the accelerometer see them; the rotary disturbance is
+//! added to the rates over each step. The filter's error state is the model's (module
+//! [`wireflight_flight::linear`]: δp, δv body, δθ, δω) and the eight disturbance states: 20
+//! numbers.
 //!
 //! **Prediction** from sample to sample: the state by the model's own RK4 under the held
 //! commands with the gusts held over the step, the gust filters by their exact transition;
@@ -25,7 +28,7 @@
 //! attitude in body axes, body rates, airspeed, accelerometer), S = H·P·Hᵀ + R with R the
 //! measurement noise measured from the data ([`crate::compare::estimate_noise`], with the
 //! model's own error where reference flights measured it), the gain K = P·Hᵀ·S⁻¹, the state
-//! moved by K·ν and P by Joseph's form. H is exact for every channel but the accelerometer
+//! moved by K·ν and P by P − K·S·Kᵀ. H is exact for every channel but the accelerometer
 //! (forward differences, like the forces).
 //!
 //! **Windows.** The flight is cut into compare's windows; in each the filter starts from the
@@ -35,16 +38,16 @@
 //! so the two methods are one code path and their likelihoods compare.
 //!
 //! **Likelihood.** −ln L = ½ Σ_k (νₖᵀSₖ⁻¹νₖ + ln det Sₖ) over every sample after a window's
-//! first. The gust intensities maximise it ([`FlightFilter::estimate_gusts`]), each by a
-//! golden-section search of ln σ, the three in turn; their ± from its curvature. The scale
+//! first. The six intensities maximise it ([`FlightFilter::estimate_gusts`]), each by a
+//! golden-section search of ln σ, in turn; their ± from its curvature. The scale
 //! lengths, horizontal (u, v) and vertical (w), are searched between two rounds of the
 //! intensities and reported only where the data determine them: their ± — the larger of the
 //! likelihood's curvature and the scatter of a time scale T measured on a record of length D,
 //! T·√(2T/D) — under half the value (a record of some eight time scales or more).
 //!
-//! **Cost** per pass: per sample one RK4 step and the Kalman update (17 states, up to 16
+//! **Cost** per pass: per sample one RK4 step and the Kalman update (20 states, up to 16
 //! measured rows); per `RELINEARISE_S` one Jacobian (about 17 evaluations of the forces) and
-//! its transition. An estimate of the gusts takes about 150 passes.
+//! its transition. An estimate of the intensities takes about 200 passes.
 
 use glam::{DQuat, DVec3};
 
