@@ -391,6 +391,7 @@ pub fn turbulence_json(t: &crate::diagnose::turbulence::TurbulenceFinding) -> Va
         "length_m": g.length_m,
         "length_se_m": g.length_se_m,
         "likelihood_ratio": g.likelihood_ratio,
+        "gust_likelihood_ratio": g.gust_likelihood_ratio,
         "output_error_noise_units": g.calm.noise_units,
         "innovations_normalised": g.gusty.normalised,
         "refits": t.refits.iter().map(|r| json!({
@@ -1047,10 +1048,14 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
     }
     let _ = writeln!(
         out,
-        "    likelihood ratio against calm air {} (significant above {}): {}; output error \
+        "    likelihood ratio against calm air {} (significant above {}), of the gust \
+         velocities alone {} (above {}), and a gust σ of at least {} m/s: {}; output error \
          leaves {} × the noise, the filter's innovations {} × their expected spread",
         fixed(g.likelihood_ratio, 1),
         fixed(crate::filter_error::flight::TURBULENCE_LR_BOUND, 2),
+        fixed(g.gust_likelihood_ratio, 1),
+        fixed(crate::filter_error::flight::GUST_LR_BOUND, 2),
+        fixed(crate::filter_error::flight::MIN_TURBULENCE_MPS, 2),
         if t.significant() {
             "turbulence"
         } else {

@@ -40,18 +40,9 @@ pub const SEARCHED: usize = 6;
 /// Numbers the filter's own search adds at most.
 pub const MOST_CAUSES: usize = 2;
 
-/// How model and measurements are compared.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Method {
-    /// Output error, and the filter-error method where output error leaves the error
-    /// unexplained and the gusts are significant.
-    #[default]
-    Auto,
-    /// Output error alone (calm air assumed).
-    OutputError,
-    /// The filter-error method, whatever the test says.
-    FilterError,
-}
+/// How model and measurements are compared (defined beside the filter, which `identify`
+/// uses too).
+pub use crate::filter_error::flight::MethodChoice as Method;
 
 /// One number of a cause, fitted by output error and again through the filter.
 #[derive(Clone, Debug, PartialEq)]

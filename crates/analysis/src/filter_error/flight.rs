@@ -93,6 +93,26 @@ const GOLDEN_STEPS: usize = 12;
 const ROTARY_RANGE: (f64, f64) = (1e-4, 50.0);
 /// χ² with six degrees of freedom at 0.1 %: six intensities must earn their place.
 pub const TURBULENCE_LR_BOUND: f64 = 22.46;
+/// χ² with three degrees of freedom at 0.1 %: the gust velocities must earn theirs on top of
+/// the rotary disturbance (a missing moment looks like one).
+pub const GUST_LR_BOUND: f64 = 16.27;
+/// Smallest gust σ called turbulence, m/s: half of MIL-F-8785C's light turbulence near the
+/// ground (0.77–0.88 m/s). Below it, what the filter takes for gusts is as likely the model's
+/// own error: 0.1–0.3 m/s on JSBSim's calm c172p flights, with an exact model 0.01–0.05.
+pub const MIN_TURBULENCE_MPS: f64 = 0.4;
+
+/// How a fit compares model and measurements.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MethodChoice {
+    /// Output error, and the filter-error method where output error leaves the error
+    /// unexplained and the gusts are significant.
+    #[default]
+    Auto,
+    /// Output error alone (calm air assumed).
+    OutputError,
+    /// The filter-error method, whatever the test says.
+    FilterError,
+}
 
 /// The gust field the filter assumes.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -269,6 +289,8 @@ pub struct GustEstimate {
     pub gusty: Pass,
     /// 2·(−ln L_calm + ln L_gusty).
     pub likelihood_ratio: f64,
+    /// The same with the gust velocities alone taken away (the rotary disturbance kept).
+    pub gust_likelihood_ratio: f64,
 }
 
 impl GustEstimate {
@@ -282,14 +304,17 @@ impl GustEstimate {
     }
 
     /// Whether the gusts are significant: the likelihood ratio beats
-    /// [`TURBULENCE_LR_BOUND`] and some gust intensity is more than twice its uncertainty.
+    /// [`TURBULENCE_LR_BOUND`], the gust velocities' own beats [`GUST_LR_BOUND`], and some
+    /// gust intensity is more than twice its uncertainty and at least
+    /// [`MIN_TURBULENCE_MPS`].
     pub fn significant(&self) -> bool {
         self.likelihood_ratio > TURBULENCE_LR_BOUND
+            && self.gust_likelihood_ratio > GUST_LR_BOUND
             && self
                 .sigma_mps
                 .iter()
                 .zip(&self.sigma_se_mps)
-                .any(|(s, se)| *s > 2.0 * se)
+                .any(|(s, se)| *s > 2.0 * se && *s >= MIN_TURBULENCE_MPS)
     }
 }
 
@@ -736,7 +761,11 @@ impl<'d> FlightFilter<'d> {
                 }
             };
         }
+        let mut rotary_only = gusts;
+        rotary_only.sigma_mps = [0.0; GUST_AXES];
+        let without_gusts = self.pass(model, &rotary_only).neg_log_likelihood;
         GustEstimate {
+            gust_likelihood_ratio: 2.0 * (without_gusts - gusty.neg_log_likelihood),
             sigma_mps: gusts.sigma_mps,
             sigma_se_mps: [se[0], se[1], se[2]],
             rotary_radps2: gusts.rotary_radps2,

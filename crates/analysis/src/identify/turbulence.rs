@@ -6,8 +6,9 @@
 
 use super::{Identification, IdentifyConfig};
 use crate::compare::{compare, estimate_noise};
-use crate::diagnose::turbulence::Method;
-use crate::filter_error::flight::{fit_flights, FilterError, FlightFilter, GustEstimate};
+use crate::filter_error::flight::{
+    fit_flights, FilterError, FlightFilter, GustEstimate, MethodChoice as Method,
+};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
 
