@@ -986,20 +986,21 @@ fn verdict_against_noise(d: &Diagnosis, fall: &str) -> String {
     }
 }
 
-/// The gust intensities in words: `gusts σ 0.83 ± 0.03 (north), … m/s`.
+/// The gust intensities in words: `gusts σ 0.83 ± 0.03 north, … m/s`.
 pub fn gusts_text(g: &crate::filter_error::flight::GustEstimate) -> String {
     let axes = ["north", "east", "down"];
-    let parts: Vec<String> = (0..3)
-        .map(|k| {
-            format!(
-                "{} ± {} {}",
-                fixed(g.sigma_mps[k], 2),
-                fixed(g.sigma_se_mps[k], 2),
-                axes[k]
-            )
-        })
-        .collect();
-    format!("gusts σ {} m/s", parts.join(", "))
+    format!(
+        "gusts σ {} m/s",
+        per_axis(&g.sigma_mps, &g.sigma_se_mps, axes)
+    )
+}
+
+/// Three values with their ± and their axes' names: `0.83 ± 0.03 north, …`.
+fn per_axis(values: &[f64; 3], se: &[f64; 3], axes: [&str; 3]) -> String {
+    (0..3)
+        .map(|k| format!("{} ± {} {}", fixed(values[k], 2), fixed(se[k], 2), axes[k]))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// The filter-error method's account of a flight: the gusts, their scale lengths, the test
@@ -1024,17 +1025,11 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
         })
         .collect();
     let _ = writeln!(out, "    scale lengths: {}", lengths.join("; "));
-    let rotary: Vec<String> = (0..3)
-        .map(|k| {
-            format!(
-                "{} ± {} {}",
-                fixed(g.rotary_radps2[k], 2),
-                fixed(g.rotary_se_radps2[k], 2),
-                ["x", "y", "z"][k]
-            )
-        })
-        .collect();
-    let _ = writeln!(out, "    rotary disturbance σ {} rad/s²", rotary.join(", "));
+    let _ = writeln!(
+        out,
+        "    rotary disturbance σ {} rad/s²",
+        per_axis(&g.rotary_radps2, &g.rotary_se_radps2, ["x", "y", "z"])
+    );
     if let Some((floor, se)) = &t.reference_sigma_mps {
         let parts: Vec<String> = (0..3)
             .map(|k| format!("{} ± {}", fixed(floor[k], 2), fixed(se[k], 2)))
