@@ -80,15 +80,20 @@ impl TurbulenceFinding {
     /// against reference flights, above what the filter finds on them on some axis by more
     /// than twice the two ± together.
     pub fn significant(&self) -> bool {
-        let beyond = match &self.reference_sigma_mps {
-            None => true,
-            Some((floor, floor_se)) => (0..3).any(|k| {
-                let se = self.gusts.sigma_se_mps[k].hypot(floor_se[k]);
-                self.gusts.sigma_mps[k] - floor[k] > 2.0 * se
-            }),
-        };
-        self.gusts.significant() && beyond
+        significant_beyond(&self.gusts, self.reference_sigma_mps.as_ref())
     }
+}
+
+/// [`TurbulenceFinding::significant`] of gusts `g` with the references' floor `floor`.
+fn significant_beyond(g: &GustEstimate, floor: Option<&([f64; 3], [f64; 3])>) -> bool {
+    let beyond = match floor {
+        None => true,
+        Some((floor, floor_se)) => (0..3).any(|k| {
+            let se = g.sigma_se_mps[k].hypot(floor_se[k]);
+            g.sigma_mps[k] - floor[k] > 2.0 * se
+        }),
+    };
+    g.significant() && beyond
 }
 
 /// The gusts the filter finds on calm reference flights, axis by axis the largest (with its
@@ -176,16 +181,7 @@ pub fn through_turbulence(
     } else {
         reference_floor(base, references, compare, d)
     };
-    let beyond_references = |g: &GustEstimate| {
-        TurbulenceFinding {
-            gusts: *g,
-            refits: Vec::new(),
-            forced,
-            reference_sigma_mps,
-        }
-        .significant()
-    };
-    if !forced && !beyond_references(&gusts) {
+    if !forced && !significant_beyond(&gusts, reference_sigma_mps.as_ref()) {
         return Ok(());
     }
     // The causes' fitted numbers, refitted through the filter with these gusts.

@@ -930,7 +930,7 @@ impl<'d> FlightFilter<'d> {
             model.set_air_offset(dryden.gusts(&z));
             let y = self.measurement(i);
             let cmd_now = controls_at(d, i);
-            let (pred, hmat) = self.readout(&model, t1, &x, &cmd_now, &dryden);
+            let (pred, hmat) = self.readout(&mut model, t1, &x, &cmd_now, &dryden);
             let mut nu = [0.0; ROWS];
             let turn = (x.quat().inverse() * y.quat).normalize();
             let turn = if turn.w < 0.0 { -turn } else { turn };
@@ -970,10 +970,11 @@ impl<'d> FlightFilter<'d> {
 
     /// What the model's state reads as on every full row (the attitude rows zero: the
     /// innovation measures it against the prediction), and the rows' Jacobian H over the
-    /// filter's error state (full rows × NA).
+    /// filter's error state (full rows × NA). `model` is the window's own copy: its air offset
+    /// moves for the accelerometer's gust columns and is put back.
     fn readout(
         &self,
-        model: &Model,
+        model: &mut Model,
         t: f64,
         x: &State,
         cmd: &wireflight_flight::Controls,
@@ -1022,17 +1023,18 @@ impl<'d> FlightFilter<'d> {
             for r in 0..3 {
                 h[13 + r][..AIRCRAFT].copy_from_slice(&jac[r][..AIRCRAFT]);
             }
-            let mut moved = model.clone();
+            let g = model.air_offset();
             let mut per_gust = [[0.0; GUST_AXES]; 3];
             for c in 0..GUST_AXES {
-                let mut gust = model.air_offset();
+                let mut gust = g;
                 gust[c] += GUST_STEP;
-                moved.set_air_offset(gust);
-                let f = moved.specific_force(t, x, cmd);
+                model.set_air_offset(gust);
+                let f = model.specific_force(t, x, cmd);
                 for r in 0..3 {
                     per_gust[r][c] = (f[r] - f0[r]) / GUST_STEP;
                 }
             }
+            model.set_air_offset(g);
             for r in 0..3 {
                 through_filters(&per_gust[r], dryden, &mut h[13 + r]);
             }
@@ -1221,12 +1223,16 @@ fn kalman_update(
     }
     let logdet = 2.0 * (0..p).map(|i| l[i][i].ln()).sum::<f64>();
     // S⁻¹ν by two triangular solves.
-    let solve = |b: &[f64]| -> [f64; ROWS] {
+    // L⁻¹·b (forward) and L⁻ᵀ·z (backward): S⁻¹·b is both, L⁻¹·ν the innovation whitened.
+    let forward = |b: &[f64]| -> [f64; ROWS] {
         let mut z = [0.0; ROWS];
         for i in 0..p {
             let v = b[i] - (0..i).map(|k| l[i][k] * z[k]).sum::<f64>();
             z[i] = v / l[i][i];
         }
+        z
+    };
+    let backward = |z: &[f64; ROWS]| -> [f64; ROWS] {
         let mut out = [0.0; ROWS];
         for i in (0..p).rev() {
             let v = z[i] - (i + 1..p).map(|k| l[k][i] * out[k]).sum::<f64>();
@@ -1234,12 +1240,9 @@ fn kalman_update(
         }
         out
     };
-    let s_inv_nu = solve(nu);
-    let mut white = [0.0; ROWS];
-    for i in 0..p {
-        let v = nu[i] - (0..i).map(|k| l[i][k] * white[k]).sum::<f64>();
-        white[i] = v / l[i][i];
-    }
+    let solve = |b: &[f64]| backward(&forward(b));
+    let white = forward(nu);
+    let s_inv_nu = backward(&white);
     let quadratic = (0..p).map(|i| nu[i] * s_inv_nu[i]).sum();
     let mut correction = [0.0; NA];
     for (i, c) in correction.iter_mut().enumerate() {
