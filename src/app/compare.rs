@@ -7,10 +7,13 @@ use crate::analysis::compare::{
     compare_prepared, noise_floor, CompareConfig, Comparison, Prepared,
 };
 use crate::analysis::conditions::{conditions, explain_growth, growth_exponent, Condition};
-use crate::analysis::diagnose::{add_fitted, promising_numbers, DiagnoseConfig};
+use crate::analysis::diagnose::reference::diagnose_against;
+use crate::analysis::diagnose::turbulence::{compare_through_turbulence, Method};
+use crate::analysis::diagnose::{add_fitted, diagnose, promising_numbers, DiagnoseConfig, Verdict};
 use crate::analysis::report::{
     axes_text, candidate_json, comparison_json, conditions_json, count, fmt_opt, fmt_params,
-    model_label, noise_json, noise_text, windows_json, Table,
+    innovations_text, model_label, noise_json, noise_text, turbulence_json, turbulence_text,
+    windows_json, Table,
 };
 use crate::app::cli::CompareArgs;
 use crate::clip::Clipper;
@@ -138,10 +141,43 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         None => (&base, &before),
     };
     let floor = noise_floor(final_model, &prep);
+    let at_floor = last.comparison.noise_units() <= DiagnoseConfig::default().at_floor;
+    // The filter-error method where a diagnosis of the model as it ends up leaves the flight
+    // unexplained (a comparison searches no cause, and the filter would take a missing
+    // steady wind for gusts): the gusts, and the --add effects fitted again through the
+    // filter (their output-error values are the ones printed with the table; the filter's
+    // are in its own section and --out).
+    let named: Vec<(&str, &FlightData)> = references.iter().map(|(n, d)| (n.as_str(), d)).collect();
+    let method: Method = args.method.into();
+    let unexplained = method == Method::Auto
+        && !at_floor
+        && final_model.vehicle.kind() == crate::flight::VehicleKind::FixedWing
+        && {
+            let dcfg = DiagnoseConfig {
+                compare: cfg,
+                ..DiagnoseConfig::default()
+            };
+            let verdict = if named.is_empty() {
+                diagnose(final_model, &data, &[], &dcfg)
+                    .ok()
+                    .map(|d| d.verdict)
+            } else {
+                diagnose_against(final_model, &data, &named, &[], &dcfg)
+                    .ok()
+                    .map(|d| d.verdict)
+            };
+            verdict == Some(Verdict::Unexplained)
+        };
+    let mut refitted = fitted.clone();
+    let turbulence =
+        compare_through_turbulence(&base, &mut refitted, &prep, &named, method, unexplained)
+            .map_err(|e| {
+                anyhow::anyhow!("{}: --method filter-error: {e}", args.flight.display())
+            })?;
     drop(progress);
     let label = format!("+ {}", args.model.add.join(" + "));
-
-    let at_floor = last.comparison.noise_units() <= DiagnoseConfig::default().at_floor;
+    // The model --out writes: with the filter's values where it ran.
+    let out_model = turbulence.as_ref().map_or(&after_model, |(_, m)| m);
     // The condition the text names first: the final model's when the text lists them (above
     // the floor), else the model as given's, which `compare` without --add lists.
     let quoted = if at_floor { &before } else { last };
@@ -225,14 +261,16 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let comment = format!(
             "The model of `wireflight compare --flight {}`{}.",
             args.flight.display(),
-            if fitted.is_empty() {
-                String::new()
-            } else {
-                format!(" with {label}, fitted")
+            match (&turbulence, fitted.is_empty()) {
+                (_, true) => String::new(),
+                (Some(_), false) => {
+                    format!(" with {label}, fitted through the filter-error method")
+                }
+                (None, false) => format!(" with {label}, fitted"),
             }
         );
         let text = crate::app::diagnose::model_toml(
-            &after_model,
+            out_model,
             &args.model.choice(),
             &args.flight,
             &data,
@@ -259,6 +297,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             fitted: &fitted,
             replay: Some(wireflight_draw::report::ReplaySize::default()),
             at_floor: DiagnoseConfig::default().at_floor,
+            turbulence: turbulence.as_ref().map(|(t, _)| t),
         };
         wireflight_draw::report::write_report(path, &report)?;
         if !args.json {
@@ -281,6 +320,11 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             "windows": windows_json(&before.comparison),
             "conditions": conditions_json(&before.conditions),
             "growth_exponent": before.growth,
+            "turbulence": turbulence.as_ref().map(|(t, _)| {
+                let mut v = turbulence_json(t);
+                v["innovations_noise_units"] = json!(t.gusts.gusty.rows_noise_units);
+                v
+            }),
         });
         if let Some(a) = &after {
             v["added"] = Value::Array(fitted.iter().map(candidate_json).collect());
@@ -357,6 +401,21 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             println!("  added {} (no parameters to fit)", f.effect);
         } else {
             println!("  fitted {}: {params}", f.effect);
+        }
+    }
+    if let Some((t, _)) = &turbulence {
+        println!();
+        print!("{}", turbulence_text(t));
+        println!(
+            "    the filter's innovations: {}",
+            innovations_text(&t.gusts.gusty)
+        );
+        if t.significant() {
+            println!(
+                "    output error's errors above include the gusts' response; the gusts are \
+                 estimated on the model as compared, so they include what it lacks: `wireflight \
+                 diagnose` fits the causes first"
+            );
         }
     }
     println!("\nwhere (predicted − measured, over all windows):");

@@ -239,6 +239,7 @@ fn keep(
             fitted: &d.found,
             replay: Some(wireflight_draw::report::ReplaySize::default()),
             at_floor: cfg.at_floor,
+            turbulence: d.turbulence.as_ref(),
         };
         wireflight_draw::report::write_report(path, &report)?;
         if !args.json {

@@ -267,3 +267,28 @@ fn a_calm_unexplained_flight_is_not_turbulence() {
     let verdict = d["verdict"].as_str().unwrap();
     assert!(!verdict.starts_with("turbulence"), "{verdict}");
 }
+
+/// A calm JSBSim flight flown with the untuned c172p model and no references: output error
+/// leaves it unexplained at hundreds of times the noise, and the filter, given gusts, still
+/// cannot follow it (its innovations dozens of times their expected spread): not turbulence,
+/// the model is wrong. Neither `diagnose` nor `compare` says turbulence.
+#[test]
+fn a_wrong_model_is_not_turbulence() {
+    let path = flight("validation");
+    let run = |command: &str| -> Value {
+        let out = wireflight(&[command, "--flight", &path, "--json"]);
+        assert!(
+            out.status.success(),
+            "{command}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let d = run("diagnose");
+    let verdict = d["verdict"].as_str().unwrap();
+    assert_eq!(verdict, "unexplained", "{:#}", d["turbulence"]);
+    let c = run("compare");
+    assert!(c["error"]["noise_units"].as_f64().unwrap() > 100.0);
+    let t = &c["turbulence"];
+    assert!(t.is_null() || t["significant"] == false, "{t:#}");
+}

@@ -106,6 +106,25 @@ fn diagnose_json(path: &std::path::Path, extra: &[&str]) -> Value {
     serde_json::from_slice(&out.stdout).expect("JSON")
 }
 
+/// `compare --json` of a flight file.
+fn compare_json(path: &std::path::Path, extra: &[&str]) -> Value {
+    let mut args = vec![
+        "-q",
+        "compare",
+        "--flight",
+        path.to_str().unwrap(),
+        "--json",
+    ];
+    args.extend_from_slice(extra);
+    let out = wireflight(&args);
+    assert!(
+        out.status.success(),
+        "compare: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON")
+}
+
 /// `simulate --turbulence LEVEL` with the navigation noise of these tests and `extra`
 /// (hidden causes), into `dir`; the flight and its gusts' σ (zero in calm air).
 fn simulate_gusty(
@@ -162,11 +181,23 @@ fn json_array3(v: &Value) -> [f64; 3] {
 fn diagnose_names_turbulence_with_its_intensity() {
     let dir = tempfile::tempdir().unwrap();
     let (path, truth) = simulate_gusty(dir.path(), "light", &[]);
-    let d = diagnose_json(&path, &[]);
+    let page = dir.path().join("report.html");
+    let d = diagnose_json(&path, &["--report", page.to_str().unwrap()]);
     assert_eq!(d["verdict"], "turbulence", "{:#}", d["turbulence"]);
     let t = &d["turbulence"];
     let sigma = json_array3(&t["sigma_mps"]);
     assert!(within(sigma, truth, 0.25), "{sigma:?} against {truth:?}");
+    // The report shows the gusts as the text does, each with its ±.
+    let html = std::fs::read_to_string(&page).unwrap();
+    let section = html
+        .split("id=\"turbulence\"")
+        .nth(1)
+        .expect("a turbulence section");
+    assert!(section.contains("The gusts are significant"), "{section}");
+    for k in 0..3 {
+        let value = format!("{:.2}", sigma[k]);
+        assert!(section.contains(&value), "{value} not in {section}");
+    }
     // Output error alone could not explain it.
     assert!(t["output_error_noise_units"].as_f64().unwrap() > 3.0);
 }
@@ -266,10 +297,86 @@ fn calm_changes_are_not_turbulence_and_the_method_can_be_forced() {
     let forced = diagnose_json(&calm, &["--method", "filter-error"]);
     assert_eq!(forced["verdict"], "aircraft:c_ell_p");
     assert_eq!(forced["turbulence"]["significant"], false);
+    // `compare` runs the filter where the model stays above the floor, and says nothing of
+    // gusts that one wrong number leaves.
+    let c = compare_json(&calm, &[]);
+    assert!(c["error"]["noise_units"].as_f64().unwrap() > 3.0);
+    assert!(c["turbulence"].is_null(), "{:#}", c["turbulence"]);
     let (gusty, _) = simulate_gusty(dir.path(), "light", &[]);
     let oe = diagnose_json(&gusty, &["--method", "output-error"]);
     assert_eq!(oe["verdict"], "unexplained");
     assert!(oe["turbulence"].is_null());
+}
+
+/// `compare --add` in light turbulence: output error leaves the model above the floor, so
+/// the filter runs; it finds the gusts (within 25%), its innovations are at the noise on
+/// the navigation channels, and the added number is fitted again through it — within 2% of
+/// the truth, closer than output error's by more than three σ — and written by `--out`.
+/// `--method output-error` keeps to output error.
+#[test]
+fn compare_fits_through_turbulence() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = -0.357;
+    let (path, gusts) = simulate_gusty(
+        dir.path(),
+        "light",
+        &["--hidden", "aircraft:c_ell_p=-0.357"],
+    );
+    let written = dir.path().join("fitted.toml");
+    let c = compare_json(
+        &path,
+        &[
+            "--add",
+            "aircraft:c_ell_p",
+            "--out",
+            written.to_str().unwrap(),
+        ],
+    );
+    assert!(c["after"]["noise_units"].as_f64().unwrap() > 3.0);
+    let t = &c["turbulence"];
+    assert_eq!(t["significant"], true, "{t:#}");
+    let sigma = json_array3(&t["sigma_mps"]);
+    assert!(within(sigma, gusts, 0.25), "{sigma:?} against {gusts:?}");
+    let innovations: Vec<f64> = t["innovations_noise_units"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(
+        innovations[..9].iter().all(|v| (0.8..1.2).contains(v)),
+        "position, velocity, attitude: {innovations:?}"
+    );
+    let refit = &t["refits"][0];
+    let (value, sigma, oe) = (
+        refit["value"].as_f64().unwrap(),
+        refit["sigma"].as_f64().unwrap(),
+        refit["output_error"].as_f64().unwrap(),
+    );
+    assert!(
+        (value / truth - 1.0).abs() < 0.02,
+        "{value} against {truth}"
+    );
+    assert!(
+        (oe - truth).abs() > (value - truth).abs() + 3.0 * sigma,
+        "output error {oe}, filter {value} ± {sigma}, truth {truth}"
+    );
+    let model = std::fs::read_to_string(&written).unwrap();
+    let kept: f64 = model
+        .split("aircraft:c_ell_p=")
+        .nth(1)
+        .and_then(|rest| rest.split('"').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("no c_ell_p in\n{model}"));
+    assert!(
+        (kept - value).abs() < 1e-9,
+        "{kept} written, {value} fitted"
+    );
+    let oe_only = compare_json(
+        &path,
+        &["--add", "aircraft:c_ell_p", "--method", "output-error"],
+    );
+    assert!(oe_only["turbulence"].is_null());
 }
 
 /// `identify` in light turbulence: output error's roll damping is pulled by the gusts; the

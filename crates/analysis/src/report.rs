@@ -1003,9 +1003,33 @@ fn per_axis(values: &[f64; 3], se: &[f64; 3], axes: [&str; 3]) -> String {
         .join(", ")
 }
 
+/// The filter's innovations by channel, in units of the noise (position, velocity, attitude,
+/// rates; the channels measured): `position 1.02, velocity 0.98, … × the noise`.
+pub fn innovations_text(pass: &crate::filter_error::flight::Pass) -> String {
+    let r = &pass.rows_noise_units;
+    let channel = |rows: std::ops::Range<usize>| {
+        let measured: Vec<f64> = r[rows].iter().copied().filter(|v| *v > 0.0).collect();
+        (!measured.is_empty())
+            .then(|| (measured.iter().map(|v| v * v).sum::<f64>() / measured.len() as f64).sqrt())
+    };
+    let parts: Vec<String> = [
+        ("position", 0..3),
+        ("velocity", 3..6),
+        ("attitude", 6..9),
+        ("rates", 9..12),
+        ("airspeed", 12..13),
+        ("accelerometer", 13..16),
+    ]
+    .into_iter()
+    .filter_map(|(name, rows)| channel(rows).map(|v| format!("{name} {}", fixed(v, 2))))
+    .collect();
+    format!("{} × the noise", parts.join(", "))
+}
+
 /// The filter-error method's account of a flight: the gusts, their scale lengths, the test
 /// against calm air, and the numbers refitted through the filter.
 pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> String {
+    use crate::filter_error::flight;
     let g = &t.gusts;
     let mut out = String::new();
     let _ = writeln!(
@@ -1044,20 +1068,24 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
     let _ = writeln!(
         out,
         "    likelihood ratio against calm air {} (significant above {}), of the gust \
-         velocities alone {} (above {}), and a gust σ of at least {} m/s: {}; output error \
-         leaves {} × the noise, the filter's innovations {} × their expected spread",
+         velocities alone {} (above {}), a gust σ of at least {} m/s, and the filter's \
+         innovations {} × their expected spread (at most {}): {}; output error leaves {} × \
+         the noise",
         fixed(g.likelihood_ratio, 1),
-        fixed(crate::filter_error::flight::TURBULENCE_LR_BOUND, 2),
+        fixed(flight::TURBULENCE_LR_BOUND, 2),
         fixed(g.gust_likelihood_ratio, 1),
-        fixed(crate::filter_error::flight::GUST_LR_BOUND, 2),
-        fixed(crate::filter_error::flight::MIN_TURBULENCE_MPS, 2),
+        fixed(flight::GUST_LR_BOUND, 2),
+        fixed(flight::MIN_TURBULENCE_MPS, 2),
+        fixed(g.gusty.normalised, 2),
+        fixed(flight::MAX_INNOVATION_SPREAD, 1),
         if t.significant() {
             "turbulence"
+        } else if g.gusty.normalised > flight::MAX_INNOVATION_SPREAD {
+            "more than gusts are wrong"
         } else {
             "calm"
         },
         fixed(g.calm.noise_units, 2),
-        fixed(g.gusty.normalised, 2)
     );
     if !t.refits.is_empty() {
         out.push_str(

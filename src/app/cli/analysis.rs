@@ -54,6 +54,13 @@ pub struct CompareArgs {
     /// the fitted values, the plots and a small replay, inline.
     #[arg(long, value_name = "FILE.html")]
     pub report: Option<std::path::PathBuf>,
+    /// How model and measurements are compared: `auto` adds the filter-error method (a
+    /// Kalman filter with Dryden gust states inside the fit) where output error leaves the
+    /// model above the floor and the gusts are significant, the --add effects then fitted
+    /// through it; `output-error` assumes calm air; `filter-error` always runs the filter
+    /// (docs/turbulence.md).
+    #[arg(long, value_enum, default_value_t = FitMethod::Auto)]
+    pub method: FitMethod,
     /// Frames per second of flight time for --frames-dir and --out (25, as `render`'s).
     #[arg(long, default_value_t = crate::output::DEFAULT_FPS, value_parser = positive)]
     pub fps: f64,

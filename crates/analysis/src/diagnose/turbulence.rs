@@ -27,9 +27,9 @@
 //! on its aircraft is not the filter's. Naming those would name the wrong cause; the verdict
 //! is turbulence with the causes output error kept, refitted.
 
-use super::{Correction, DiagnoseConfig, Diagnosis, Verdict};
-use crate::compare::{combined, estimate_noise, CompareConfig};
-use crate::filter_error::flight::{FilterError, FlightFilter, GustEstimate};
+use super::{Candidate, Correction, DiagnoseConfig, Diagnosis, Verdict};
+use crate::compare::{combined, estimate_noise, CompareConfig, NoiseEstimate, Prepared};
+use crate::filter_error::flight::{FilterError, FlightFilter, GustEstimate, GustModel};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::chi2_quantile;
@@ -102,12 +102,11 @@ fn reference_floor(
     base: &Model,
     references: &[(&str, &FlightData)],
     compare: &CompareConfig,
-    d: &Diagnosis,
-) -> Option<([f64; 3], [f64; 3])> {
-    let model_error = d.reference.as_ref()?.floor.model_error;
+    model_error: &NoiseEstimate,
+) -> ([f64; 3], [f64; 3]) {
     let mut floor = ([0.0; 3], [0.0; 3]);
     for (_, r) in references {
-        let noise = combined(&estimate_noise(r), &model_error);
+        let noise = combined(&estimate_noise(r), model_error);
         let Ok(f) = FlightFilter::new(base, r, &noise, compare) else {
             continue;
         };
@@ -123,7 +122,7 @@ fn reference_floor(
             }
         }
     }
-    Some(floor)
+    floor
 }
 
 /// How one refitted number is put into a model.
@@ -145,6 +144,132 @@ fn set_slots(model: &mut Model, slots: &[Slot], theta: &[f64]) {
             }
         }
     }
+}
+
+/// The fitted numbers of `causes` (output error's), fitted again through `filter` with
+/// `gusts`, jointly; `model` (which has the causes) and the causes take the filter's values.
+/// Returns each number's two values; empty where the causes fit nothing.
+fn refit_causes(
+    filter: &FlightFilter,
+    model: &mut Model,
+    causes: &mut [Candidate],
+    gusts: &GustModel,
+) -> Vec<Refit> {
+    let mut slots = Vec::new();
+    let mut refits = Vec::new();
+    let refit = |c: &Candidate, param: String, value: f64| Refit {
+        cause: c.effect.clone(),
+        param,
+        output_error: value,
+        value,
+        sigma: f64::NAN,
+        added: false,
+    };
+    for c in causes.iter() {
+        match &c.correction {
+            Correction::Aircraft(changes) => {
+                for ch in changes {
+                    slots.push(Slot::Aircraft(ch.key));
+                    refits.push(refit(c, ch.key.to_string(), ch.value));
+                }
+            }
+            Correction::Effect(_) => {
+                for ((name, value), held) in c.params.iter().zip(&c.held) {
+                    if !held {
+                        slots.push(Slot::Effect(c.effect.clone(), name.clone()));
+                        refits.push(refit(c, name.clone(), *value));
+                    }
+                }
+            }
+        }
+    }
+    if slots.is_empty() {
+        return refits;
+    }
+    let theta0: Vec<f64> = refits.iter().map(|r| r.value).collect();
+    let scales: Vec<f64> = theta0.iter().map(|v| v.abs().max(0.01)).collect();
+    let set = |m: &mut Model, theta: &[f64]| set_slots(m, &slots, theta);
+    let fit = filter.fit(model, &set, &theta0, &scales, gusts);
+    set_slots(model, &slots, &fit.theta);
+    let spread = fit.pass.normalised.max(1.0);
+    for ((r, v), s) in refits.iter_mut().zip(&fit.theta).zip(&fit.sigma) {
+        r.value = *v;
+        r.sigma = *s * spread;
+    }
+    // The causes carry the filter's values from here on (the verdict, `--out`).
+    for c in causes.iter_mut() {
+        match &mut c.correction {
+            Correction::Aircraft(changes) => {
+                for ch in changes.iter_mut() {
+                    ch.value = model.aircraft(ch.key).unwrap_or(ch.value);
+                }
+            }
+            Correction::Effect(e) => {
+                for (name, value) in c.params.iter_mut() {
+                    if let Some(v) = model.effect_mut(&c.effect).and_then(|m| m.param(name)) {
+                        *value = v;
+                        let _ = e.set_param(name, v);
+                    }
+                }
+            }
+        }
+    }
+    refits
+}
+
+/// `compare` through the filter-error method: with `Method::Auto` only where a diagnosis of
+/// the model as compared leaves the flight unexplained (`unexplained`: the caller's, as it
+/// has the diagnosis's options), and reported only where the gusts are significant (against
+/// reference flights, above their floor); with `Method::FilterError` always. `base` is the model as given; `added` the effects `--add` fitted by output error,
+/// fitted again here through the filter (their values become the filter's). Returns the
+/// finding and the model with the refitted effects, or None.
+///
+/// A comparison searches no cause, and where a deterministic one is missing the filter may
+/// take its response for gusts (a steady wind for a slow gust): hence the diagnosis first.
+///
+/// # Errors
+/// Only when the filter is forced and cannot run (a point mass, a channel missing).
+pub fn compare_through_turbulence(
+    base: &Model,
+    added: &mut [Candidate],
+    prep: &Prepared,
+    references: &[(&str, &FlightData)],
+    method: Method,
+    unexplained: bool,
+) -> Result<Option<(TurbulenceFinding, Model)>, FilterError> {
+    let forced = method == Method::FilterError;
+    if method == Method::OutputError || (!forced && !unexplained) {
+        return Ok(None);
+    }
+    let compare = prep.config();
+    let mut model = base.clone();
+    for c in added.iter() {
+        let _ = c.correction.apply(&mut model);
+    }
+    let filter = match FlightFilter::new(&model, prep.data, &prep.noise, &compare) {
+        Ok(f) => f,
+        Err(e) if forced => return Err(e),
+        Err(_) => return Ok(None),
+    };
+    let mut gusts = filter.estimate_gusts(&model);
+    let reference_sigma_mps = match &compare.model_error {
+        Some(e) if !references.is_empty() => Some(reference_floor(base, references, &compare, e)),
+        _ => None,
+    };
+    if !forced && !significant_beyond(&gusts, reference_sigma_mps.as_ref()) {
+        return Ok(None);
+    }
+    let refits = refit_causes(&filter, &mut model, added, &gusts.model());
+    if !refits.is_empty() {
+        gusts = filter.estimate_gusts(&model);
+    }
+    let finding = TurbulenceFinding {
+        gusts,
+        refits,
+        forced,
+        reference_sigma_mps,
+    };
+    Ok(Some((finding, model)))
 }
 
 /// Try the filter-error method on a diagnosis (module docs): with `Method::Auto` only where
@@ -176,78 +301,20 @@ pub fn through_turbulence(
         Err(_) => return Ok(()),
     };
     let mut gusts = filter.estimate_gusts(&model);
-    let reference_sigma_mps = if references.is_empty() {
-        None
-    } else {
-        reference_floor(base, references, compare, d)
+    let reference_sigma_mps = match &d.reference {
+        Some(r) if !references.is_empty() => Some(reference_floor(
+            base,
+            references,
+            compare,
+            &r.floor.model_error,
+        )),
+        _ => None,
     };
     if !forced && !significant_beyond(&gusts, reference_sigma_mps.as_ref()) {
         return Ok(());
     }
-    // The causes' fitted numbers, refitted through the filter with these gusts.
-    let mut slots = Vec::new();
-    let mut refits = Vec::new();
-    for c in &d.found {
-        match &c.correction {
-            Correction::Aircraft(changes) => {
-                for ch in changes {
-                    slots.push(Slot::Aircraft(ch.key));
-                    refits.push(Refit {
-                        cause: c.effect.clone(),
-                        param: ch.key.to_string(),
-                        output_error: ch.value,
-                        value: ch.value,
-                        sigma: f64::NAN,
-                        added: false,
-                    });
-                }
-            }
-            Correction::Effect(_) => {
-                for ((name, value), held) in c.params.iter().zip(&c.held) {
-                    if !held {
-                        slots.push(Slot::Effect(c.effect.clone(), name.clone()));
-                        refits.push(Refit {
-                            cause: c.effect.clone(),
-                            param: name.clone(),
-                            output_error: *value,
-                            value: *value,
-                            sigma: f64::NAN,
-                            added: false,
-                        });
-                    }
-                }
-            }
-        }
-    }
-    if !slots.is_empty() {
-        let theta0: Vec<f64> = refits.iter().map(|r| r.value).collect();
-        let scales: Vec<f64> = theta0.iter().map(|v| v.abs().max(0.01)).collect();
-        let set = |m: &mut Model, theta: &[f64]| set_slots(m, &slots, theta);
-        let fit = filter.fit(&model, &set, &theta0, &scales, &gusts.model());
-        set_slots(&mut model, &slots, &fit.theta);
-        let spread = fit.pass.normalised.max(1.0);
-        for ((r, v), s) in refits.iter_mut().zip(&fit.theta).zip(&fit.sigma) {
-            r.value = *v;
-            r.sigma = *s * spread;
-        }
-        // The causes carry the filter's values from here on (the verdict, `--out`).
-        for c in d.found.iter_mut() {
-            match &mut c.correction {
-                Correction::Aircraft(changes) => {
-                    for ch in changes.iter_mut() {
-                        ch.value = model.aircraft(ch.key).unwrap_or(ch.value);
-                    }
-                }
-                Correction::Effect(e) => {
-                    for (name, value) in c.params.iter_mut() {
-                        if let Some(v) = model.effect_mut(&c.effect).and_then(|m| m.param(name)) {
-                            *value = v;
-                            let _ = e.set_param(name, v);
-                        }
-                    }
-                }
-            }
-        }
+    let mut refits = refit_causes(&filter, &mut model, &mut d.found, &gusts.model());
+    if !refits.is_empty() {
         // The gusts again on the refitted model: the causes no longer hide part of them.
         gusts = filter.estimate_gusts(&model);
     }

@@ -101,6 +101,12 @@ pub const GUST_LR_BOUND: f64 = 16.27;
 /// own error: 0.1–0.3 m/s on JSBSim's calm c172p flights, with an exact model 0.01–0.05.
 pub const MIN_TURBULENCE_MPS: f64 = 0.4;
 
+/// The largest spread of the innovations, over the filter's own account of it, with which
+/// gusts may explain a flight: a model the filter cannot follow even with its gusts is wrong
+/// in more than the air (JSBSim's calm c172p flown with the untuned c172p model: 54 with
+/// "gusts" of 5 m/s; its turbulent flights 1.7–1.8, `simulate`'s 1.0).
+pub const MAX_INNOVATION_SPREAD: f64 = 3.0;
+
 /// How a fit compares model and measurements.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum MethodChoice {
@@ -304,11 +310,13 @@ impl GustEstimate {
     }
 
     /// Whether the gusts are significant: the likelihood ratio beats
-    /// [`TURBULENCE_LR_BOUND`], the gust velocities' own beats [`GUST_LR_BOUND`], and some
+    /// [`TURBULENCE_LR_BOUND`], the gust velocities' own beats [`GUST_LR_BOUND`], some
     /// gust intensity is more than twice its uncertainty and at least
-    /// [`MIN_TURBULENCE_MPS`].
+    /// [`MIN_TURBULENCE_MPS`], and the filter follows the flight with them (its innovations'
+    /// spread at most [`MAX_INNOVATION_SPREAD`]).
     pub fn significant(&self) -> bool {
-        self.likelihood_ratio > TURBULENCE_LR_BOUND
+        self.gusty.normalised <= MAX_INNOVATION_SPREAD
+            && self.likelihood_ratio > TURBULENCE_LR_BOUND
             && self.gust_likelihood_ratio > GUST_LR_BOUND
             && self
                 .sigma_mps

@@ -25,8 +25,12 @@ use crate::scene::replay::ReplayScene;
 use crate::scene::track::ModelTrack;
 use wireflight_analysis::compare::{Comparison, NoiseEstimate};
 use wireflight_analysis::conditions::Condition;
+use wireflight_analysis::diagnose::turbulence::TurbulenceFinding;
 use wireflight_analysis::diagnose::{Candidate, Diagnosis, Verdict};
-use wireflight_analysis::report::{noise_text, verdict_text};
+use wireflight_analysis::filter_error::flight::{
+    GUST_LR_BOUND, MAX_INNOVATION_SPREAD, MIN_TURBULENCE_MPS, TURBULENCE_LR_BOUND,
+};
+use wireflight_analysis::report::{innovations_text, noise_text, verdict_text};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
 use wireflight_flight::params::keys;
@@ -111,6 +115,8 @@ pub struct Report<'a> {
     pub replay: Option<ReplaySize>,
     /// Misfit in noise units that counts as at the noise (`DiagnoseConfig::at_floor`).
     pub at_floor: f64,
+    /// The filter-error method's account, where it ran (the diagnosis's, or compare's).
+    pub turbulence: Option<&'a TurbulenceFinding>,
 }
 
 /// Write the report to `path` atomically.
@@ -205,6 +211,7 @@ pub fn report_html(path: &Path, r: &Report) -> Result<String, ReportError> {
     }
     body.push_str(&errors_section(r));
     body.push_str(&fitted_section(r));
+    body.push_str(&turbulence_section(r));
     body.push_str("<h2>Where the error is</h2>\n");
     if let Some(b) = png(RESIDUALS_PER_AXIS) {
         let caption = match &r.after {
@@ -622,6 +629,103 @@ fn fitted_section(r: &Report) -> String {
             &rows
         )
     )
+}
+
+/// The filter-error method's account: the gusts with their ±, the test against calm air,
+/// the innovations, and the numbers fitted through the filter beside output error's.
+fn turbulence_section(r: &Report) -> String {
+    let Some(t) = r.turbulence else {
+        return String::new();
+    };
+    let g = &t.gusts;
+    let mut out = String::from("<h2 id=\"turbulence\">Turbulence: the filter-error method</h2>\n");
+    let judged = if t.significant() {
+        "The gusts are significant"
+    } else {
+        "The gusts are not significant"
+    };
+    let _ =
+        writeln!(
+        out,
+        "<p>{judged}{}: the likelihood ratio against calm air is {} (above {} needed), that of \
+         the gust velocities alone {} (above {}); a gust σ must be at least {} m/s, and the \
+         filter's innovations are {} × the spread it expects for them (at most {}). Output \
+         error leaves {} × the noise; the filter's innovations are {}.</p>",
+        if t.forced { " (the filter was asked for)" } else { "" },
+        fixed(g.likelihood_ratio, 1),
+        fixed(TURBULENCE_LR_BOUND, 2),
+        fixed(g.gust_likelihood_ratio, 1),
+        fixed(GUST_LR_BOUND, 2),
+        fixed(MIN_TURBULENCE_MPS, 2),
+        fixed(g.gusty.normalised, 2),
+        fixed(MAX_INNOVATION_SPREAD, 1),
+        fixed(g.calm.noise_units, 2),
+        esc(&innovations_text(&g.gusty)),
+    );
+    let mut rows: Vec<Vec<String>> = ["north", "east", "down"]
+        .iter()
+        .enumerate()
+        .map(|(k, axis)| {
+            vec![
+                format!("gust {axis}"),
+                fixed(g.sigma_mps[k], 2),
+                fixed(g.sigma_se_mps[k], 2),
+                "m/s".to_string(),
+                t.reference_sigma_mps
+                    .map_or("—".to_string(), |(f, _)| fixed(f[k], 2)),
+            ]
+        })
+        .collect();
+    rows.extend(["x", "y", "z"].iter().enumerate().map(|(k, axis)| {
+        vec![
+            format!("rotary about {axis}"),
+            fixed(g.rotary_radps2[k], 3),
+            fixed(g.rotary_se_radps2[k], 3),
+            "rad/s²".to_string(),
+            "—".to_string(),
+        ]
+    }));
+    out.push_str(&table(
+        &[
+            "disturbance",
+            "σ",
+            "±1σ",
+            "unit",
+            "on the reference flights",
+        ],
+        &rows,
+    ));
+    if !t.refits.is_empty() {
+        let rows: Vec<Vec<String>> = t
+            .refits
+            .iter()
+            .map(|f| {
+                vec![
+                    f.cause.clone(),
+                    f.param.clone(),
+                    fmt_number(f.value),
+                    fmt_number(f.sigma),
+                    if f.added {
+                        "— (found by the filter)".to_string()
+                    } else {
+                        fmt_number(f.output_error)
+                    },
+                ]
+            })
+            .collect();
+        out.push_str("<p>The numbers fitted again through the filter:</p>\n");
+        out.push_str(&table(
+            &[
+                "cause",
+                "number",
+                "through the filter",
+                "±1σ",
+                "output error",
+            ],
+            &rows,
+        ));
+    }
+    out
 }
 
 /// What to do next, from what was found.
