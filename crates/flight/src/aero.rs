@@ -43,6 +43,29 @@ impl Default for AirData {
 /// Airspeed below which aerodynamic angles are taken as zero (no division by ~0).
 const MIN_AIRSPEED: f64 = 0.1;
 
+/// The flight-path axes of a point mass, as the columns of a rotation to NED: x along the
+/// air-relative velocity, y level and to the right (the velocity's heading turned 90°
+/// clockwise), z = x × y (downward, in the vertical plane of the velocity).
+/// They are the body axes of a point mass that flies wings level with its nose on its
+/// velocity: a force term's `X` (negative: drag), `Y` (side force) and `Z` (negative: lift).
+/// Where the velocity has no horizontal part the heading is taken as north, and below
+/// 0.1 m/s the axes are NED's, so they stay defined everywhere.
+pub fn flight_path_axes(air_vel_ned: DVec3) -> glam::DMat3 {
+    let va = air_vel_ned.length();
+    let horizontal = air_vel_ned.x.hypot(air_vel_ned.y);
+    let (x, y) = if va < MIN_AIRSPEED || !va.is_finite() {
+        (DVec3::X, DVec3::Y)
+    } else if horizontal <= 1e-9 * va {
+        (air_vel_ned / va, DVec3::Y)
+    } else {
+        (
+            air_vel_ned / va,
+            DVec3::new(-air_vel_ned.y / horizontal, air_vel_ned.x / horizontal, 0.0),
+        )
+    };
+    glam::DMat3::from_cols(x, y, x.cross(y))
+}
+
 /// Airspeed, α = atan2(w_r, u_r), β = asin(v_r/Va) of an air-relative body velocity.
 ///
 /// β is taken as atan2(v_r, √(u_r² + w_r²)), the same angle (Va² = u_r² + w_r² + v_r²), and
