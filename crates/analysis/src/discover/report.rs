@@ -6,6 +6,16 @@ use serde_json::{json, Value};
 use wireflight_flight::numeric::format::fmt_number;
 
 use super::Discovery;
+use wireflight_flight::expr::Axis;
+
+/// An axis's unit in a discovery: the force's or moment's, or on a point mass (mass 1) m/s².
+fn unit(d: &Discovery, axis: Axis) -> &'static str {
+    if d.point_mass {
+        "m/s²"
+    } else {
+        axis.unit()
+    }
+}
 
 /// The table of terms, best first, and each axis's missing force or moment.
 pub fn discovery_text(d: &Discovery) -> String {
@@ -25,7 +35,7 @@ pub fn discovery_text(d: &Discovery) -> String {
             s,
             "  {:4}  {:4}  {:>11}  {:>11}  {:>17.0}",
             a.axis.name(),
-            a.axis.unit(),
+            unit(d, a.axis),
             fmt_number(a.rms),
             fmt_number(a.rms_after),
             a.effective_samples
@@ -51,20 +61,23 @@ pub fn discovery_text(d: &Discovery) -> String {
     }
     for (i, t) in d.terms.iter().enumerate() {
         let _ = writeln!(s, "  {}. {}: {}", i + 1, t.axis.name(), t.reading);
-        let _ =
-            writeln!(
+        let _ = writeln!(
             s,
             "     {} = {} ± {} ({}); removes {:.0}% of the axis's missing {} (RMS {} → {} {}), \
              likelihood ratio {:.1}, lower on {} of 5 held-out fifths",
             t.coefficient_name,
             fmt_number(t.coefficient),
             fmt_number(t.sigma),
-            if t.axis.is_force() { "N per unit" } else { "N·m per unit" },
+            format!("{} per unit", unit(d, t.axis)),
             100.0 * (1.0 - (t.rms_after / t.rms_before).powi(2)),
-            if t.axis.is_force() { "force" } else { "moment" },
+            match (d.point_mass, t.axis.is_force()) {
+                (true, _) => "acceleration",
+                (false, true) => "force",
+                (false, false) => "moment",
+            },
             fmt_number(t.rms_before),
             fmt_number(t.rms_after),
-            t.axis.unit(),
+            unit(d, t.axis),
             t.likelihood_ratio,
             t.folds_better
         );
@@ -104,7 +117,7 @@ pub fn discovery_json(d: &Discovery) -> Value {
         })).collect::<Vec<_>>(),
         "axes": d.axes.iter().map(|a| json!({
             "axis": a.axis.name(),
-            "unit": a.axis.unit(),
+            "unit": unit(d, a.axis),
             "rms": a.rms,
             "mean": a.mean,
             "rms_after": a.rms_after,
@@ -114,5 +127,6 @@ pub fn discovery_json(d: &Discovery) -> Value {
         "candidates": d.candidates,
         "threshold": d.threshold,
         "error_before": d.error_before,
+        "point_mass": d.point_mass,
     })
 }
