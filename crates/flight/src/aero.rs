@@ -214,6 +214,29 @@ pub fn aero_force_moment(
 mod tests {
     use super::*;
 
+    /// The flight-path axes: x along the velocity, y level and to its right, z = x × y; a
+    /// vertical or vanishing velocity still gives a rotation.
+    #[test]
+    fn flight_path_axes_follow_the_velocity_and_stay_a_rotation() {
+        let climbing_east = flight_path_axes(DVec3::new(0.0, 30.0, -40.0));
+        assert!((climbing_east.x_axis - DVec3::new(0.0, 0.6, -0.8)).length() < 1e-12);
+        assert!((climbing_east.y_axis - DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-12);
+        assert!((climbing_east.z_axis - DVec3::new(0.0, 0.8, 0.6)).length() < 1e-12);
+        for v in [
+            DVec3::new(0.0, 0.0, 50.0),
+            DVec3::new(0.0, 0.0, -1e-12),
+            DVec3::new(3.0, -4.0, 1.0),
+        ] {
+            let r = flight_path_axes(v);
+            assert!((r.determinant() - 1.0).abs() < 1e-12, "{v}");
+            assert!(
+                (r.transpose() * r).abs_diff_eq(glam::DMat3::IDENTITY, 1e-12),
+                "{v}"
+            );
+            assert_eq!(r.y_axis.z, 0.0, "level: {v}");
+        }
+    }
+
     /// The one-exponential stall blend is the two-exponential one to rounding (1e-13: an
     /// exponent of 25 carries 25 units in the last place into either), across α and
     /// sharpnesses, and is that one itself where the exponentials overflow.
