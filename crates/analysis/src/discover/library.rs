@@ -175,6 +175,21 @@ pub fn point_mass() -> Vec<Regressor> {
     .collect()
 }
 
+/// "what ∝ its form: why" (the form `constant` without factors; no why where `why` of the
+/// product, written as `qbar*alpha`, is empty).
+fn worded(what: &str, r: &Regressor, why: impl FnOnce(&str) -> &'static str) -> String {
+    let names = r.names();
+    let form = if names.is_empty() {
+        "constant".to_string()
+    } else {
+        names.join("·")
+    };
+    match why(&names.join("*")) {
+        "" => format!("{what} ∝ {form}"),
+        why => format!("{what} ∝ {form}: {why}"),
+    }
+}
+
 /// A physical reading of a point mass's term on a flight-path axis (`X` along the
 /// velocity, `Y` level to its right, `Z` downward normal to it).
 pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
@@ -185,13 +200,7 @@ pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) ->
         Axis::Z => "acceleration normal to the flight path",
         Axis::L | Axis::M | Axis::N => "moment",
     };
-    let names = r.names();
-    let form = if names.is_empty() {
-        "constant".to_string()
-    } else {
-        names.join("·")
-    };
-    let why = match (axis, names.join("*").as_str()) {
+    worded(what, r, |product| match (axis, product) {
         (Axis::X, "qbar") | (Axis::X, "airspeed^2") => "drag mis-estimated (negative: more drag)",
         (Axis::X, "qbar*airspeed") | (Axis::X, "qbar*airspeed^2") => {
             "drag growing faster than V² (compressibility, with the Mach number)"
@@ -204,12 +213,7 @@ pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) ->
         }
         (Axis::Y, "qbar") | (Axis::Y, "airspeed^2") => "a side force at constant sideslip",
         _ => "",
-    };
-    if why.is_empty() {
-        format!("{what} ∝ {form}")
-    } else {
-        format!("{what} ∝ {form}: {why}")
-    }
+    })
 }
 
 /// A physical reading of a term on an axis, where one is known; otherwise a plain
@@ -224,13 +228,7 @@ pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
         Axis::M => "pitching moment",
         Axis::N => "yawing moment",
     };
-    let names = r.names();
-    let form = if names.is_empty() {
-        "constant".to_string()
-    } else {
-        names.join("·")
-    };
-    let why = match (axis, names.join("*").as_str()) {
+    worded(what, r, |product| match (axis, product) {
         (Axis::L, "qbar*alpha*beta") => "dihedral effect growing with angle of attack",
         (Axis::L, "qbar*beta") => "dihedral effect",
         (Axis::L, "throttle^2") | (Axis::L, "thrust") | (Axis::L, "throttle") => {
@@ -255,10 +253,5 @@ pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
         (Axis::Z, "qbar*alpha") | (Axis::Z, "qbar*sin(alpha)") => "lift slope mis-estimated",
         (Axis::Z, "qbar*alpha^2") => "lift curve bending before the stall",
         _ => "",
-    };
-    if why.is_empty() {
-        format!("{what} ∝ {form}")
-    } else {
-        format!("{what} ∝ {form}: {why}")
-    }
+    })
 }

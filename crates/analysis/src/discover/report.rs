@@ -63,12 +63,12 @@ pub fn discovery_text(d: &Discovery) -> String {
         let _ = writeln!(s, "  {}. {}: {}", i + 1, t.axis.name(), t.reading);
         let _ = writeln!(
             s,
-            "     {} = {} ± {} ({}); removes {:.0}% of the axis's missing {} (RMS {} → {} {}), \
+            "     {} = {} ± {} ({} per unit); removes {:.0}% of the axis's missing {} (RMS {} → {} {}), \
              likelihood ratio {:.1}, lower on {} of 5 held-out fifths",
             t.coefficient_name,
             fmt_number(t.coefficient),
             fmt_number(t.sigma),
-            format!("{} per unit", unit(d, t.axis)),
+            unit(d, t.axis),
             100.0 * (1.0 - (t.rms_after / t.rms_before).powi(2)),
             match (d.point_mass, t.axis.is_force()) {
                 (true, _) => "acceleration",
