@@ -109,12 +109,13 @@ fn a_point_mass_lift_is_found_added_and_fitted() {
 
 /// JSBSim's Mk-82 from the bare point mass: the drag (∝ V²) and its density's change with
 /// height are found along the flight path and bring the error from 203 to 79.5 × the noise,
-/// as the catalogue's `drag` does; across the path nothing is found. What is missing there —
-/// up to 7 m/s², the lift of the bomb's angle of attack as it oscillates about its flight
-/// path (±20° after launch and through the apex) — is no function of a point mass's
-/// airspeed, q̄, density or height, so no term a point mass can take removes it.
+/// as the catalogue's `drag` does; across the path no term is found. What is missing there
+/// is the lift of the bomb's angle of attack as it oscillates about its flight path (up to
+/// 20°, after launch and through the apex): no function of a point mass's airspeed, q̄,
+/// density or height, so no term a point mass can take removes it; the flight's attitude
+/// names it (q̄ times the body's angle to its path removes about half of it).
 #[test]
-fn mk82_discover_finds_the_drag_and_its_density_and_no_lift_a_point_mass_can_have() {
+fn mk82_discover_finds_the_drag_along_its_path_and_names_the_lift_across_it() {
     let mk82 = data_file("jsbsim-mk82.csv");
     let mk82 = mk82.to_str().unwrap();
     let d = json(&["-q", "discover", "--flight", mk82, "--json"]);
@@ -147,6 +148,24 @@ fn mk82_discover_finds_the_drag_and_its_density_and_no_lift_a_point_mass_can_hav
             let (rms, left) = (a["rms"].as_f64().unwrap(), a["rms_after"].as_f64().unwrap());
             assert!(rms > 2.0 && left == rms, "{a}");
         }
+    }
+    // What the attitude says across the path: a force against the body's incidence (k > 0)
+    // that removes a large share of the side and the normal acceleration missing.
+    let incidence = d["incidence"].as_array().expect("incidence");
+    assert_eq!(incidence.len(), 2, "{d:#}");
+    for i in incidence {
+        let share =
+            1.0 - (i["rms_after"].as_f64().unwrap() / i["rms_before"].as_f64().unwrap()).powi(2);
+        let (k, largest) = (
+            i["coefficient"].as_f64().unwrap(),
+            i["largest_deg"].as_f64().unwrap(),
+        );
+        eprintln!(
+            "  incidence on {}: k = {k:.3e}, removes {:.0}%, up to {largest:.1}°",
+            i["axis"],
+            100.0 * share
+        );
+        assert!(k > 0.0 && share > 0.4 && largest > 15.0, "{i}");
     }
     // The specs found are taken by the point mass and fitted by `compare`, end to end.
     let mut args = vec!["-q", "compare", "--flight", mk82];

@@ -11,7 +11,9 @@
 //! The regressors are what a point mass has ([`library::point_mass`]): its airspeed, the
 //! dynamic pressure and density as the model has them, and its height. An angle of attack
 //! is not among them: the flight's attitude, where the data carry one, is the body's, which
-//! the point mass does not fly, so a term reading it could not be added to it.
+//! the point mass does not fly, so a term reading it could not be added to it. What it says
+//! is reported beside the terms ([`Incidence`]): q̄ times the body's angle to its path, on
+//! the side and normal axes — a lift, named, that only a model with a body can carry.
 
 use wireflight_flight::aero::flight_path_axes;
 use wireflight_flight::data::FlightData;
@@ -21,8 +23,8 @@ use wireflight_flight::model::{Model, State};
 use wireflight_flight::Controls;
 
 use super::{
-    held_integral, library, regression_rows, select_terms, AxisTarget, DiscoverError, Discovery,
-    MIN_SAMPLES,
+    held_integral, library, regression_rows, select, select_terms, AxisTarget, DiscoverError,
+    Discovery, Incidence, MIN_SAMPLES,
 };
 
 /// The forces a point mass can lack, on its flight-path axes.
@@ -112,6 +114,7 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
     {
         return Err(too_few(0));
     }
+    let incidence = body_incidence(data, &axes, &vars, &rows, smooth);
     let targets: Vec<AxisTarget> = AXES
         .into_iter()
         .zip(targets)
@@ -121,10 +124,69 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
             columns: &columns,
         })
         .collect();
-    Ok(select_terms(
-        &targets,
-        &library,
-        library::point_mass_reading,
-        true,
-    ))
+    let mut found = select_terms(&targets, &library, library::point_mass_reading, true);
+    if let Some((columns, largest)) = incidence {
+        found.incidence = across_the_path(&targets, &columns, largest, found.threshold);
+    }
+    Ok(found)
+}
+
+/// Where the flight carries an attitude: q̄ times the body's x axis across the flight path
+/// (its level and its normal component: the sine of the body's angle to its path in each
+/// plane), smoothed and at the rows, for `Y` and `Z`; and the largest angle, degrees.
+/// None without an attitude, or with one not finite.
+fn body_incidence(
+    data: &FlightData,
+    axes: &[glam::DMat3],
+    vars: &[VarValues],
+    rows: &[usize],
+    smooth: impl Fn(&[f64]) -> Vec<f64>,
+) -> Option<([Vec<f64>; 2], f64)> {
+    let att = data.attitude.as_ref().filter(|a| a.len() == axes.len())?;
+    let mut across: [Vec<f64>; 2] = std::array::from_fn(|_| Vec::with_capacity(att.len()));
+    let mut largest: f64 = 0.0;
+    for ((e, path), v) in att.iter().zip(axes).zip(vars) {
+        let nose = path.transpose() * e.to_matrix().x_axis;
+        let qbar = v[Var::Qbar.index()];
+        largest = largest.max(nose.x.clamp(-1.0, 1.0).acos().to_degrees());
+        across[0].push(qbar * nose.y);
+        across[1].push(qbar * nose.z);
+    }
+    let columns = across.map(|c| {
+        let sm = smooth(&c);
+        rows.iter().map(|&i| sm[i]).collect::<Vec<f64>>()
+    });
+    let finite = columns.iter().flatten().all(|v| v.is_finite()) && largest.is_finite();
+    finite.then_some((columns, largest))
+}
+
+/// The body's incidence tried on the side and normal axes alone, admitted by the selection's
+/// own tests (likelihood ratio, material share, held-out fifths).
+fn across_the_path(
+    targets: &[AxisTarget<'_>],
+    columns: &[Vec<f64>; 2],
+    largest_deg: f64,
+    threshold: f64,
+) -> Vec<Incidence> {
+    let mut out = Vec::new();
+    for (target, column) in targets.iter().skip(1).zip(columns) {
+        let sel = select(&target.y, std::slice::from_ref(column), threshold);
+        let (Some(step), Some(&coefficient), Some(&sigma)) = (
+            sel.steps.first(),
+            sel.coefficients.first(),
+            sel.sigmas.first(),
+        ) else {
+            continue;
+        };
+        out.push(Incidence {
+            axis: target.axis,
+            coefficient,
+            sigma,
+            rms_before: step.rms_before,
+            rms_after: step.rms_after,
+            likelihood_ratio: step.likelihood_ratio,
+            largest_deg,
+        });
+    }
+    out
 }
