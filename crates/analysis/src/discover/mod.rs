@@ -5,7 +5,8 @@
 //! or the accelerometer's specific force where the flight has one) and angular accelerations,
 //! less the model's at the same state and commands, times the mass and the inertia matrix.
 //! The rates' coupling terms ω×Jω are the same in both and cancel: what is left is the force
-//! (N) and moment (N·m) the model does not have, on each body axis.
+//! (N) and moment (N·m) the model does not have, on each body axis. A point mass has no body:
+//! its forces per unit mass are read along and across its flight path ([`point_mass`]).
 //!
 //! The measured derivative is a smoothed one, so the model's accelerations and every regressor
 //! pass through the same smoothing (the differentiator of their running integral), integrated
