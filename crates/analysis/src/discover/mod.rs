@@ -6,7 +6,7 @@
 //! less the model's at the same state and commands, times the mass and the inertia matrix.
 //! The rates' coupling terms ω×Jω are the same in both and cancel: what is left is the force
 //! (N) and moment (N·m) the model does not have, on each body axis. A point mass has no body:
-//! its forces per unit mass are read along and across its flight path ([`point_mass`]).
+//! its forces per unit mass are read along and across its flight path (`point_mass.rs`).
 //!
 //! The measured derivative is a smoothed one, so the model's accelerations and every regressor
 //! pass through the same smoothing (the differentiator of their running integral), integrated
@@ -173,7 +173,7 @@ pub struct Incidence {
 
 /// Finds the terms the model lacks on this flight (module docs).
 ///
-/// A point mass is read on its flight-path axes, forces only ([`point_mass`]).
+/// A point mass is read on its flight-path axes, forces only (`point_mass.rs`).
 ///
 /// # Errors
 /// A flight without the channels the equations of motion need.
