@@ -98,11 +98,14 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     } else {
         print!("{}", diagnosis_text(&d));
     }
-    let fixed_wing = base.vehicle.kind() == crate::flight::VehicleKind::FixedWing;
-    if d.verdict == diagnose::Verdict::Unexplained && fixed_wing && !args.discover {
+    if d.verdict == diagnose::Verdict::Unexplained && !args.discover {
+        let what = match base.vehicle.kind() {
+            crate::flight::VehicleKind::FixedWing => "the force and moment",
+            crate::flight::VehicleKind::PointMass => "the force (along and across its path)",
+        };
         println!(
-            "  next: `wireflight discover --flight {}` estimates the force and moment the model \
-             lacks and proposes terms; `diagnose --discover` tries them as candidates",
+            "  next: `wireflight discover --flight {}` estimates {what} the model lacks and \
+             proposes terms; `diagnose --discover` tries them as candidates",
             crate::app::shown(&args.flight)
         );
     }

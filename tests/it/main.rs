@@ -12,6 +12,7 @@ mod cli;
 mod clip;
 mod diagnose;
 mod discover;
+mod discover_real;
 mod euler;
 mod euler_cli;
 mod euler_pictures;

@@ -43,6 +43,29 @@ impl Default for AirData {
 /// Airspeed below which aerodynamic angles are taken as zero (no division by ~0).
 const MIN_AIRSPEED: f64 = 0.1;
 
+/// The flight-path axes of a point mass, as the columns of a rotation to NED: x along the
+/// air-relative velocity, y level and to the right (the velocity's heading turned 90°
+/// clockwise), z = x × y (downward, in the vertical plane of the velocity).
+/// They are the body axes of a point mass that flies wings level with its nose on its
+/// velocity: a force term's `X` (negative: drag), `Y` (side force) and `Z` (negative: lift).
+/// Where the velocity has no horizontal part the heading is taken as north, and below
+/// 0.1 m/s the axes are NED's, so they stay defined everywhere.
+pub fn flight_path_axes(air_vel_ned: DVec3) -> glam::DMat3 {
+    let va = air_vel_ned.length();
+    let horizontal = air_vel_ned.x.hypot(air_vel_ned.y);
+    let (x, y) = if va < MIN_AIRSPEED || !va.is_finite() {
+        (DVec3::X, DVec3::Y)
+    } else if horizontal <= 1e-9 * va {
+        (air_vel_ned / va, DVec3::Y)
+    } else {
+        (
+            air_vel_ned / va,
+            DVec3::new(-air_vel_ned.y / horizontal, air_vel_ned.x / horizontal, 0.0),
+        )
+    };
+    glam::DMat3::from_cols(x, y, x.cross(y))
+}
+
 /// Airspeed, α = atan2(w_r, u_r), β = asin(v_r/Va) of an air-relative body velocity.
 ///
 /// β is taken as atan2(v_r, √(u_r² + w_r²)), the same angle (Va² = u_r² + w_r² + v_r²), and
@@ -190,6 +213,29 @@ pub fn aero_force_moment(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The flight-path axes: x along the velocity, y level and to its right, z = x × y; a
+    /// vertical or vanishing velocity still gives a rotation.
+    #[test]
+    fn flight_path_axes_follow_the_velocity_and_stay_a_rotation() {
+        let climbing_east = flight_path_axes(DVec3::new(0.0, 30.0, -40.0));
+        assert!((climbing_east.x_axis - DVec3::new(0.0, 0.6, -0.8)).length() < 1e-12);
+        assert!((climbing_east.y_axis - DVec3::new(-1.0, 0.0, 0.0)).length() < 1e-12);
+        assert!((climbing_east.z_axis - DVec3::new(0.0, 0.8, 0.6)).length() < 1e-12);
+        for v in [
+            DVec3::new(0.0, 0.0, 50.0),
+            DVec3::new(0.0, 0.0, -1e-12),
+            DVec3::new(3.0, -4.0, 1.0),
+        ] {
+            let r = flight_path_axes(v);
+            assert!((r.determinant() - 1.0).abs() < 1e-12, "{v}");
+            assert!(
+                (r.transpose() * r).abs_diff_eq(glam::DMat3::IDENTITY, 1e-12),
+                "{v}"
+            );
+            assert_eq!(r.y_axis.z, 0.0, "level: {v}");
+        }
+    }
 
     /// The one-exponential stall blend is the two-exponential one to rounding (1e-13: an
     /// exponent of 25 carries 25 units in the last place into either), across α and

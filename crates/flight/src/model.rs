@@ -24,7 +24,7 @@ use super::{Controls, VehicleKind, G0};
 use wireflight_geometry::euler::EulerZyx;
 
 pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
-use super::aero::{propeller_thrust, stall_blend_with};
+use super::aero::{flight_path_axes, propeller_thrust, stall_blend_with};
 
 /// Number of state variables.
 pub const STATE_LEN: usize = 16;
@@ -499,12 +499,25 @@ impl Model {
             air_vel_ned: vel - frame.wind,
             controls: Controls::default(),
             mass: 1.0,
-            air: AirData::default(),
+            // The airspeed of the air-relative velocity (a term's `airspeed` and `qbar`);
+            // a point mass has no body, so no α or β.
+            air: AirData {
+                airspeed: (vel - frame.wind).length(),
+                rho: frame.rho,
+                ..AirData::default()
+            },
             thrust: 0.0,
         };
         let mut acc = DVec3::new(0.0, 0.0, frame.g);
+        // A point mass's body axes are its flight-path axes: a force an effect gives in body
+        // axes (a force term, per unit mass) is turned to NED through them.
+        let mut path_force = DVec3::ZERO;
         for e in &self.effects {
             acc += e.accel_ned(&s);
+            path_force += e.force_moment_body(&s).0;
+        }
+        if path_force != DVec3::ZERO {
+            acc += flight_path_axes(s.air_vel_ned) * path_force;
         }
         let mut d = [0.0; STATE_LEN];
         d[0..3].copy_from_slice(&vel.to_array());

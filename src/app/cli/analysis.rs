@@ -225,10 +225,11 @@ Examples:
   wireflight discover --flight test.csv --add prop_torque --json
 
 What the model lacks is read through the equations of motion at the measured states (the
-measured accelerations less the model's, times the mass and inertia), on each body axis, and
-regressed on a library of candidate terms by stepwise selection; each term found is printed
-with its reading, its coefficient ± σ, the flight's error (× the noise) with it and the terms
-before it added and fitted, as compare --add reports it, and the --add spec that adds it.";
+measured accelerations less the model's, times the mass and inertia), on each body axis (a
+point mass: its forces per unit mass along and across its flight path), and regressed on a
+library of candidate terms by stepwise selection; each term found is printed with its
+reading, its coefficient ± σ, the flight's error (× the noise) with it and the terms before
+it added and fitted, as compare --add reports it, and the --add spec that adds it.";
 
 /// `wireflight discover` options.
 #[derive(Debug, Args)]

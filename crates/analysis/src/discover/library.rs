@@ -150,6 +150,72 @@ pub fn fixed_wing() -> Vec<Regressor> {
     out
 }
 
+/// The candidates of a point mass, what it has (its flight-path axes carry no angle, rate,
+/// surface or propeller): a constant; the airspeed, its square; q̄ and q̄ times the airspeed
+/// and its square (a drag that grows faster than V², as compressibility makes it with the
+/// Mach number: the data carry no temperature, so no Mach number); q̄ times the height and
+/// its square (a drag whose density the model has wrong with height); the height; ρ.
+pub fn point_mass() -> Vec<Regressor> {
+    use Factor::Plain;
+    let (v, q, h) = (Plain(Var::Airspeed), Plain(Var::Qbar), Plain(Var::Height));
+    [
+        vec![],
+        vec![v],
+        vec![v, v],
+        vec![q],
+        vec![q, v],
+        vec![q, v, v],
+        vec![q, h],
+        vec![q, h, h],
+        vec![h],
+        vec![Plain(Var::Rho)],
+    ]
+    .into_iter()
+    .map(|factors| Regressor { factors })
+    .collect()
+}
+
+/// "what ∝ its form: why" (the form `constant` without factors; no why where `why` of the
+/// product, written as `qbar*alpha`, is empty).
+fn worded(what: &str, r: &Regressor, why: impl FnOnce(&str) -> &'static str) -> String {
+    let names = r.names();
+    let form = if names.is_empty() {
+        "constant".to_string()
+    } else {
+        names.join("·")
+    };
+    match why(&names.join("*")) {
+        "" => format!("{what} ∝ {form}"),
+        why => format!("{what} ∝ {form}: {why}"),
+    }
+}
+
+/// A physical reading of a point mass's term on a flight-path axis (`X` along the
+/// velocity, `Y` level to its right, `Z` downward normal to it).
+pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
+    use wireflight_flight::expr::Axis;
+    let what = match axis {
+        Axis::X => "acceleration along the flight path",
+        Axis::Y => "side acceleration",
+        Axis::Z => "acceleration normal to the flight path",
+        Axis::L | Axis::M | Axis::N => "moment",
+    };
+    worded(what, r, |product| match (axis, product) {
+        (Axis::X, "qbar") | (Axis::X, "airspeed^2") => "drag mis-estimated (negative: more drag)",
+        (Axis::X, "qbar*airspeed") | (Axis::X, "qbar*airspeed^2") => {
+            "drag growing faster than V² (compressibility, with the Mach number)"
+        }
+        (Axis::X, "qbar*height") | (Axis::X, "qbar*height^2") => {
+            "drag's density wrong with height (density_altitude)"
+        }
+        (Axis::Z, "qbar") | (Axis::Z, "airspeed^2") => {
+            "a lift at constant incidence (negative: up)"
+        }
+        (Axis::Y, "qbar") | (Axis::Y, "airspeed^2") => "a side force at constant sideslip",
+        _ => "",
+    })
+}
+
 /// A physical reading of a term on an axis, where one is known; otherwise a plain
 /// description of its form.
 pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
@@ -162,13 +228,7 @@ pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
         Axis::M => "pitching moment",
         Axis::N => "yawing moment",
     };
-    let names = r.names();
-    let form = if names.is_empty() {
-        "constant".to_string()
-    } else {
-        names.join("·")
-    };
-    let why = match (axis, names.join("*").as_str()) {
+    worded(what, r, |product| match (axis, product) {
         (Axis::L, "qbar*alpha*beta") => "dihedral effect growing with angle of attack",
         (Axis::L, "qbar*beta") => "dihedral effect",
         (Axis::L, "throttle^2") | (Axis::L, "thrust") | (Axis::L, "throttle") => {
@@ -193,10 +253,5 @@ pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
         (Axis::Z, "qbar*alpha") | (Axis::Z, "qbar*sin(alpha)") => "lift slope mis-estimated",
         (Axis::Z, "qbar*alpha^2") => "lift curve bending before the stall",
         _ => "",
-    };
-    if why.is_empty() {
-        format!("{what} ∝ {form}")
-    } else {
-        format!("{what} ∝ {form}: {why}")
-    }
+    })
 }

@@ -5,7 +5,8 @@
 //! or the accelerometer's specific force where the flight has one) and angular accelerations,
 //! less the model's at the same state and commands, times the mass and the inertia matrix.
 //! The rates' coupling terms ω×Jω are the same in both and cancel: what is left is the force
-//! (N) and moment (N·m) the model does not have, on each body axis.
+//! (N) and moment (N·m) the model does not have, on each body axis. A point mass has no body:
+//! its forces per unit mass are read along and across its flight path (`point_mass.rs`).
 //!
 //! The measured derivative is a smoothed one, so the model's accelerations and every regressor
 //! pass through the same smoothing (the differentiator of their running integral), integrated
@@ -30,6 +31,7 @@
 
 pub mod error_after;
 pub mod library;
+mod point_mass;
 pub mod report;
 
 use wireflight_flight::expr::{Axis, Term, Var, VarValues, N_VARS};
@@ -58,15 +60,18 @@ const MAX_LAG: usize = 400;
 /// Why no discovery could be made.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum DiscoverError {
-    /// The vehicle has no body axes.
-    #[error("discover needs a fixed wing (a point mass has no body axes, moments or terms)")]
-    PointMass,
     /// The flight lacks what the equations of motion need.
     #[error(
         "the flight has too few usable samples ({0}): discover needs attitude, body velocity, \
          body rates and controls over at least {MIN_SAMPLES} samples"
     )]
     TooFewSamples(usize),
+    /// A point mass's flight lacks what its equations of motion need.
+    #[error(
+        "the flight has too few usable samples ({0}): discover on a point mass needs position \
+         and NED velocity over at least {MIN_SAMPLES} samples"
+    )]
+    TooFewPointMassSamples(usize),
 }
 
 /// The fewest samples a discovery is made from.
@@ -136,15 +141,45 @@ pub struct Discovery {
     /// The comparison's error (× the noise) of the model as given, when measured
     /// ([`error_after::measure_errors`]).
     pub error_before: Option<f64>,
+    /// Whether the model is a point mass: the axes are its flight-path axes and the forces
+    /// per unit mass (m/s²).
+    pub point_mass: bool,
+    /// On a point mass whose flight carries an attitude: what q̄ times the body's angle to
+    /// its path explains across the path (no term a point mass can take).
+    pub incidence: Vec<Incidence>,
+}
+
+/// On a point mass: the missing acceleration across the path regressed on q̄ times the
+/// sine of the body's angle to its path in that plane (its measured x axis, on the
+/// flight-path axes) — a lift or side force from the body's incidence, which the flight's
+/// attitude shows and a point mass cannot carry.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Incidence {
+    /// `Y` or `Z`.
+    pub axis: Axis,
+    /// m/s² per pascal (S·C_Nα/m, positive: the force opposes the incidence).
+    pub coefficient: f64,
+    /// Its standard error.
+    pub sigma: f64,
+    /// RMS of the axis's missing acceleration, m/s².
+    pub rms_before: f64,
+    /// And after the incidence.
+    pub rms_after: f64,
+    /// Its likelihood ratio (the terms' threshold applies).
+    pub likelihood_ratio: f64,
+    /// The largest angle between the body's x axis and its path over the flight, degrees.
+    pub largest_deg: f64,
 }
 
 /// Finds the terms the model lacks on this flight (module docs).
 ///
+/// A point mass is read on its flight-path axes, forces only (`point_mass.rs`).
+///
 /// # Errors
-/// A point-mass model, or a flight without the channels the equations of motion need.
+/// A flight without the channels the equations of motion need.
 pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverError> {
     let Vehicle::FixedWing(params) = &model.vehicle else {
-        return Err(DiscoverError::PointMass);
+        return point_mass::discover(model, data);
     };
     let Some(series) = series(model, params, data) else {
         return Err(DiscoverError::TooFewSamples(0));
@@ -188,8 +223,7 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     // acceleration there too, but its share of a smoothed regressor is small beside the
     // regressor's own excursions, and a regressor read anywhere else is attenuated where it
     // changes fast (read 0.4 s away, a yawing moment ∝ r·δt was taken for one ∝ q̄·q̂·r̂).
-    let stride = ((n_all - 2 * half) / MAX_SAMPLES).max(1);
-    let rows: Vec<usize> = (half..n_all - half).step_by(stride).collect();
+    let rows = regression_rows(n_all, half);
     let n = rows.len();
     let mass = jm.mass_kg;
     let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
@@ -235,16 +269,47 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     {
         return Err(DiscoverError::TooFewSamples(0));
     }
-    let threshold = chi2_quantile(1.0 - FALSE_ALARM / (6 * library.len()) as f64, 1.0);
+    let axes: Vec<AxisTarget> = Axis::ALL
+        .into_iter()
+        .zip(targets)
+        .enumerate()
+        .map(|(c, (axis, y))| AxisTarget {
+            axis,
+            y,
+            columns: match &sampled_columns {
+                Some(sampled) if read_as_samples(c) => sampled,
+                _ => &held_columns,
+            },
+        })
+        .collect();
+    Ok(select_terms(&axes, &library, library::reading, false))
+}
+
+/// One axis's missing force or moment at the rows, and the candidates' columns there.
+struct AxisTarget<'a> {
+    axis: Axis,
+    y: Vec<f64>,
+    columns: &'a [Vec<f64>],
+}
+
+/// The selection on every axis (Bonferroni over all of them), its terms best first.
+fn select_terms(
+    targets: &[AxisTarget<'_>],
+    library: &[library::Regressor],
+    reading: fn(Axis, &library::Regressor) -> String,
+    point_mass: bool,
+) -> Discovery {
+    let n = targets.first().map_or(0, |t| t.y.len());
+    let threshold = chi2_quantile(
+        1.0 - FALSE_ALARM / (targets.len() * library.len()).max(1) as f64,
+        1.0,
+    );
     let mut terms = Vec::new();
     let mut axes = Vec::new();
-    for (c, (axis, y)) in Axis::ALL.into_iter().zip(&targets).enumerate() {
-        let columns = match &sampled_columns {
-            Some(sampled) if read_as_samples(c) => sampled,
-            _ => &held_columns,
-        };
+    for AxisTarget { axis, y, columns } in targets {
+        let axis = *axis;
         let sel = select(y, columns, threshold);
-        let mean = y.iter().sum::<f64>() / n as f64;
+        let mean = y.iter().sum::<f64>() / n.max(1) as f64;
         axes.push(AxisResidual {
             axis,
             rms: rms(y),
@@ -272,20 +337,30 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
                 rms_after: step.rms_after,
                 likelihood_ratio: step.likelihood_ratio,
                 folds_better: step.folds_better,
-                reading: library::reading(axis, r),
+                reading: reading(axis, r),
                 error_after: None,
             });
         }
     }
     terms.sort_by(|a, b| b.likelihood_ratio.total_cmp(&a.likelihood_ratio));
-    Ok(Discovery {
+    Discovery {
         terms,
         axes,
         samples: n,
         candidates: library.len(),
         threshold,
         error_before: None,
-    })
+        point_mass,
+        incidence: Vec::new(),
+    }
+}
+
+/// The rows of the regression: every sample whose smoothing window (`half` samples each
+/// side) lies inside the flight's `n_all`, strided to at most [`MAX_SAMPLES`].
+fn regression_rows(n_all: usize, half: usize) -> Vec<usize> {
+    let inside = n_all.saturating_sub(2 * half);
+    let stride = (inside / MAX_SAMPLES).max(1);
+    (half..half + inside).step_by(stride).collect()
 }
 
 /// Every sample's measured accelerations (body velocity's derivative or the specific force;

@@ -6,6 +6,16 @@ use serde_json::{json, Value};
 use wireflight_flight::numeric::format::fmt_number;
 
 use super::Discovery;
+use wireflight_flight::expr::Axis;
+
+/// An axis's unit in a discovery: the force's or moment's, or on a point mass (mass 1) m/s².
+fn unit(d: &Discovery, axis: Axis) -> &'static str {
+    if d.point_mass {
+        "m/s²"
+    } else {
+        axis.unit()
+    }
+}
 
 /// The table of terms, best first, and each axis's missing force or moment.
 pub fn discovery_text(d: &Discovery) -> String {
@@ -25,7 +35,7 @@ pub fn discovery_text(d: &Discovery) -> String {
             s,
             "  {:4}  {:4}  {:>11}  {:>11}  {:>17.0}",
             a.axis.name(),
-            a.axis.unit(),
+            unit(d, a.axis),
             fmt_number(a.rms),
             fmt_number(a.rms_after),
             a.effective_samples
@@ -36,6 +46,7 @@ pub fn discovery_text(d: &Discovery) -> String {
             s,
             "  no term is significant: nothing the library can say is missing"
         );
+        incidence_text(&mut s, d);
         return s;
     }
     match d.error_before {
@@ -51,20 +62,23 @@ pub fn discovery_text(d: &Discovery) -> String {
     }
     for (i, t) in d.terms.iter().enumerate() {
         let _ = writeln!(s, "  {}. {}: {}", i + 1, t.axis.name(), t.reading);
-        let _ =
-            writeln!(
+        let _ = writeln!(
             s,
-            "     {} = {} ± {} ({}); removes {:.0}% of the axis's missing {} (RMS {} → {} {}), \
+            "     {} = {} ± {} ({} per unit); removes {:.0}% of the axis's missing {} (RMS {} → {} {}), \
              likelihood ratio {:.1}, lower on {} of 5 held-out fifths",
             t.coefficient_name,
             fmt_number(t.coefficient),
             fmt_number(t.sigma),
-            if t.axis.is_force() { "N per unit" } else { "N·m per unit" },
+            unit(d, t.axis),
             100.0 * (1.0 - (t.rms_after / t.rms_before).powi(2)),
-            if t.axis.is_force() { "force" } else { "moment" },
+            match (d.point_mass, t.axis.is_force()) {
+                (true, _) => "acceleration",
+                (false, true) => "force",
+                (false, false) => "moment",
+            },
             fmt_number(t.rms_before),
             fmt_number(t.rms_after),
-            t.axis.unit(),
+            unit(d, t.axis),
             t.likelihood_ratio,
             t.folds_better
         );
@@ -81,7 +95,39 @@ pub fn discovery_text(d: &Discovery) -> String {
         }
         let _ = writeln!(s, "     add: --add '{}'", t.add);
     }
+    incidence_text(&mut s, d);
     s
+}
+
+/// What the flight's attitude says across a point mass's path, where it says anything.
+fn incidence_text(s: &mut String, d: &Discovery) {
+    let Some(first) = d.incidence.first() else {
+        return;
+    };
+    let _ = writeln!(
+        s,
+        "  across the path, the flight's attitude (the body's, up to {:.1}° off its path; a point \
+         mass has none, so no term it can take):",
+        first.largest_deg
+    );
+    for i in &d.incidence {
+        let _ = writeln!(
+            s,
+            "  {}: ∝ qbar × the body's angle to its path: removes {:.0}% of the axis's missing \
+             acceleration (RMS {} → {} m/s²), k = {} ± {} m/s² per Pa, likelihood ratio {:.1}",
+            i.axis.name(),
+            100.0 * (1.0 - (i.rms_after / i.rms_before).powi(2)),
+            fmt_number(i.rms_before),
+            fmt_number(i.rms_after),
+            fmt_number(i.coefficient),
+            fmt_number(i.sigma),
+            i.likelihood_ratio
+        );
+    }
+    let _ = writeln!(
+        s,
+        "  a force from the body's incidence (a lift): a model that flies the body carries it"
+    );
 }
 
 /// The JSON of a discovery: `{"terms": [...], "axes": [...], ...}`, terms best first.
@@ -104,7 +150,7 @@ pub fn discovery_json(d: &Discovery) -> Value {
         })).collect::<Vec<_>>(),
         "axes": d.axes.iter().map(|a| json!({
             "axis": a.axis.name(),
-            "unit": a.axis.unit(),
+            "unit": unit(d, a.axis),
             "rms": a.rms,
             "mean": a.mean,
             "rms_after": a.rms_after,
@@ -114,5 +160,15 @@ pub fn discovery_json(d: &Discovery) -> Value {
         "candidates": d.candidates,
         "threshold": d.threshold,
         "error_before": d.error_before,
+        "point_mass": d.point_mass,
+        "incidence": d.incidence.iter().map(|i| json!({
+            "axis": i.axis.name(),
+            "coefficient": i.coefficient,
+            "sigma": i.sigma,
+            "rms_before": i.rms_before,
+            "rms_after": i.rms_after,
+            "likelihood_ratio": i.likelihood_ratio,
+            "largest_deg": i.largest_deg,
+        })).collect::<Vec<_>>(),
     })
 }

@@ -541,7 +541,7 @@ pub struct Sample {
     /// Mass, kg (1 for a point mass whose mass is unknown: its effects are accelerations).
     pub mass: f64,
     /// The air data of the air-relative velocity — airspeed, α, β — as the aerodynamic model
-    /// takes them (still air for a point mass).
+    /// takes them (a point mass: its airspeed alone, α = β = 0).
     pub air: AirData,
     /// The propeller's thrust, N, as the fixed-wing model takes it (0 for a point mass).
     pub thrust: f64,

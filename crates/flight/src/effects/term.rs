@@ -1,6 +1,11 @@
-//! `term(AXIS=EXPR)` (fixed wing): a body-axis force or moment given by a formula of the
-//! expression language ([`crate::expr`]), its free coefficients the effect's parameters —
+//! `term(AXIS=EXPR)`: a body-axis force or moment given by a formula of the expression
+//! language ([`crate::expr`]), its free coefficients the effect's parameters —
 //! `--add 'term:m=k*thrust'`, or a model file's `[[term]] axis = "m" expr = "k * thrust"`.
+//!
+//! A point mass takes a force term (`X`, `Y`, `Z`) that reads only what a point mass has
+//! ([`POINT_MASS_VARIABLES`]): its body axes are its flight-path axes
+//! ([`crate::aero::flight_path_axes`]: `X` along the air-relative velocity, `Z` downward
+//! normal to it), and the term's value is an acceleration (its mass is 1).
 //!
 //! A term's parameters are known only when its text is read, while an effect's
 //! [`EffectInfo`] is `&'static` (every other effect's is a `static`, and the model file, the
@@ -35,6 +40,26 @@ pub const COEFF_RANGE: (f64, f64) = (-1e9, 1e9);
 /// The size of force (N) or moment (N·m) a coefficient's typical size is taken to give at
 /// typical flight values (see [`coefficient_scale`]).
 const TYPICAL_OUTPUT: f64 = 1.0;
+
+/// The variables a point mass has: the air-relative velocity's size and the air (no body,
+/// so no angles, rates, surfaces or propeller).
+pub const POINT_MASS_VARIABLES: [Var; 5] =
+    [Var::Airspeed, Var::Qbar, Var::Rho, Var::Height, Var::G];
+
+/// The vehicles a term means something for: a force that reads only
+/// [`POINT_MASS_VARIABLES`] both, anything else the fixed wing alone.
+pub fn applies(term: &Term) -> Applies {
+    if term.axis.is_force()
+        && term
+            .expr
+            .variables()
+            .all(|v| POINT_MASS_VARIABLES.contains(&v))
+    {
+        Applies::Both
+    } else {
+        Applies::FixedWing
+    }
+}
 
 /// A term that cannot be an effect.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -105,7 +130,7 @@ pub fn intern(term: &Term) -> Result<&'static EffectInfo, TermError> {
     let info: &'static EffectInfo = Box::leak(Box::new(EffectInfo {
         name: Box::leak(name.into_boxed_str()),
         summary: Box::leak(summary.into_boxed_str()),
-        applies: Applies::FixedWing,
+        applies: applies(term),
         params: Box::leak(params.into_boxed_slice()),
         make: unbound,
     }));
@@ -497,6 +522,47 @@ mod tests {
                 "[{k}]: {ga} vs {want}"
             );
         }
+    }
+
+    /// On a point mass a force term acts along its flight-path axes: `Z` negative is a lift,
+    /// normal to the air-relative velocity and upward; a term reading a body variable is
+    /// the fixed wing's alone.
+    #[test]
+    fn a_force_term_on_a_point_mass_acts_along_its_flight_path() {
+        use crate::model::{Model, State, Vehicle};
+        use crate::spec::EffectSpec;
+        let base = Model::new(Vehicle::PointMass, super::super::Origin::default());
+        let spec = EffectSpec::parse("term(Z=k*qbar):k=-0.01").unwrap();
+        let mut with = base.clone();
+        with.add_effect(spec.build(&base.effect_context()).unwrap())
+            .unwrap();
+        let mut x = State::default();
+        // Climbing north-east at 45°, 40 m/s.
+        let v = DVec3::new(20.0, 20.0, -20.0 * 2f64.sqrt());
+        x.set_vel(v);
+        let cmd = Controls::default();
+        let d = |m: &Model| {
+            let s = m.derivative(0.0, &x, &cmd).0;
+            DVec3::new(s[3], s[4], s[5])
+        };
+        let lift = d(&with) - d(&base);
+        let qbar = 0.5 * crate::effects::RHO_SEA_LEVEL * v.length_squared();
+        assert!((lift.length() - 0.01 * qbar).abs() < 1e-9, "{lift}");
+        assert!(lift.dot(v).abs() < 1e-9, "normal to the velocity: {lift}");
+        assert!(
+            lift.z < 0.0 && lift.x < 0.0 && (lift.x - lift.y).abs() < 1e-9,
+            "{lift}"
+        );
+        let body = EffectSpec::parse("term(Z=k*qbar*alpha):k=-0.01").unwrap();
+        assert!(base
+            .clone()
+            .add_effect(body.build(&base.effect_context()).unwrap())
+            .is_err());
+        let moment = EffectSpec::parse("term(m=k*qbar):k=1").unwrap();
+        assert!(base
+            .clone()
+            .add_effect(moment.build(&base.effect_context()).unwrap())
+            .is_err());
     }
 
     #[test]
