@@ -58,6 +58,7 @@ use crate::compare::{combined, controls_at, CompareConfig, Measured, NoiseEstima
 use wireflight_flight::data::FlightData;
 use wireflight_flight::linear::skew;
 use wireflight_flight::model::{Model, State, Vehicle};
+use wireflight_flight::turbulence::{DrydenIntensity, TurbulenceLevel};
 
 /// Error-state dimension of the aircraft (a fixed wing).
 const AIRCRAFT: usize = 12;
@@ -494,6 +495,9 @@ pub struct FlightFilter<'d> {
     airspeed_mps: f64,
     /// Wing span, m (the rotary disturbance's time scale).
     span_m: f64,
+    /// Scale lengths (north, east, down) where the record does not determine them:
+    /// MIL-F-8785C's at the flight's mean height above the origin.
+    default_length_m: [f64; GUST_AXES],
     accel: bool,
     max_dt: f64,
     vel_body: Vec<DVec3>,
@@ -577,6 +581,11 @@ impl<'d> FlightFilter<'d> {
             _ => vb.iter().map(|v| v.length()).sum::<f64>() / n.max(1) as f64,
         }
         .max(1.0);
+        // The lengths do not depend on the level; the height is the origin's plus the mean
+        // height above it (the origin's altitude taken as the ground's).
+        let height_m = model.origin.altitude_m
+            - data.pos_ned.iter().map(|p| p.z).sum::<f64>() / n.max(1) as f64;
+        let lengths = DrydenIntensity::at(TurbulenceLevel::Light, height_m).length_m;
         Ok(Self {
             data,
             windows,
@@ -584,6 +593,7 @@ impl<'d> FlightFilter<'d> {
             noise: sigma,
             airspeed_mps,
             span_m: model.vehicle.span(),
+            default_length_m: lengths,
             accel: measured.accel,
             max_dt: cfg.max_dt,
             vel_body: vb,
@@ -695,7 +705,7 @@ impl<'d> FlightFilter<'d> {
         let nll = |g: &GustModel| self.pass(model, g).neg_log_likelihood;
         let mut gusts = GustModel {
             sigma_mps: [0.5; GUST_AXES],
-            length_m: [DEFAULT_LENGTH_M; GUST_AXES],
+            length_m: self.default_length_m,
             rotary_radps2: [0.0; 3],
         };
         let range = |j: usize| {
