@@ -25,11 +25,15 @@
 //! the clippers' own cost, where `clip/*` at 1 M edges is bound by DRAM for the fast paths).
 //!
 //! `WIREFLIGHT_BENCH_EDGES` overrides the set size (e.g. 65536 for a quick run).
+//! `WIREFLIGHT_BENCH_CPU_TIME=1` times the single-threaded `clip/*` and `clip-cached/*`
+//! benchmarks by the thread's CPU time instead of the wall clock (Linux only; elsewhere it is
+//! ignored): on a machine whose cores are shared, the wall clock also counts the slices the
+//! scheduler gave to other processes, which swings a ratio to the copy more than the code does.
 
 use std::hint::black_box;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
-use criterion::{criterion_group, criterion_main, BenchmarkGroup, Criterion, Throughput};
+use criterion::{criterion_group, criterion_main, Bencher, BenchmarkGroup, Criterion, Throughput};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use wireflight::camera::{Camera, Projection};
@@ -175,6 +179,55 @@ fn per_edge<P: Copy>(
     stats
 }
 
+/// The calling thread's CPU time so far (`CLOCK_THREAD_CPUTIME_ID`).
+#[cfg(target_os = "linux")]
+fn thread_cpu_time() -> Duration {
+    #[repr(C)]
+    struct Timespec {
+        sec: i64,
+        nsec: i64,
+    }
+    extern "C" {
+        fn clock_gettime(clock: i32, tp: *mut Timespec) -> i32;
+    }
+    const CLOCK_THREAD_CPUTIME_ID: i32 = 3;
+    let mut t = Timespec { sec: 0, nsec: 0 };
+    // SAFETY: glibc's (and musl's) `clock_gettime` on 64-bit Linux writes one `timespec`
+    // (two 64-bit fields, as declared) through the pointer, which is valid and exclusive.
+    let rc = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    Duration::new(t.sec as u64, t.nsec as u32)
+}
+
+/// Whether to time by the thread's CPU time (`WIREFLIGHT_BENCH_CPU_TIME=1`, Linux only).
+fn cpu_time() -> bool {
+    cfg!(all(target_os = "linux", target_pointer_width = "64"))
+        && std::env::var("WIREFLIGHT_BENCH_CPU_TIME").is_ok_and(|v| v == "1")
+}
+
+/// Criterion's `iter` timed by the wall clock or, with `cpu` set, by the thread's CPU time
+/// (the time this thread spent on a core, whoever else shares it).
+fn timed<R>(b: &mut Bencher<'_>, cpu: bool, mut routine: impl FnMut() -> R) {
+    b.iter_custom(|iters| {
+        let clock = || -> Duration {
+            #[cfg(target_os = "linux")]
+            if cpu {
+                return thread_cpu_time();
+            }
+            Duration::ZERO
+        };
+        let (wall, start) = (Instant::now(), clock());
+        for _ in 0..iters {
+            black_box(routine());
+        }
+        if cpu {
+            clock() - start
+        } else {
+            wall.elapsed()
+        }
+    });
+}
+
 fn configure(g: &mut BenchmarkGroup<'_, criterion::measurement::WallTime>, n: usize) {
     g.throughput(Throughput::Elements(n as u64));
 }
@@ -191,12 +244,13 @@ fn edges_count() -> usize {
 fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clippers: &[Clipper]) {
     let volume = ClipVolume::new(DEPTH);
     let soa = EdgesSoa::from_pairs(edges);
+    let cpu = cpu_time();
     let mut g = c.benchmark_group(name);
     configure(&mut g, edges.len());
     // The bandwidth reference: the same 32 B per edge read and written.
     let mut copy = EdgesSoa::from_pairs(edges);
     g.bench_function("copy", |b| {
-        b.iter(|| {
+        timed(b, cpu, || {
             for k in 0..4 {
                 copy.a[k].copy_from_slice(&soa.a[k]);
                 copy.c[k].copy_from_slice(&soa.c[k]);
@@ -210,7 +264,7 @@ fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clip
     // edge (and does when a block is all inside).
     let mut out_copy = SegmentsSoa::default();
     g.bench_function("copy-blocks", |b| {
-        b.iter(|| {
+        timed(b, cpu, || {
             out_copy.clear();
             out_copy.reserve(soa.len());
             let n = soa.len();
@@ -227,7 +281,7 @@ fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clip
     });
     let mut out_soa = SegmentsSoa::default();
     g.bench_function("blinn-batch", |b| {
-        b.iter(|| {
+        timed(b, cpu, || {
             out_soa.clear();
             clip_soa(black_box(&soa), DEPTH, &mut out_soa)
         })
@@ -235,7 +289,9 @@ fn homogeneous_group(c: &mut Criterion, name: &str, edges: &[(Vec4, Vec4)], clip
     let mut out = Vec::with_capacity(edges.len());
     for &clipper in clippers {
         g.bench_function(clipper.name(), |b| {
-            b.iter(|| per_edge(edges, &mut out, |a, c| clipper.clip_in(a, c, &volume)))
+            timed(b, cpu, || {
+                per_edge(edges, &mut out, |a, c| clipper.clip_in(a, c, &volume))
+            })
         });
     }
     g.finish();
