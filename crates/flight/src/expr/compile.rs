@@ -17,7 +17,7 @@
 use super::error::{EvalError, EvalProblem, ParseError, Problem};
 use super::ops::{Bin, Func};
 use super::parse::{Ast, Node};
-use super::vars::{Var, VarValues, VARIABLES};
+use super::vars::{Var, VarValues, N_VARS, VARIABLES};
 
 /// The stack's depth: more than any accepted expression needs (see the module's notes).
 pub const STACK: usize = 16;
@@ -88,6 +88,51 @@ pub struct Code {
     need: usize,
     /// Bit i set if variable i is used.
     uses: u32,
+    /// The program as a product, when it is one (see [`Product`]).
+    product: Option<Product>,
+}
+
+/// A program that is one product, left to right: a first value, then multiplications by a
+/// variable, a coefficient or a number, and squares — `k*thrust`, `k*qbar*alpha*beta`,
+/// `k*throttle^2`, the form of most terms (every regressor `discover` proposes but the sines).
+/// Walked without the stack and with each variable asked for where it multiplies, it gives
+/// the fused program's value bit for bit: the same multiplications in the same order.
+#[derive(Clone, Debug, PartialEq)]
+struct Product {
+    first: Leaf,
+    factors: Vec<Factor>,
+}
+
+/// One step of a [`Product`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Factor {
+    /// top ← top · leaf.
+    Times(Leaf),
+    /// top ← top².
+    Square,
+}
+
+impl Product {
+    /// The fused program as a product, if it is one.
+    fn of(fast: &[Instr]) -> Option<Product> {
+        let (Instr::Push(first), rest) = fast.split_first()? else {
+            return None;
+        };
+        let factors = rest
+            .iter()
+            .map(|ins| match *ins {
+                Instr::MulVar(i) => Some(Factor::Times(Leaf::Var(i))),
+                Instr::MulCoef(j) => Some(Factor::Times(Leaf::Coef(j))),
+                Instr::MulConst(c) => Some(Factor::Times(Leaf::Const(c))),
+                Instr::Square => Some(Factor::Square),
+                _ => None,
+            })
+            .collect::<Option<Vec<Factor>>>()?;
+        Some(Product {
+            first: *first,
+            factors,
+        })
+    }
 }
 
 /// A piece of program under construction.
@@ -127,8 +172,10 @@ pub fn compile(ast: &Ast, n_coeffs: usize) -> Result<Code, ParseError> {
             uses |= 1 << i;
         }
     }
+    let fast = fuse(&plain);
     Ok(Code {
-        fast: fuse(&plain),
+        product: Product::of(&fast),
+        fast,
         plain,
         columns,
         n_coeffs,
@@ -392,6 +439,12 @@ impl Code {
         &self.fast
     }
 
+    /// Whether the program is walked as a product (for the tests).
+    #[cfg(test)]
+    pub fn is_product(&self) -> bool {
+        self.product.is_some()
+    }
+
     /// The stack depth the program needs (for the tests).
     #[cfg(test)]
     pub fn depth(&self) -> usize {
@@ -440,6 +493,37 @@ impl Code {
                 }
                 Instr::BinLeaf(op, l) => top = op.apply(top, leaf(l, vars, coeffs)),
                 Instr::LeafBin(op, l) => top = op.apply(leaf(l, vars, coeffs), top),
+            }
+        }
+        top
+    }
+
+    /// The value, each variable's asked of `var` and only for the variables used: a product
+    /// asks for each where it multiplies, with no table filled; any other program is run on
+    /// a table filled with those it reads. The same as [`Code::eval`]'s, bit for bit.
+    #[inline]
+    pub fn eval_from(&self, var: impl Fn(Var) -> f64, coeffs: &[f64]) -> f64 {
+        let Some(product) = &self.product else {
+            let mut vars = [0.0; N_VARS];
+            let mut left = self.uses;
+            // Bounded: one pass per bit set, at most N_VARS.
+            while left != 0 {
+                let i = left.trailing_zeros() as usize;
+                left &= left - 1;
+                vars[i] = var(Var::ALL[i]);
+            }
+            return self.eval(&vars, coeffs);
+        };
+        let leaf = |l: Leaf| match l {
+            Leaf::Const(c) => c,
+            Leaf::Var(i) => var(Var::ALL[i as usize]),
+            Leaf::Coef(j) => coeffs[j as usize],
+        };
+        let mut top = leaf(product.first);
+        for &f in &product.factors {
+            match f {
+                Factor::Times(l) => top *= leaf(l),
+                Factor::Square => top *= top,
             }
         }
         top
