@@ -38,6 +38,7 @@ mod report;
 mod sensors;
 mod several_causes;
 mod terms;
+mod terms_window;
 mod turbulence;
 mod turbulence_fit;
 mod view;
