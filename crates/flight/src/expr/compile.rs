@@ -99,17 +99,51 @@ pub struct Code {
 /// the fused program's value bit for bit: the same multiplications in the same order.
 #[derive(Clone, Debug, PartialEq)]
 struct Product {
-    first: Leaf,
+    first: Factor,
+    /// Each multiplies what came before (a square squares it).
     factors: Vec<Factor>,
 }
 
-/// One step of a [`Product`].
+/// A value of a [`Product`], with its variable resolved when the program is compiled.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Factor {
-    /// top ← top · leaf.
-    Times(Leaf),
-    /// top ← top².
+    Var(Var),
+    Coef(u8),
+    Const(f64),
+    /// What came before, again (top ← top²).
     Square,
+}
+
+impl Factor {
+    fn of(leaf: Leaf) -> Option<Factor> {
+        Some(match leaf {
+            Leaf::Var(i) => Factor::Var(*Var::ALL.get(i as usize)?),
+            Leaf::Coef(j) => Factor::Coef(j),
+            Leaf::Const(c) => Factor::Const(c),
+        })
+    }
+
+    /// `top` times this factor.
+    #[inline(always)]
+    fn times<F: Fn(Var) -> f64>(self, top: f64, var: &F, coeffs: &[f64]) -> f64 {
+        match self {
+            Factor::Var(v) => top * var(v),
+            Factor::Coef(j) => top * coeffs[j as usize],
+            Factor::Const(c) => top * c,
+            Factor::Square => top * top,
+        }
+    }
+
+    /// This factor's value as the product's first (a square has none: 0, never made).
+    #[inline(always)]
+    fn value<F: Fn(Var) -> f64>(self, var: &F, coeffs: &[f64]) -> f64 {
+        match self {
+            Factor::Var(v) => var(v),
+            Factor::Coef(j) => coeffs[j as usize],
+            Factor::Const(c) => c,
+            Factor::Square => 0.0,
+        }
+    }
 }
 
 impl Product {
@@ -121,15 +155,15 @@ impl Product {
         let factors = rest
             .iter()
             .map(|ins| match *ins {
-                Instr::MulVar(i) => Some(Factor::Times(Leaf::Var(i))),
-                Instr::MulCoef(j) => Some(Factor::Times(Leaf::Coef(j))),
-                Instr::MulConst(c) => Some(Factor::Times(Leaf::Const(c))),
+                Instr::MulVar(i) => Factor::of(Leaf::Var(i)),
+                Instr::MulCoef(j) => Factor::of(Leaf::Coef(j)),
+                Instr::MulConst(c) => Factor::of(Leaf::Const(c)),
                 Instr::Square => Some(Factor::Square),
                 _ => None,
             })
             .collect::<Option<Vec<Factor>>>()?;
         Some(Product {
-            first: *first,
+            first: Factor::of(*first)?,
             factors,
         })
     }
@@ -504,29 +538,29 @@ impl Code {
     #[inline]
     pub fn eval_from(&self, var: impl Fn(Var) -> f64, coeffs: &[f64]) -> f64 {
         let Some(product) = &self.product else {
-            let mut vars = [0.0; N_VARS];
-            let mut left = self.uses;
-            // Bounded: one pass per bit set, at most N_VARS.
-            while left != 0 {
-                let i = left.trailing_zeros() as usize;
-                left &= left - 1;
-                vars[i] = var(Var::ALL[i]);
-            }
-            return self.eval(&vars, coeffs);
+            return self.eval_filled(&var, coeffs);
         };
-        let leaf = |l: Leaf| match l {
-            Leaf::Const(c) => c,
-            Leaf::Var(i) => var(Var::ALL[i as usize]),
-            Leaf::Coef(j) => coeffs[j as usize],
-        };
-        let mut top = leaf(product.first);
-        for &f in &product.factors {
-            match f {
-                Factor::Times(l) => top *= leaf(l),
-                Factor::Square => top *= top,
-            }
+        let mut top = product.first.value(&var, coeffs);
+        for f in &product.factors {
+            top = f.times(top, &var, coeffs);
         }
         top
+    }
+
+    /// [`Code::eval_from`] of a program that is no product: a table filled with the
+    /// variables it reads, then the program. Apart, so that a product's walk stays short
+    /// where it is inlined.
+    #[inline(never)]
+    fn eval_filled<F: Fn(Var) -> f64>(&self, var: &F, coeffs: &[f64]) -> f64 {
+        let mut vars = [0.0; N_VARS];
+        let mut left = self.uses;
+        // Bounded: one pass per bit set, at most N_VARS.
+        while left != 0 {
+            let i = left.trailing_zeros() as usize;
+            left &= left - 1;
+            vars[i] = var(Var::ALL[i]);
+        }
+        self.eval(&vars, coeffs)
     }
 
     /// The value, and its derivative with respect to each coefficient in `grad[..n_coeffs]`.
