@@ -1,14 +1,17 @@
 //! Terms in the window's compare panel without a window: `discover` run from the panel's
 //! state on a flight whose truth has a pitching moment ∝ the thrust (a thrust line 4 cm above
 //! the centre of gravity) that neither the catalogue nor the parameter set has; the term it
-//! finds becomes a checkbox row with its reading and estimate, and ticking it brings the
-//! flight's error to the noise.
+//! finds becomes a checkbox row with its reading and estimate, the panel draws it (egui
+//! without a window), and ticking it brings the flight's error to the noise.
 
 use std::sync::Arc;
 
 use wireflight::analysis::compare::CompareConfig;
+use wireflight::app::view::cameras::CameraMode;
 use wireflight::app::view::compare::Compare;
+use wireflight::app::view::compare_panel_texts;
 use wireflight::app::view::discovery::Discovering;
+use wireflight::app::view::session::Session;
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::term::term_of;
@@ -16,6 +19,7 @@ use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelChoice, ModelSpec};
 use wireflight::flight::VehicleKind;
+use wireflight::mesh::plane::builtin_plane;
 
 /// The truth's coefficient: N·m of pitching moment per N of thrust.
 const TRUE_K: f64 = -0.04;
@@ -123,6 +127,22 @@ fn a_discovered_term_is_a_row_and_ticking_it_brings_the_error_to_the_noise() {
     eprintln!("{line}; ticked: {before:.2} → {now:.2} × the noise");
     assert!(now < 1.1, "{before} → {now} × the noise");
     assert!(c.model().has_effect("term(m=k_m1*thrust)"));
+
+    // The panel, drawn offscreen: the button, the discovery's line, the row with discover's
+    // reading and estimate, the misfit in units of the noise.
+    let session = Session::replay(builtin_plane(), c.data().clone(), CameraMode::Chase, 1.0)
+        .unwrap()
+        .with_compare(c);
+    let drawn = compare_panel_texts(&session);
+    let all = drawn.join("\n");
+    assert!(drawn.iter().any(|t| t == "discover"), "{all}");
+    assert!(drawn.iter().any(|t| t == &line), "{all}");
+    assert!(drawn.iter().any(|t| t == "term(m=k_m1*thrust)"), "{all}");
+    assert!(all.contains("pitching moment ∝ thrust"), "{all}");
+    assert!(all.contains("discover: k_m1 = -0.0"), "{all}");
+    assert!(drawn.iter().any(|t| t == "× noise"), "{all}");
+    let mut session = session;
+    let c = session.compare_mut().unwrap();
 
     // Unticked, the base model's error again; a second discovery on it annotates the same
     // row rather than adding another.

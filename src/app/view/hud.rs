@@ -685,115 +685,39 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
     scene
 }
 
-#[cfg(test)]
-mod tests {
-    use std::sync::Arc;
-
-    use super::*;
-    use crate::analysis::compare::CompareConfig;
-    use crate::flight::autopilot::Manoeuvre;
-    use crate::flight::effects::Origin;
-    use crate::flight::simulate::{simulate, Noise, SimSpec};
-    use crate::flight::spec::{EffectSpec, ModelChoice, ModelSpec};
-    use crate::flight::VehicleKind;
-
-    /// Every text the shapes of one egui pass draw.
-    fn texts(shapes: &[egui::epaint::ClippedShape]) -> Vec<String> {
-        fn walk(shape: &egui::Shape, out: &mut Vec<String>) {
-            match shape {
-                egui::Shape::Text(t) => out.push(t.galley.text().to_string()),
-                egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
-                _ => {}
-            }
+/// The texts the `--compare` panel of `session` draws, egui run without a window (its shapes,
+/// not pixels; the passes a window takes to size itself first): what a test reads of the
+/// panel. Empty without a comparison.
+pub fn compare_panel_texts(session: &Session) -> Vec<String> {
+    fn walk(shape: &egui::Shape, out: &mut Vec<String>) {
+        match shape {
+            egui::Shape::Text(t) => out.push(t.galley.text().to_string()),
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            _ => {}
         }
-        let mut out = Vec::new();
-        for s in shapes {
-            walk(&s.shape, &mut out);
-        }
-        out
     }
-
-    /// The compare panel drawn offscreen (egui without a window: its shapes, not pixels)
-    /// after the panel's discover found the thrust line of docs/discover.md's flight: the
-    /// button, the discovery's line, and the term's row with its reading and estimate.
-    #[test]
-    fn the_panel_draws_the_discover_button_and_a_discovered_terms_row() {
-        let mut truth = ModelSpec::baseline(VehicleKind::FixedWing);
-        truth
-            .effects
-            .push(EffectSpec::parse("term(m=k*thrust):k=-0.04").unwrap());
-        let spec = SimSpec {
-            manoeuvre: Manoeuvre::FlightTest,
-            duration_s: 60.0,
-            rate_hz: 50.0,
-            airspeed_mps: 25.0,
-            launch_speed_mps: 150.0,
-            height_m: 200.0,
-            noise: Noise {
-                pos_m: 0.3,
-                att_deg: 0.2,
-                vel_mps: 0.1,
-                rate_dps: 0.3,
-            },
-            accelerometer: None,
-            seed: 5,
-            source: "hud.rs".into(),
-            aircraft: Some("aerosonde".into()),
-            listed_effects: Vec::new(),
-            turbulence: None,
+    let Some(c) = session.compare() else {
+        return Vec::new();
+    };
+    let ctx = egui::Context::default();
+    let mut texts = Vec::new();
+    for _ in 0..3 {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(1600.0, 1400.0),
+            )),
+            ..Default::default()
         };
-        let mut data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
-        data.derive_missing();
-        let base = ModelChoice::default()
-            .build(std::path::Path::new("thrust-line.csv"), &data)
-            .unwrap();
-        let cfg = CompareConfig {
-            window_s: CompareConfig::default_window_s(VehicleKind::FixedWing),
-            ..CompareConfig::default()
-        };
-        let data = Arc::new(data);
-        let mut c = Compare::with_config(Arc::clone(&data), base, &[], cfg, false).unwrap();
-        c.start_discover();
-        c.wait_discover();
-        let session = Session::replay(
-            crate::mesh::plane::builtin_plane(),
-            (*data).clone(),
-            super::super::cameras::CameraMode::Chase,
-            55f32.to_radians(),
-        )
-        .unwrap()
-        .with_compare(c);
-        let c = session.compare().unwrap();
-        let ctx = egui::Context::default();
-        let mut drawn = Vec::new();
-        // A window sizes itself in its first pass and is drawn in the next.
-        for _ in 0..3 {
-            let input = egui::RawInput {
-                screen_rect: Some(egui::Rect::from_min_size(
-                    egui::Pos2::ZERO,
-                    egui::vec2(1600.0, 1400.0),
-                )),
-                ..Default::default()
-            };
-            let mut out = ctx.run_pass(input, |ctx| {
-                let actions = draw_compare(ctx, c, session.readout());
-                assert_eq!(actions, CompareActions::default(), "nothing clicked");
-            });
-            drawn = texts(&out.shapes);
-            // No renderer takes the font atlas.
-            out.textures_delta.clear();
+        let mut out = ctx.run_pass(input, |ctx| {
+            draw_compare(ctx, c, session.readout());
+        });
+        // No renderer takes the font atlas.
+        out.textures_delta.clear();
+        texts.clear();
+        for s in &out.shapes {
+            walk(&s.shape, &mut texts);
         }
-        let all = drawn.join("\n");
-        assert!(drawn.iter().any(|t| t == "discover"), "{all}");
-        assert!(
-            drawn
-                .iter()
-                .any(|t| t.starts_with("discover: ") && t.contains(" found (")),
-            "{all}"
-        );
-        assert!(drawn.iter().any(|t| t == "term(m=k_m1*thrust)"), "{all}");
-        assert!(all.contains("pitching moment ∝ thrust"), "{all}");
-        assert!(all.contains("discover: k_m1 = -0.0"), "{all}");
-        assert!(all.contains("× noise"), "{all}");
     }
+    texts
 }

@@ -32,6 +32,7 @@ use crate::render::{OutputFormat, Rasterizer};
 use cameras::CameraMode;
 use compare::Compare;
 use flight::Start;
+pub use hud::compare_panel_texts;
 use hud::{
     compare_summary, draw_compare, draw_euler, draw_help, draw_hud, screenshot_scene,
     CompareActions, EulerChanges, HudData, Meter,
