@@ -39,6 +39,7 @@ mod report;
 mod sensors;
 mod several_causes;
 mod terms;
+mod terms_window;
 mod turbulence;
 mod turbulence_fit;
 mod view;

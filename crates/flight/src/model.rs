@@ -176,6 +176,34 @@ pub struct Frame {
     stall_sigma: f64,
 }
 
+/// What a derivative asks of the effects besides their forces, asked once for all four of a
+/// step's ([`Model::step`]): each is a call through the effect's vtable, and the term of the
+/// benchmark `m = k*thrust` costs little more than those calls.
+#[derive(Clone, Copy, Debug)]
+struct EffectRoles {
+    /// The actuator lag's time constant, s, if an effect adds one.
+    tau: Option<f64>,
+    /// Bit i set: effect i acts on the body (neither a measurement nor a uniform wind, which
+    /// only blows: its air is in the frame already). Effects past the first
+    /// [`EffectRoles::KNOWN`] are asked at each derivative.
+    on_body: u64,
+}
+
+impl EffectRoles {
+    /// How many effects' roles the mask holds.
+    const KNOWN: usize = 64;
+
+    /// Whether effect `e`, the model's `i`-th, acts on the body.
+    #[inline]
+    fn acts_on_body(&self, i: usize, e: &dyn Effect) -> bool {
+        if i < Self::KNOWN {
+            self.on_body & (1 << i) != 0
+        } else {
+            !e.is_measurement() && !e.is_uniform_wind()
+        }
+    }
+}
+
 /// The vehicle family and its parameters.
 #[derive(Clone, Debug)]
 pub enum Vehicle {
@@ -478,9 +506,36 @@ impl Model {
     /// in its body rates and surfaces (RK4's first stage and a read inside its step under
     /// other commands; the rate columns of the model's Jacobian).
     pub fn derivative_in(&self, t: f64, x: &State, cmd: &Controls, frame: &Frame) -> State {
+        self.derivative_with(t, x, cmd, frame, &self.roles())
+    }
+
+    /// [`derivative_in`](Self::derivative_in) with the effects' roles asked already.
+    fn derivative_with(
+        &self,
+        t: f64,
+        x: &State,
+        cmd: &Controls,
+        frame: &Frame,
+        roles: &EffectRoles,
+    ) -> State {
         match &self.vehicle {
             Vehicle::PointMass => self.point_mass_derivative(t, x, frame),
-            Vehicle::FixedWing(p) => self.fixed_wing_derivative(p, t, x, cmd, frame),
+            Vehicle::FixedWing(p) => self.fixed_wing_derivative(p, t, x, cmd, frame, roles),
+        }
+    }
+
+    /// What every derivative asks of the effects besides their forces, asked once: a step's
+    /// four derivatives share it.
+    fn roles(&self) -> EffectRoles {
+        let mut on_body = 0u64;
+        for (i, e) in self.effects.iter().take(EffectRoles::KNOWN).enumerate() {
+            if !e.is_measurement() && !e.is_uniform_wind() {
+                on_body |= 1 << i;
+            }
+        }
+        EffectRoles {
+            tau: self.actuator_tau(),
+            on_body,
         }
     }
 
@@ -525,6 +580,7 @@ impl Model {
         State(d)
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn fixed_wing_derivative(
         &self,
         p: &FixedWingParams,
@@ -532,12 +588,13 @@ impl Model {
         x: &State,
         cmd: &Controls,
         frame: &Frame,
+        roles: &EffectRoles,
     ) -> State {
         let uvw = x.vel();
         let q = x.quat();
         let rot = frame.rot;
         let omega = x.omega();
-        let tau = self.actuator_tau();
+        let tau = roles.tau;
         let ctl = surfaces_under(tau, x, cmd);
         let vel_ned = rot * uvw;
 
@@ -545,22 +602,20 @@ impl Model {
         let mut force = DVec3::ZERO;
         let mut moment = DVec3::ZERO;
         let mut acc_ned = DVec3::new(0.0, 0.0, frame.g);
-        // What the effects see, only when any acts on the body: the bare airframe (every
-        // flight of a model without effects) and a wind (it only blows: its air is in the
-        // frame already) have no use for it.
-        if self
-            .effects
-            .iter()
-            .any(|e| !e.is_uniform_wind() && !e.is_measurement())
-        {
-            let s = self.body_sample(p, t, x, &ctl, frame);
-            for e in self.effects.iter().filter(|e| !e.is_measurement()) {
-                induced_factor *= e.induced_drag_factor(&s);
-                let (f, m) = e.force_moment_body(&s);
-                force += f;
-                moment += m;
-                acc_ned += e.accel_ned(&s);
+        // What the effects see, made once and only when one acts on the body: the bare
+        // airframe (every flight of a model without effects), a wind (it only blows: its air
+        // is in the frame already) and a measurement effect have no use for it. One pass.
+        let mut sample: Option<Sample> = None;
+        for (i, e) in self.effects.iter().enumerate() {
+            if !roles.acts_on_body(i, e.as_ref()) {
+                continue;
             }
+            let s = sample.get_or_insert_with(|| self.body_sample(p, t, x, vel_ned, &ctl, frame));
+            induced_factor *= e.induced_drag_factor(s);
+            let (f, m) = e.force_moment_body(s);
+            force += f;
+            moment += m;
+            acc_ned += e.accel_ned(s);
         }
         let (f_aero, m_aero) = aero_force_moment(
             p,
@@ -602,13 +657,15 @@ impl Model {
         State(d)
     }
 
-    /// What the body-force effects see of a fixed wing at time `t` and state `x` under the
-    /// surfaces and throttle `ctl`, in `frame`.
+    /// What the body-force effects see of a fixed wing at time `t` and state `x` (whose
+    /// velocity in NED is `vel_ned`, the derivative's own) under the surfaces and throttle
+    /// `ctl`, in `frame`.
     fn body_sample(
         &self,
         p: &FixedWingParams,
         t: f64,
         x: &State,
+        vel_ned: DVec3,
         ctl: &Controls,
         frame: &Frame,
     ) -> Sample {
@@ -616,13 +673,19 @@ impl Model {
         Sample {
             t,
             pos_ned: pos,
-            vel_ned: frame.rot * x.vel(),
+            vel_ned,
             rot: frame.rot,
             omega: x.omega(),
             altitude_m: self.altitude(pos),
             rho: frame.rho,
             g: frame.g,
-            air_vel_ned: frame.rot * frame.v_r,
+            // In still air the air-relative velocity is the body velocity (the frame's is
+            // that same vector), and its NED form the one the derivative has.
+            air_vel_ned: if frame.wind == DVec3::ZERO {
+                vel_ned
+            } else {
+                frame.rot * frame.v_r
+            },
             controls: *ctl,
             mass: p.mass.mass_kg,
             air: frame.air,
@@ -640,7 +703,7 @@ impl Model {
         };
         let frame = self.frame(t, x);
         let ctl = surfaces_under(self.actuator_tau(), x, cmd);
-        let s = self.body_sample(p, t, x, &ctl, &frame);
+        let s = self.body_sample(p, t, x, frame.rot * x.vel(), &ctl, &frame);
         self.effects
             .iter()
             .filter(|e| !e.is_measurement())
@@ -730,7 +793,8 @@ impl Model {
     /// is stiff (RK4 is unstable for dt > 2.8τ), and the exact solution is what the comparison
     /// reconstructs from the command history, so both agree for any τ.
     pub fn step(&self, t: f64, x: &State, cmd: &Controls, dt: f64) -> State {
-        let lag = self.actuator_tau().map(|tau| {
+        let roles = self.roles();
+        let lag = roles.tau.map(|tau| {
             let target = DVec3::new(cmd.elevator, cmd.aileron, cmd.rudder);
             let s0 = x.surfaces();
             move |h: f64| target + (s0 - target) * (-h / tau).exp()
@@ -741,6 +805,7 @@ impl Model {
             dt,
             [cmd; 4],
             lag.as_ref().map(|f| f as &dyn Fn(f64) -> DVec3),
+            &roles,
         )
         .end
     }
@@ -789,7 +854,8 @@ impl Model {
         let middle: [f64; 4] = std::array::from_fn(|j| 0.5 * (6.0 * m1[j] - u1[j]));
         let last: [f64; 4] = std::array::from_fn(|j| 6.0 * m0[j] - u1[j] - 4.0 * middle[j]);
         let (middle, last) = (Controls::from_array(middle), Controls::from_array(last));
-        let lag = self.actuator_tau().map(|tau| {
+        let roles = self.roles();
+        let lag = roles.tau.map(|tau| {
             let s0 = x.surfaces();
             move |offset: f64| held.surfaces_after(s0, tau, offset)
         });
@@ -799,11 +865,12 @@ impl Model {
             h,
             [&first, &middle, &middle, &last],
             lag.as_ref().map(|f| f as &dyn Fn(f64) -> DVec3),
+            &roles,
         )
     }
 
     /// RK4 from `x` over `dt` with stage commands `cmds` (k₁…k₄) and, under actuator lag, the
-    /// surfaces at each offset into the step from `lag`.
+    /// surfaces at each offset into the step from `lag`; the effects' `roles` are the model's.
     fn rk4(
         &self,
         t: f64,
@@ -811,6 +878,7 @@ impl Model {
         dt: f64,
         cmds: [&Controls; 4],
         lag: Option<&dyn Fn(f64) -> DVec3>,
+        roles: &EffectRoles,
     ) -> Rk4Step {
         let stage = |a: &State, b: &State, h: f64| {
             let mut r = a.0;
@@ -825,10 +893,13 @@ impl Model {
         };
         // The first stage's frame, kept for reads inside the step (`Rk4Step::at`).
         let frame = self.frame(t, x);
-        let k1 = self.derivative_in(t, x, cmds[0], &frame);
-        let k2 = self.derivative(t + 0.5 * dt, &stage(x, &k1, 0.5 * dt), cmds[1]);
-        let k3 = self.derivative(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmds[2]);
-        let k4 = self.derivative(t + dt, &stage(x, &k3, dt), cmds[3]);
+        let k1 = self.derivative_with(t, x, cmds[0], &frame, roles);
+        let at = |t: f64, x: &State, cmd: &Controls| {
+            self.derivative_with(t, x, cmd, &self.frame(t, x), roles)
+        };
+        let k2 = at(t + 0.5 * dt, &stage(x, &k1, 0.5 * dt), cmds[1]);
+        let k3 = at(t + 0.5 * dt, &stage(x, &k2, 0.5 * dt), cmds[2]);
+        let k4 = at(t + dt, &stage(x, &k3, dt), cmds[3]);
         let mut out = x.0;
         for (i, o) in out.iter_mut().enumerate() {
             *o += dt / 6.0 * (k1.0[i] + 2.0 * k2.0[i] + 2.0 * k3.0[i] + k4.0[i]);

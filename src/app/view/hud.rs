@@ -1,6 +1,7 @@
 //! The window's head-up display (egui): attitude, speed, clipper counts and frame timing;
 //! the help overlay; and, in `--compare` mode, the comparison panel with its effect
-//! checkboxes and the error-over-time plot; the Euler-angle panel (a convention, sliders for its
+//! checkboxes, the error-over-time plot and the discover button (its terms become rows); the
+//! Euler-angle panel (a convention, sliders for its
 //! three angles). Also the frame [`Meter`] the HUD and the closing report read.
 
 use std::time::{Duration, Instant};
@@ -262,16 +263,25 @@ fn rgba(c: crate::render::Rgba) -> egui::Color32 {
     egui::Color32::from_rgba_unmultiplied(c[0], c[1], c[2], c[3])
 }
 
+/// What the user did in the `--compare` panel this frame.
+#[derive(Debug, Default, PartialEq)]
+pub(super) struct CompareActions {
+    /// The rows whose checkbox was clicked, with their new state.
+    pub(super) toggles: Vec<(usize, bool)>,
+    /// The discover button was pressed.
+    pub(super) discover: bool,
+}
+
 /// The `--compare` panel: errors before / now, the error over time with a cursor at the replay
-/// time, a checkbox per effect. Returns the rows whose checkbox was clicked, with their new
-/// state.
+/// time, the discover button and its state, a checkbox per effect (a discovered term's with
+/// discover's reading and estimate).
 pub(super) fn draw_compare(
     ctx: &egui::Context,
     c: &Compare,
     r: session::Readout,
-) -> Vec<(usize, bool)> {
+) -> CompareActions {
     use egui::{Color32, RichText};
-    let mut toggles = Vec::new();
+    let mut actions = CompareActions::default();
     let frame = egui::Frame::NONE
         .fill(Color32::from_black_alpha(190))
         .inner_margin(8.0)
@@ -340,6 +350,12 @@ pub(super) fn draw_compare(
                         fmt_channel(b.channels.attitude_deg, "°"),
                         fmt_channel(n.channels.attitude_deg, "°"),
                     );
+                    row(
+                        ui,
+                        "× noise",
+                        format!("{:.2}", b.noise_units),
+                        format!("{:.2}", n.noise_units),
+                    );
                 });
             let status = if c.recomputing() {
                 "model: recomputing…".to_string()
@@ -356,6 +372,19 @@ pub(super) fn draw_compare(
             }
             error_plot(ui, c, r.replay.map(|(t, _, _)| t));
             ui.separator();
+            ui.horizontal(|ui| {
+                let button = ui
+                    .add_enabled(!c.discovering(), egui::Button::new("discover"))
+                    .on_hover_text(
+                        "the force and moment the model as ticked lacks on this flight, as \
+                         terms: each becomes a row, fitted",
+                    );
+                if button.clicked() {
+                    actions.discover = true;
+                    button.surrender_focus();
+                }
+                ui.monospace(c.discovery.line());
+            });
             egui::Grid::new("wireflight-compare-effects")
                 .num_columns(3)
                 .spacing([10.0, 1.0])
@@ -373,7 +402,7 @@ pub(super) fn draw_compare(
                         let response =
                             ui.add_enabled(!row.in_base, egui::Checkbox::new(&mut on, row.name));
                         if response.changed() {
-                            toggles.push((i, on));
+                            actions.toggles.push((i, on));
                             // Space and the arrows belong to the replay, not to the checkbox.
                             response.surrender_focus();
                         }
@@ -390,6 +419,9 @@ pub(super) fn draw_compare(
                         if row.in_base {
                             text = format!("in the base model\n{text}");
                         }
+                        if let Some(d) = &row.discovered {
+                            text = format!("{text}\n{}", d.note());
+                        }
                         let label = ui.monospace(text);
                         if !units.is_empty() {
                             label.on_hover_text(units.join("\n"));
@@ -403,7 +435,7 @@ pub(super) fn draw_compare(
                     }
                 });
         });
-    toggles
+    actions
 }
 
 /// The position error over the flight: the base model in grey, the model as ticked in the
@@ -637,6 +669,9 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
             ));
         }
         lines.push(c.verdict_line().replace('…', "..."));
+        if !matches!(c.discovery, super::discovery::Discovering::Off) {
+            lines.push(c.discovery.line().replace('…', "..."));
+        }
     }
     let mut segments = Vec::new();
     for (k, line) in lines.iter().enumerate() {
@@ -648,4 +683,41 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
         segments,
     });
     scene
+}
+
+/// The texts the `--compare` panel of `session` draws, egui run without a window (its shapes,
+/// not pixels; the passes a window takes to size itself first): what a test reads of the
+/// panel. Empty without a comparison.
+pub fn compare_panel_texts(session: &Session) -> Vec<String> {
+    fn walk(shape: &egui::Shape, out: &mut Vec<String>) {
+        match shape {
+            egui::Shape::Text(t) => out.push(t.galley.text().to_string()),
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            _ => {}
+        }
+    }
+    let Some(c) = session.compare() else {
+        return Vec::new();
+    };
+    let ctx = egui::Context::default();
+    let mut texts = Vec::new();
+    for _ in 0..3 {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(
+                egui::Pos2::ZERO,
+                egui::vec2(1600.0, 1400.0),
+            )),
+            ..Default::default()
+        };
+        let mut out = ctx.run_pass(input, |ctx| {
+            draw_compare(ctx, c, session.readout());
+        });
+        // No renderer takes the font atlas.
+        out.textures_delta.clear();
+        texts.clear();
+        for s in &out.shapes {
+            walk(&s.shape, &mut texts);
+        }
+    }
+    texts
 }

@@ -8,7 +8,9 @@
 mod hud;
 pub mod surface;
 
-pub use wireflight_draw::flythrough::{cameras, compare, flight, gimbal, script, session};
+pub use wireflight_draw::flythrough::{
+    cameras, compare, discovery, flight, gimbal, script, session,
+};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -30,9 +32,10 @@ use crate::render::{OutputFormat, Rasterizer};
 use cameras::CameraMode;
 use compare::Compare;
 use flight::Start;
+pub use hud::compare_panel_texts;
 use hud::{
-    compare_summary, draw_compare, draw_euler, draw_help, draw_hud, screenshot_scene, EulerChanges,
-    HudData, Meter,
+    compare_summary, draw_compare, draw_euler, draw_help, draw_hud, screenshot_scene,
+    CompareActions, EulerChanges, HudData, Meter,
 };
 use session::{Held, Session, Source, SEEK_S};
 use surface::{HudFrame, Presented, WindowRenderer};
@@ -371,12 +374,12 @@ impl App {
             frames: self.options.frames,
         };
         let mut show_help = self.show_help;
-        let mut toggles = Vec::new();
+        let mut actions = CompareActions::default();
         let mut euler = EulerChanges::default();
         let output = self.egui_ctx.run_pass(raw_input, |ctx| {
             draw_hud(ctx, &hud);
             if let Some(c) = hud.session.compare() {
-                toggles = draw_compare(ctx, c, hud.session.readout());
+                actions = draw_compare(ctx, c, hud.session.readout());
             }
             if hud.session.euler.shown {
                 euler = draw_euler(ctx, &hud.session.euler);
@@ -387,8 +390,11 @@ impl App {
         });
         self.show_help = show_help;
         if let Some(c) = self.session.compare_mut() {
-            for (i, on) in toggles {
+            for (i, on) in actions.toggles {
                 c.set(i, on);
+            }
+            if actions.discover {
+                c.start_discover();
             }
         }
         if euler.any() {

@@ -3,10 +3,12 @@
 //! comparison ([`compare_prepared`]) on a worker thread; the result (errors and the model's
 //! path) replaces the current one when it arrives. The effects' parameters come from one
 //! diagnosis ([`diagnose`]) run on another worker thread at start-up; until it finishes, a
-//! ticked effect uses the catalogue's defaults (zero wind, ...).
+//! ticked effect uses the catalogue's defaults (zero wind, ...). Terms get rows too: those a
+//! model file declares, those of `--add 'term:…'`, and those `discover` finds when the panel
+//! asks it ([`Compare::start_discover`], on a third worker thread: [`super::discovery`]).
 //!
 //! No window code: the window reads this state, tests drive it directly ([`Compare::wait`],
-//! [`Compare::wait_fit`]).
+//! [`Compare::wait_fit`], [`Compare::wait_discover`]).
 
 use std::error::Error;
 use std::panic::AssertUnwindSafe;
@@ -14,6 +16,7 @@ use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::discovery::{self, Discovered, Discovering, Found};
 use crate::scene::track::ModelTrack;
 use crate::scene::ReplayError;
 use wireflight_analysis::compare::{
@@ -44,6 +47,8 @@ pub struct EffectRow {
     pub fitted: Option<Box<dyn Effect>>,
     /// The diagnosis's error with this effect added (for the panel), once finished.
     pub fitted_error: Option<f64>,
+    /// What `discover` said of this term, when it found it.
+    pub discovered: Option<Discovered>,
     default: Box<dyn Effect>,
 }
 
@@ -82,6 +87,8 @@ pub struct Outcome {
     pub effects: Vec<String>,
     /// Total error (RMS of the window scores).
     pub total: f64,
+    /// The misfit in units of the measured noise (1 = right model).
+    pub noise_units: f64,
     /// RMS errors per channel.
     pub channels: ChannelErrors,
     /// The model's flight, for drawing.
@@ -160,6 +167,7 @@ pub enum CompareError {
 
 type Job = Receiver<Result<Outcome, CompareError>>;
 type FitJob = Receiver<Result<Diagnosis, String>>;
+type DiscoverJob = Receiver<Result<Found, String>>;
 
 /// The comparison state of a `--compare` session.
 pub struct Compare {
@@ -174,12 +182,15 @@ pub struct Compare {
     pub now: Outcome,
     /// The parameter fit.
     pub fit: Fit,
+    /// The last discovery of missing terms.
+    pub discovery: Discovering,
     /// The last recomputation's error, if it failed.
     pub error: Option<String>,
     job: Option<(Job, Instant)>,
     /// A change came in while a job ran: start another when it ends.
     stale: bool,
     fit_job: Option<FitJob>,
+    discover_job: Option<DiscoverJob>,
 }
 
 impl Compare {
@@ -224,6 +235,7 @@ impl Compare {
                     fixed: Vec::new(),
                     fitted: None,
                     fitted_error: None,
+                    discovered: None,
                     default,
                 })
             })
@@ -236,6 +248,7 @@ impl Compare {
             fixed: Vec::new(),
             fitted: None,
             fitted_error: None,
+            discovered: None,
             default,
         };
         rows.extend(declared.into_iter().map(term_row));
@@ -284,10 +297,12 @@ impl Compare {
             cfg,
             rows,
             fit: Fit::Off,
+            discovery: Discovering::Off,
             error: None,
             job: None,
             stale: false,
             fit_job: None,
+            discover_job: None,
         };
         if s.rows.iter().any(|r| r.on && !r.in_base) {
             s.request();
@@ -387,14 +402,7 @@ impl Compare {
             .filter(|r| !r.in_base && term_of(r.default.info()).is_some())
             .map(|r| r.default.clone())
             .collect();
-        let defaults = DiagnoseConfig::default();
-        let cfg = DiagnoseConfig {
-            compare: CompareConfig {
-                max_windows: defaults.compare.max_windows,
-                ..self.cfg
-            },
-            ..defaults
-        };
+        let cfg = self.diagnose_config();
         std::thread::spawn(move || {
             let outcome = std::panic::catch_unwind(AssertUnwindSafe(|| {
                 diagnose(&base, &data, &terms, &cfg)
@@ -407,9 +415,49 @@ impl Compare {
         self.fit_job = Some(rx);
     }
 
-    /// Whether a recomputation or the fit is still running.
+    /// The diagnosis's settings: its defaults, with the panel's comparison windows.
+    fn diagnose_config(&self) -> DiagnoseConfig {
+        let defaults = DiagnoseConfig::default();
+        DiagnoseConfig {
+            compare: CompareConfig {
+                max_windows: defaults.compare.max_windows,
+                ..self.cfg
+            },
+            ..defaults
+        }
+    }
+
+    /// Start `discover` on the flight against the model as ticked now, on a worker thread:
+    /// the terms it finds become rows (or annotate the rows they have already), each fitted
+    /// alone on top of that model ([`discovery::find`]). False, and nothing started, while one
+    /// runs.
+    pub fn start_discover(&mut self) -> bool {
+        if self.discover_job.is_some() {
+            return false;
+        }
+        let (tx, rx) = mpsc::channel();
+        let data = Arc::clone(&self.data);
+        let model = self.model();
+        let cfg = self.diagnose_config();
+        std::thread::spawn(move || {
+            let outcome =
+                std::panic::catch_unwind(AssertUnwindSafe(|| discovery::find(&model, &data, &cfg)))
+                    .unwrap_or_else(|p| Err(panic_message(&*p)));
+            let _ = tx.send(outcome);
+        });
+        self.discovery = Discovering::Running(Instant::now());
+        self.discover_job = Some(rx);
+        true
+    }
+
+    /// Whether a discovery is running.
+    pub fn discovering(&self) -> bool {
+        self.discover_job.is_some()
+    }
+
+    /// Whether a recomputation, the fit or a discovery is still running.
     pub fn busy(&self) -> bool {
-        self.job.is_some() || self.fit_job.is_some()
+        self.job.is_some() || self.fit_job.is_some() || self.discover_job.is_some()
     }
 
     /// Whether a recomputation is running.
@@ -437,21 +485,92 @@ impl Compare {
         self.wait();
     }
 
+    /// Wait for the discovery, then for the recomputation it may start.
+    pub fn wait_discover(&mut self) {
+        while self.discover_job.is_some() {
+            self.take_discover(true);
+        }
+        self.wait();
+    }
+
     fn take(&mut self, block: bool) -> bool {
         let a = self.take_fit(block);
-        let b = self.take_job(block);
-        a || b
+        let b = self.take_discover(block);
+        let c = self.take_job(block);
+        a || b || c
+    }
+
+    fn take_discover(&mut self, block: bool) -> bool {
+        let Some(rx) = &self.discover_job else {
+            return false;
+        };
+        let got = receive(rx, block);
+        let started = match self.discovery {
+            Discovering::Running(t) => t,
+            _ => Instant::now(),
+        };
+        let found = match got {
+            Err(TryRecvError::Empty) => return false,
+            Err(TryRecvError::Disconnected) => Err("the discovery thread died".to_string()),
+            Ok(outcome) => outcome,
+        };
+        self.discover_job = None;
+        match found {
+            Err(why) => self.discovery = Discovering::Failed(why),
+            Ok(found) => {
+                self.discovery = Discovering::Done {
+                    proposed: found.proposed,
+                    rows: found.terms.len(),
+                    noise_units_before: found.noise_units_before,
+                    seconds: started.elapsed().as_secs_f64(),
+                };
+                if self.take_found(found) {
+                    self.request();
+                }
+            }
+        }
+        true
+    }
+
+    /// The terms found, as rows: a new row each, or discover's word on the row the term has
+    /// already (a declared or `--add` term keeps the fit it has, or takes this one). True if a
+    /// ticked row's effect changed.
+    fn take_found(&mut self, found: Found) -> bool {
+        let mut refresh = false;
+        for term in found.terms {
+            let (fitted, fitted_error) = match term.fitted {
+                Some((e, error)) => (Some(e), Some(error)),
+                None => (None, None),
+            };
+            match self.rows.iter_mut().find(|r| r.name == term.name) {
+                Some(row) => {
+                    if !row.in_base && row.fitted.is_none() && fitted.is_some() {
+                        refresh |= row.on && row.waits_for_fit();
+                        row.fitted = fitted;
+                        row.fitted_error = fitted_error;
+                    }
+                    row.discovered = Some(term.discovered);
+                }
+                None => self.rows.push(EffectRow {
+                    name: term.name,
+                    on: false,
+                    in_base: false,
+                    fixed: Vec::new(),
+                    fitted,
+                    fitted_error,
+                    discovered: Some(term.discovered),
+                    default: term.estimate,
+                }),
+            }
+        }
+        refresh
     }
 
     fn take_fit(&mut self, block: bool) -> bool {
         let Some(rx) = &self.fit_job else {
             return false;
         };
-        let got = if block {
-            rx.recv().map_err(|_| TryRecvError::Disconnected)
-        } else {
-            rx.try_recv()
-        };
+        let got = receive(rx, block);
         let started = match self.fit {
             Fit::Running(t) => t,
             _ => Instant::now(),
@@ -500,11 +619,7 @@ impl Compare {
         let Some((rx, _)) = &self.job else {
             return false;
         };
-        let got = if block {
-            rx.recv().map_err(|_| TryRecvError::Disconnected)
-        } else {
-            rx.try_recv()
-        };
+        let got = receive(rx, block);
         let outcome = match got {
             Err(TryRecvError::Empty) => return false,
             Err(TryRecvError::Disconnected) => {
@@ -565,6 +680,15 @@ impl Compare {
     }
 }
 
+/// A worker's result: waiting for it (`block`) or only taking it if it is there.
+fn receive<T>(rx: &Receiver<T>, block: bool) -> Result<T, TryRecvError> {
+    if block {
+        rx.recv().map_err(|_| TryRecvError::Disconnected)
+    } else {
+        rx.try_recv()
+    }
+}
+
 /// Compare `model` with `data` and make the track and the error curve.
 fn evaluate(
     data: &FlightData,
@@ -588,6 +712,7 @@ fn evaluate(
     Ok(Outcome {
         effects: effects.to_vec(),
         total: comparison.total,
+        noise_units: comparison.noise_units(),
         channels: comparison.channels,
         track,
         error_bins,

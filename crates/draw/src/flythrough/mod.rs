@@ -5,6 +5,7 @@
 
 pub mod cameras;
 pub mod compare;
+pub mod discovery;
 pub mod flight;
 pub mod gimbal;
 pub mod script;

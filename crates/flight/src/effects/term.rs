@@ -301,7 +301,7 @@ impl TermEffect {
         v
     }
 
-    #[inline]
+    #[inline(always)]
     fn value_of(&self, var: Var, s: &Sample) -> f64 {
         let va = s.air.airspeed;
         // p·L/(2V): zero at (almost) zero airspeed, where it is undefined.
@@ -366,7 +366,7 @@ impl Effect for TermEffect {
         let value = self
             .term
             .expr
-            .eval(&self.variables(s), &self.coeffs[..self.n_coeffs]);
+            .eval_from(|v| self.value_of(v, s), &self.coeffs[..self.n_coeffs]);
         let mut out = DVec3::ZERO;
         out[self.term.axis.component()] = value;
         if self.term.axis.is_force() {

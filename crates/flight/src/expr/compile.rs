@@ -17,7 +17,7 @@
 use super::error::{EvalError, EvalProblem, ParseError, Problem};
 use super::ops::{Bin, Func};
 use super::parse::{Ast, Node};
-use super::vars::{Var, VarValues, VARIABLES};
+use super::vars::{Var, VarValues, N_VARS, VARIABLES};
 
 /// The stack's depth: more than any accepted expression needs (see the module's notes).
 pub const STACK: usize = 16;
@@ -88,6 +88,85 @@ pub struct Code {
     need: usize,
     /// Bit i set if variable i is used.
     uses: u32,
+    /// The program as a product, when it is one (see [`Product`]).
+    product: Option<Product>,
+}
+
+/// A program that is one product, left to right: a first value, then multiplications by a
+/// variable, a coefficient or a number, and squares — `k*thrust`, `k*qbar*alpha*beta`,
+/// `k*throttle^2`, the form of most terms (every regressor `discover` proposes but the sines).
+/// Walked without the stack and with each variable asked for where it multiplies, it gives
+/// the fused program's value bit for bit: the same multiplications in the same order.
+#[derive(Clone, Debug, PartialEq)]
+struct Product {
+    first: Factor,
+    /// Each multiplies what came before (a square squares it).
+    factors: Vec<Factor>,
+}
+
+/// A value of a [`Product`], with its variable resolved when the program is compiled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Factor {
+    Var(Var),
+    Coef(u8),
+    Const(f64),
+    /// What came before, again (top ← top²).
+    Square,
+}
+
+impl Factor {
+    fn of(leaf: Leaf) -> Option<Factor> {
+        Some(match leaf {
+            Leaf::Var(i) => Factor::Var(*Var::ALL.get(i as usize)?),
+            Leaf::Coef(j) => Factor::Coef(j),
+            Leaf::Const(c) => Factor::Const(c),
+        })
+    }
+
+    /// `top` times this factor.
+    #[inline(always)]
+    fn times<F: Fn(Var) -> f64>(self, top: f64, var: &F, coeffs: &[f64]) -> f64 {
+        match self {
+            Factor::Var(v) => top * var(v),
+            Factor::Coef(j) => top * coeffs[j as usize],
+            Factor::Const(c) => top * c,
+            Factor::Square => top * top,
+        }
+    }
+
+    /// This factor's value as the product's first (a square has none: 0, never made).
+    #[inline(always)]
+    fn value<F: Fn(Var) -> f64>(self, var: &F, coeffs: &[f64]) -> f64 {
+        match self {
+            Factor::Var(v) => var(v),
+            Factor::Coef(j) => coeffs[j as usize],
+            Factor::Const(c) => c,
+            Factor::Square => 0.0,
+        }
+    }
+}
+
+impl Product {
+    /// The fused program as a product, if it is one.
+    fn of(fast: &[Instr]) -> Option<Product> {
+        let (Instr::Push(first), rest) = fast.split_first()? else {
+            return None;
+        };
+        let factors = rest
+            .iter()
+            .map(|ins| match *ins {
+                Instr::MulVar(i) => Factor::of(Leaf::Var(i)),
+                Instr::MulCoef(j) => Factor::of(Leaf::Coef(j)),
+                Instr::MulConst(c) => Factor::of(Leaf::Const(c)),
+                Instr::Square => Some(Factor::Square),
+                _ => None,
+            })
+            .collect::<Option<Vec<Factor>>>()?;
+        Some(Product {
+            first: Factor::of(*first)?,
+            factors,
+        })
+    }
 }
 
 /// A piece of program under construction.
@@ -127,8 +206,10 @@ pub fn compile(ast: &Ast, n_coeffs: usize) -> Result<Code, ParseError> {
             uses |= 1 << i;
         }
     }
+    let fast = fuse(&plain);
     Ok(Code {
-        fast: fuse(&plain),
+        product: Product::of(&fast),
+        fast,
         plain,
         columns,
         n_coeffs,
@@ -392,6 +473,12 @@ impl Code {
         &self.fast
     }
 
+    /// Whether the program is walked as a product (for the tests).
+    #[cfg(test)]
+    pub fn is_product(&self) -> bool {
+        self.product.is_some()
+    }
+
     /// The stack depth the program needs (for the tests).
     #[cfg(test)]
     pub fn depth(&self) -> usize {
@@ -443,6 +530,37 @@ impl Code {
             }
         }
         top
+    }
+
+    /// The value, each variable's asked of `var` and only for the variables used: a product
+    /// asks for each where it multiplies, with no table filled; any other program is run on
+    /// a table filled with those it reads. The same as [`Code::eval`]'s, bit for bit.
+    #[inline]
+    pub fn eval_from(&self, var: impl Fn(Var) -> f64, coeffs: &[f64]) -> f64 {
+        let Some(product) = &self.product else {
+            return self.eval_filled(&var, coeffs);
+        };
+        let mut top = product.first.value(&var, coeffs);
+        for f in &product.factors {
+            top = f.times(top, &var, coeffs);
+        }
+        top
+    }
+
+    /// [`Code::eval_from`] of a program that is no product: a table filled with the
+    /// variables it reads, then the program. Apart, so that a product's walk stays short
+    /// where it is inlined.
+    #[inline(never)]
+    fn eval_filled<F: Fn(Var) -> f64>(&self, var: &F, coeffs: &[f64]) -> f64 {
+        let mut vars = [0.0; N_VARS];
+        let mut left = self.uses;
+        // Bounded: one pass per bit set, at most N_VARS.
+        while left != 0 {
+            let i = left.trailing_zeros() as usize;
+            left &= left - 1;
+            vars[i] = var(Var::ALL[i]);
+        }
+        self.eval(&vars, coeffs)
     }
 
     /// The value, and its derivative with respect to each coefficient in `grad[..n_coeffs]`.

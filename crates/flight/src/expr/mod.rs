@@ -128,6 +128,21 @@ impl Expr {
         self.code.eval(vars, coeffs)
     }
 
+    /// The value with each variable's value asked of `var`, only for the variables the
+    /// expression reads ([`Expr::uses`]): the same as [`Expr::eval`]'s on a table of those
+    /// values, bit for bit, without the table where it can. A product of variables,
+    /// coefficients and numbers (`k*thrust`, `k*qbar*alpha*beta`, `k*throttle^2`: most
+    /// terms) asks for each variable where it multiplies; any other expression fills a table
+    /// of those it reads and runs its program.
+    ///
+    /// # Panics
+    ///
+    /// If `coeffs` is shorter than [`Expr::coefficients`].
+    #[inline]
+    pub fn eval_from(&self, var: impl Fn(Var) -> f64, coeffs: &[f64]) -> f64 {
+        self.code.eval_from(var, coeffs)
+    }
+
     /// The value (the same as [`Expr::eval`]'s, bit for bit), and in `grad` its derivative with
     /// respect to each coefficient. Where the derivative is not defined it follows one side:
     /// `abs` has derivative 0 at 0, `min(a, b)` follows `a` when a = b. A derivative that

@@ -608,6 +608,8 @@ proptest! {
         let v = e.eval(&vars, coeffs);
         let r = reference(&parsed.ast, &vars, coeffs);
         prop_assert!(same(v, r), "{}: program {} reference {}", src, v, r);
+        let asked = e.eval_from(|var| vars[var.index()], coeffs);
+        prop_assert!(same(v, asked), "{}: program {} asking {}", src, v, asked);
         let mut g = [0.0; MAX_COEFFS];
         prop_assert!(same(v, e.eval_with_gradient(&vars, coeffs, &mut g)));
         match e.eval_checked(&vars, coeffs) {
@@ -639,6 +641,49 @@ proptest! {
             prop_assert!((g[j] - d1).abs() <= 1e-3 * scale, "{}: d/d{} = {} but differences give {}", src, e.coefficients()[j], g[j], d1);
         }
     }
+}
+
+/// The products most terms are (a value times variables, coefficients, numbers and squares)
+/// are walked without the table of variables and ask only for the variables they read; the
+/// value is the program's, bit for bit, as is any other expression's.
+#[test]
+fn products_ask_only_for_their_variables_and_give_the_programs_value() {
+    let vars = vars_with(&[
+        (Var::Qbar, 381.7),
+        (Var::Alpha, 0.0731),
+        (Var::Beta, -0.0413),
+        (Var::Throttle, 0.613),
+        (Var::Thrust, 29.3),
+    ]);
+    for src in [
+        "k*thrust",
+        "k*qbar*alpha*beta",
+        "k*throttle^2",
+        "0.5*k*alpha*k2",
+        "k",
+        "k*sin(alpha)",
+        "k*thrust + c*alpha",
+    ] {
+        let e = Expr::parse(src).unwrap();
+        let coeffs = [0.0123, -4.56];
+        let asked = std::cell::RefCell::new(Vec::new());
+        let v = e.eval_from(
+            |var| {
+                asked.borrow_mut().push(var);
+                vars[var.index()]
+            },
+            &coeffs,
+        );
+        assert!(same(v, e.eval(&vars, &coeffs)), "{src}");
+        let mut asked = asked.into_inner();
+        asked.sort();
+        asked.dedup();
+        assert_eq!(asked, e.variables().collect::<Vec<_>>(), "{src}");
+    }
+    assert!(Expr::parse("k*thrust").unwrap().code.is_product());
+    assert!(Expr::parse("k*throttle^2").unwrap().code.is_product());
+    assert!(!Expr::parse("k*sin(alpha)").unwrap().code.is_product());
+    assert!(!Expr::parse("k*thrust + c").unwrap().code.is_product());
 }
 
 #[test]
