@@ -194,8 +194,8 @@ fn diagnose_names_turbulence_with_its_intensity() {
         .nth(1)
         .expect("a turbulence section");
     assert!(section.contains("The gusts are significant"), "{section}");
-    for k in 0..3 {
-        let value = format!("{:.2}", sigma[k]);
+    for s in sigma {
+        let value = format!("{s:.2}");
         assert!(section.contains(&value), "{value} not in {section}");
     }
     // Output error alone could not explain it.
