@@ -87,42 +87,27 @@ fn calm_refsim_flight_is_not_turbulence() {
     assert!(g.sigma_mps.iter().all(|s| *s < 0.05), "{g:?}");
 }
 
-/// `diagnose --json` of a flight file.
-fn diagnose_json(path: &std::path::Path, extra: &[&str]) -> Value {
-    let mut args = vec![
-        "-q",
-        "diagnose",
-        "--flight",
-        path.to_str().unwrap(),
-        "--json",
-    ];
+/// `wireflight COMMAND --flight PATH --json EXTRA…`, its JSON.
+fn command_json(command: &str, path: &std::path::Path, extra: &[&str]) -> Value {
+    let mut args = vec!["-q", command, "--flight", path.to_str().unwrap(), "--json"];
     args.extend_from_slice(extra);
     let out = wireflight(&args);
     assert!(
         out.status.success(),
-        "diagnose: {}",
+        "{command}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("JSON")
 }
 
+/// `diagnose --json` of a flight file.
+fn diagnose_json(path: &std::path::Path, extra: &[&str]) -> Value {
+    command_json("diagnose", path, extra)
+}
+
 /// `compare --json` of a flight file.
 fn compare_json(path: &std::path::Path, extra: &[&str]) -> Value {
-    let mut args = vec![
-        "-q",
-        "compare",
-        "--flight",
-        path.to_str().unwrap(),
-        "--json",
-    ];
-    args.extend_from_slice(extra);
-    let out = wireflight(&args);
-    assert!(
-        out.status.success(),
-        "compare: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON")
+    command_json("compare", path, extra)
 }
 
 /// `simulate --turbulence LEVEL` with the navigation noise of these tests and `extra`
