@@ -602,7 +602,8 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     }
 
     /// Whether any hook depends on time itself, not only on the state (a gust, a schedule).
-    /// None of the catalogue's does. `true`, the default, is the safe answer for an effect
+    /// None of the catalogue's does but `incidence_lift` (the attitude the flight recorded at
+    /// that time). `true`, the default, is the safe answer for an effect
     /// that does not say: the comparison's tangent then takes the model's Jacobian afresh
     /// at every pair of steps instead of holding it while the state barely moves.
     fn varies_in_time(&self) -> bool {
