@@ -61,6 +61,22 @@ fn compare_noise_units(args: &[&str]) -> f64 {
         .unwrap_or_else(|| panic!("{line}"))
 }
 
+/// `simulate` a point mass with drag (k = 1e-4 /m) and the options `more` to `out` (a flight
+/// of positions and velocities, no attitude).
+fn simulate_point_mass_with_drag(out: &str, more: &[&str]) {
+    let mut args = vec![
+        "-q",
+        "simulate",
+        "--vehicle",
+        "point-mass",
+        "--add",
+        "drag:k=0.0001",
+    ];
+    args.extend_from_slice(more);
+    args.extend(["--out", out]);
+    wireflight(&args);
+}
+
 /// A point mass with a lift ∝ q̄ it does not model: `discover` names it on the normal axis
 /// with its coefficient, and the spec it prints is taken by the point mass and fitted by
 /// `compare`, the error falling to the noise.
@@ -69,24 +85,19 @@ fn a_point_mass_lift_is_found_added_and_fitted() {
     let dir = tempfile::tempdir().unwrap();
     let flight = dir.path().join("lifted.csv");
     let flight = flight.to_str().unwrap();
-    wireflight(&[
-        "-q",
-        "simulate",
-        "--vehicle",
-        "point-mass",
-        "--add",
-        "drag:k=0.0001",
-        "--hidden",
-        "term(Z=k*qbar):k=-0.0002",
-        "--noise-pos",
-        "0.5",
-        "--noise-vel",
-        "0.1",
-        "--seed",
-        "3",
-        "--out",
+    simulate_point_mass_with_drag(
         flight,
-    ]);
+        &[
+            "--hidden",
+            "term(Z=k*qbar):k=-0.0002",
+            "--noise-pos",
+            "0.5",
+            "--noise-vel",
+            "0.1",
+            "--seed",
+            "3",
+        ],
+    );
     let d = json(&[
         "-q", "discover", "--flight", flight, "--add", "drag", "--json",
     ]);
@@ -228,16 +239,7 @@ fn mk82_incidence_lift_reads_the_recorded_attitude() {
     let dir = tempfile::tempdir().unwrap();
     let blind = dir.path().join("no-attitude.csv");
     let blind = blind.to_str().unwrap();
-    wireflight(&[
-        "-q",
-        "simulate",
-        "--vehicle",
-        "point-mass",
-        "--add",
-        "drag:k=0.0001",
-        "--out",
-        blind,
-    ]);
+    simulate_point_mass_with_drag(blind, &[]);
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
         .args([
             "-q",
