@@ -51,7 +51,8 @@ pub enum ModelError {
     /// An effect that acts from a recorded channel the model was built without.
     #[error(
         "effect `{effect}` acts from the {channel} a flight recorded, and this model has none: \
-         its flight records no {channel}, or it was built for no flight"
+         its flight records no {channel}, or it is flown without one flight's record \
+         (`simulate`, reference flights)"
     )]
     LacksChannel {
         /// The effect.

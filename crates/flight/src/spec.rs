@@ -697,6 +697,30 @@ impl ModelChoice {
     /// No vehicle known, bad model file or parameter set, unknown effects, a fixed-wing
     /// model for data without controls.
     pub fn build(&self, data_path: &Path, data: &FlightData) -> Result<Model, SpecError> {
+        self.build_for(data_path, data, true)
+    }
+
+    /// [`build`](Self::build) for a model flown on other flights as well (reference flights):
+    /// without the flight's recorded attitude, which an effect must not read on another
+    /// flight ([`EffectContext::recorded_attitude`]).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build); an effect that acts from a recorded attitude.
+    pub fn build_unrecorded(
+        &self,
+        data_path: &Path,
+        data: &FlightData,
+    ) -> Result<Model, SpecError> {
+        self.build_for(data_path, data, false)
+    }
+
+    /// [`build`](Self::build), with the flight's recorded attitude or without.
+    fn build_for(
+        &self,
+        data_path: &Path,
+        data: &FlightData,
+        recorded: bool,
+    ) -> Result<Model, SpecError> {
         let mut spec = match &self.model_file {
             Some(path) => ModelSpec::load(path)?,
             None => {
@@ -737,6 +761,7 @@ impl ModelChoice {
         let attitude = data
             .attitude
             .as_ref()
+            .filter(|_| recorded)
             .and_then(|a| RecordedAttitude::new(&data.time, a))
             .map(Arc::new);
         spec.build_recorded(origin, attitude)
