@@ -80,7 +80,14 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         crate::app::diagnose::check_report(report)?;
     }
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
-    let base = args.model.choice().build(&args.flight, &data)?;
+    let references =
+        crate::app::diagnose::load_references(&args.reference, &args.flight, &data, &args.data)?;
+    // A model also flown on the references must not read the test flight's record there.
+    let base = if references.is_empty() {
+        args.model.choice().build(&args.flight, &data)?
+    } else {
+        args.model.choice().build_unrecorded(&args.flight, &data)?
+    };
     crate::app::diagnose::check_forces_finite(
         &base,
         &args.model.add_specs()?,
@@ -90,8 +97,6 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     )?;
     let mut cfg = args.windows.config(base.vehicle.kind());
     args.windows.check_fits(&args.flight, &data, &cfg)?;
-    let references =
-        crate::app::diagnose::load_references(&args.reference, &args.flight, &data, &args.data)?;
     let reference_floor = if references.is_empty() {
         None
     } else {

@@ -19,7 +19,13 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         check_report(report)?;
     }
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
-    let mut base = args.model.choice().build(&args.flight, &data)?;
+    let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
+    // A model also flown on the references must not read the test flight's record there.
+    let mut base = if references.is_empty() {
+        args.model.choice().build(&args.flight, &data)?
+    } else {
+        args.model.choice().build_unrecorded(&args.flight, &data)?
+    };
     let cfg = DiagnoseConfig {
         compare: args.windows.config(base.vehicle.kind()),
         ..DiagnoseConfig::default()
@@ -42,7 +48,6 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     if args.discover {
         declared.extend(discovered_terms(&base, &data, &args.flight, &declared)?);
     }
-    let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     let progress = crate::progress::Progress::spinner(
         &format!("diagnosing {:.0} s of data", data.duration()),
         args.json,

@@ -131,11 +131,13 @@ fn effects_are_rejected_on_the_wrong_vehicle_and_twice() {
         origin: Origin::default(),
         span_m: 2.9,
         chord_m: 0.0,
+        ..EffectContext::default()
     };
     for info in CATALOGUE {
         let name = info.name;
         let e = catalogue_effect(name, &ctx).unwrap();
-        let for_pm = e.applies_to(VehicleKind::PointMass);
+        // Without a recorded attitude, an effect that acts from one is refused too.
+        let for_pm = e.applies_to(VehicleKind::PointMass) && e.lacks_channel().is_none();
         assert_eq!(pm.add_effect(e.clone()).is_ok(), for_pm, "{name}");
         assert_eq!(
             fw.add_effect(e.clone()).is_ok(),
@@ -148,6 +150,12 @@ fn effects_are_rejected_on_the_wrong_vehicle_and_twice() {
         "duplicate"
     );
     assert!(!fw.has_effect("drag") && pm.has_effect("drag"));
+    let blind = catalogue_effect("incidence_lift", &ctx).unwrap();
+    let refused = pm.add_effect(blind).unwrap_err().to_string();
+    assert!(
+        refused.contains("incidence_lift") && refused.contains("attitude (roll, pitch, yaw)"),
+        "{refused}"
+    );
 }
 
 /// The spec's tolerance for "trimmed level flight stays level for 60 s": the open-loop

@@ -15,9 +15,13 @@
 //! reported as aerospace z-y-x angles through [`wireflight_geometry::euler::EulerZyx::from_matrix`], as the
 //! spec allows. The quaternion is renormalised after every step.
 
+use std::sync::Arc;
+
 use glam::{DMat3, DQuat, DVec3};
 
-use super::effects::{Effect, EffectContext, Origin, Reading, Sample, RHO_SEA_LEVEL};
+use super::effects::{
+    Channel, Effect, EffectContext, Origin, Reading, RecordedAttitude, Sample, RHO_SEA_LEVEL,
+};
 use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
 use super::{Controls, VehicleKind, G0};
@@ -44,6 +48,18 @@ pub enum ModelError {
     /// An effect of that name is already in the model.
     #[error("effect `{0}` is already in the model")]
     Duplicate(&'static str),
+    /// An effect that acts from a recorded channel the model was built without.
+    #[error(
+        "effect `{effect}` acts from the {channel} a flight recorded, and this model has none: \
+         its flight records no {channel}, or it is flown without one flight's record \
+         (`simulate`, reference flights)"
+    )]
+    LacksChannel {
+        /// The effect.
+        effect: &'static str,
+        /// The channel it needs.
+        channel: Channel,
+    },
     /// A point mass has no parameter set.
     #[error("a point mass has no aircraft parameter `{0}`")]
     PointMass(String),
@@ -244,6 +260,9 @@ pub struct Model {
     stall_c: f64,
     /// A wind added to the effects' winds, NED, m/s ([`Model::set_air_offset`]).
     air_offset: DVec3,
+    /// The attitude of the flight the model was built for, which effects added to it may act
+    /// from ([`Model::set_recorded_attitude`]).
+    recorded_attitude: Option<Arc<RecordedAttitude>>,
 }
 
 /// e^{M·α0} of a fixed wing's stall blend (NaN for a point mass: never used).
@@ -268,18 +287,32 @@ impl Model {
             effects: Vec::new(),
             gammas,
             air_offset: DVec3::ZERO,
+            recorded_attitude: None,
         }
+    }
+
+    /// Give the model the attitude its flight recorded, for the effects added after this
+    /// that act from it ([`EffectContext::recorded_attitude`]); those added before keep theirs.
+    pub fn set_recorded_attitude(&mut self, attitude: Option<Arc<RecordedAttitude>>) {
+        self.recorded_attitude = attitude;
     }
 
     /// Add an effect.
     ///
     /// # Errors
-    /// The effect does not apply to this vehicle, or one of that name is already present.
+    /// The effect does not apply to this vehicle, acts from a recorded channel it was built
+    /// without ([`Effect::lacks_channel`]), or one of that name is already present.
     pub fn add_effect(&mut self, effect: Box<dyn Effect>) -> Result<(), ModelError> {
         if !effect.applies_to(self.vehicle.kind()) {
             return Err(ModelError::NotApplicable {
                 effect: effect.name(),
                 vehicle: self.vehicle.kind(),
+            });
+        }
+        if let Some(channel) = effect.lacks_channel() {
+            return Err(ModelError::LacksChannel {
+                effect: effect.name(),
+                channel,
             });
         }
         if self.has_effect(effect.name()) {
@@ -341,6 +374,7 @@ impl Model {
                 Vehicle::PointMass => 0.0,
                 Vehicle::FixedWing(p) => p.geometry.c,
             },
+            recorded_attitude: self.recorded_attitude.clone(),
         }
     }
 

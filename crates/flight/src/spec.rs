@@ -17,11 +17,12 @@
 //! `--effects a,b` and `--add name[:k=v,...]` on the command line do the same.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::data::FlightData;
 use super::effects::term::TermError;
 use super::effects::{
-    catalogue_names, find, Effect, EffectContext, Origin, OriginError, ParamError,
+    catalogue_names, find, Effect, EffectContext, Origin, OriginError, ParamError, RecordedAttitude,
 };
 use super::expr::Term;
 use super::model::{Model, ModelError, Vehicle};
@@ -612,6 +613,19 @@ impl ModelSpec {
     /// Unknown aircraft, bad parameter names/values, effects for the other vehicle family,
     /// duplicates.
     pub fn build(&self, default_origin: Origin) -> Result<Model, SpecError> {
+        self.build_recorded(default_origin, None)
+    }
+
+    /// [`build`](Self::build) for a flight that recorded `attitude`: the model and its effects
+    /// have it to act from ([`EffectContext::recorded_attitude`]).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build); an effect that acts from an attitude when there is none.
+    pub fn build_recorded(
+        &self,
+        default_origin: Origin,
+        attitude: Option<Arc<RecordedAttitude>>,
+    ) -> Result<Model, SpecError> {
         let origin = self.origin(default_origin);
         origin.check().map_err(SpecError::Origin)?;
         let vehicle = match self.vehicle {
@@ -621,6 +635,7 @@ impl ModelSpec {
             }
         };
         let mut model = Model::new(vehicle, origin);
+        model.set_recorded_attitude(attitude);
         let ctx = model.effect_context();
         for e in &self.effects {
             if e.is_aircraft() {
@@ -682,6 +697,30 @@ impl ModelChoice {
     /// No vehicle known, bad model file or parameter set, unknown effects, a fixed-wing
     /// model for data without controls.
     pub fn build(&self, data_path: &Path, data: &FlightData) -> Result<Model, SpecError> {
+        self.build_for(data_path, data, true)
+    }
+
+    /// [`build`](Self::build) for a model flown on other flights as well (reference flights):
+    /// without the flight's recorded attitude, which an effect must not read on another
+    /// flight ([`EffectContext::recorded_attitude`]).
+    ///
+    /// # Errors
+    /// As [`build`](Self::build); an effect that acts from a recorded attitude.
+    pub fn build_unrecorded(
+        &self,
+        data_path: &Path,
+        data: &FlightData,
+    ) -> Result<Model, SpecError> {
+        self.build_for(data_path, data, false)
+    }
+
+    /// [`build`](Self::build), with the flight's recorded attitude or without.
+    fn build_for(
+        &self,
+        data_path: &Path,
+        data: &FlightData,
+        recorded: bool,
+    ) -> Result<Model, SpecError> {
         let mut spec = match &self.model_file {
             Some(path) => ModelSpec::load(path)?,
             None => {
@@ -719,7 +758,13 @@ impl ModelChoice {
                 data: data_path.to_path_buf(),
             });
         }
-        spec.build(origin)
+        let attitude = data
+            .attitude
+            .as_ref()
+            .filter(|_| recorded)
+            .and_then(|a| RecordedAttitude::new(&data.time, a))
+            .map(Arc::new);
+        spec.build_recorded(origin, attitude)
             .map_err(|e| SpecError::Building(Box::new(e)))
     }
 }

@@ -446,7 +446,8 @@ pub fn take_declared_terms(model: &mut Model) -> Vec<Box<dyn Effect>> {
 
 /// The candidates of a diagnosis: every catalogue effect that applies and is not in the model
 /// yet, plus the user's; a measurement effect only where the flight records a channel it
-/// changes (a gyro's bias cannot show in rates differentiated from the attitude).
+/// changes (a gyro's bias cannot show in rates differentiated from the attitude), and an
+/// effect that acts from a recorded channel only where the model was built with it.
 fn candidate_effects(
     base: &Model,
     prep: &Prepared,
@@ -460,6 +461,7 @@ fn candidate_effects(
         .map(|info| info.build(&ctx))
         .chain(extra.iter().cloned())
         .filter(|e| e.applies_to(kind) && !base.has_effect(e.name()))
+        .filter(|e| e.lacks_channel().is_none())
         .filter(|e| {
             let channels = e.channels();
             channels.is_empty() || channels.iter().any(|&c| measured.records(c, prep.data))

@@ -13,11 +13,13 @@
 //! is not among them: the flight's attitude, where the data carry one, is the body's, which
 //! the point mass does not fly, so a term reading it could not be added to it. What it says
 //! is reported beside the terms ([`Incidence`]): q̄ times the body's angle to its path, on
-//! the side and normal axes — a lift, named, that only a model with a body can carry.
+//! the side and normal axes — a lift, named, that the effect `incidence_lift` adds to a
+//! point mass from the same recorded attitude (its k is this coefficient).
 
 use wireflight_flight::aero::flight_path_axes;
 use wireflight_flight::data::FlightData;
 use wireflight_flight::derive::{Differentiator, Window};
+use wireflight_flight::effects::INCIDENCE_LIFT;
 use wireflight_flight::expr::{Axis, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, State};
 use wireflight_flight::Controls;
@@ -186,6 +188,7 @@ fn across_the_path(
             rms_after: step.rms_after,
             likelihood_ratio: step.likelihood_ratio,
             largest_deg,
+            add: INCIDENCE_LIFT.name,
         });
     }
     out

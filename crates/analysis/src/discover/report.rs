@@ -107,7 +107,7 @@ fn incidence_text(s: &mut String, d: &Discovery) {
     let _ = writeln!(
         s,
         "  across the path, the flight's attitude (the body's, up to {:.1}° off its path; a point \
-         mass has none, so no term it can take):",
+         mass flies none, but an effect reads the flight's):",
         first.largest_deg
     );
     for i in &d.incidence {
@@ -126,7 +126,8 @@ fn incidence_text(s: &mut String, d: &Discovery) {
     }
     let _ = writeln!(
         s,
-        "  a force from the body's incidence (a lift): a model that flies the body carries it"
+        "  a force from the body's incidence (a lift): --add {}",
+        first.add
     );
 }
 
@@ -169,6 +170,7 @@ pub fn discovery_json(d: &Discovery) -> Value {
             "rms_after": i.rms_after,
             "likelihood_ratio": i.likelihood_ratio,
             "largest_deg": i.largest_deg,
+            "add": i.add,
         })).collect::<Vec<_>>(),
     })
 }

@@ -228,7 +228,8 @@ impl Compare {
             .filter_map(|info| {
                 let name = info.name;
                 let default = info.build(&ctx);
-                default.applies_to(kind).then(|| EffectRow {
+                let usable = default.applies_to(kind) && default.lacks_channel().is_none();
+                usable.then(|| EffectRow {
                     name,
                     on: base.has_effect(name),
                     in_base: base.has_effect(name),

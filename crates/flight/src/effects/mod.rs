@@ -32,7 +32,9 @@ mod earth_rotation;
 mod gravity_model;
 mod ground_effect;
 mod gyroscopic;
+mod incidence_lift;
 mod prop_torque;
+mod recorded;
 pub mod sensors;
 pub mod term;
 mod wind;
@@ -45,12 +47,16 @@ pub use earth_rotation::{earth_rotation_ned, EarthRotation, EARTH_RATE};
 pub use gravity_model::{wgs84_gravity, GravityModel};
 pub use ground_effect::GroundEffect;
 pub use gyroscopic::Gyroscopic;
+pub use incidence_lift::{IncidenceLift, INFO as INCIDENCE_LIFT};
 pub use prop_torque::PropTorque;
+pub use recorded::RecordedAttitude;
 pub use sensors::{
     AccelBias, AirspeedBias, AirspeedScale, AttitudeOffset, GyroBias, NavDelay, MAX_NAV_DELAY,
 };
 pub use term::{Airframe, TermEffect};
 pub use wind::Wind;
+
+use std::sync::Arc;
 
 use glam::{DMat3, DQuat, DVec3};
 
@@ -108,6 +114,7 @@ pub use crate::effect_basics;
 ///     origin: Origin::default(),
 ///     span_m: 0.0,
 ///     chord_m: 0.0,
+///     ..EffectContext::default()
 /// };
 /// let mut e = UPDRAFT.build(&ctx);
 /// e.set_param("w_mps", 3.0).unwrap();
@@ -251,6 +258,7 @@ pub struct OriginError {
 pub static CATALOGUE: &[&EffectInfo] = &[
     &wind::INFO,
     &drag::INFO,
+    &incidence_lift::INFO,
     &density_altitude::INFO,
     &gravity_model::INFO,
     &earth_rotation::INFO,
@@ -342,8 +350,9 @@ impl Default for Origin {
     }
 }
 
-/// What an effect's defaults may depend on: where the model is and the aircraft's size.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What an effect's defaults may depend on: where the model is, the aircraft's size, and
+/// what the flight the model was built for recorded.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct EffectContext {
     /// The geodetic origin (latitude defaults of the Earth effects).
     pub origin: Origin,
@@ -352,6 +361,10 @@ pub struct EffectContext {
     /// Mean aerodynamic chord, m (0 for a point mass): with the span, the reference lengths
     /// of a term's non-dimensional rates ([`term`]).
     pub chord_m: f64,
+    /// The attitude the flight recorded, where the model was built for a flight that has one
+    /// (`None` otherwise, and for `simulate`): what a point mass's force from the body's
+    /// incidence acts from (`incidence_lift`). Shared, not copied, by every effect.
+    pub recorded_attitude: Option<Arc<RecordedAttitude>>,
 }
 
 /// Which vehicle families an effect means something for.
@@ -497,6 +510,19 @@ pub enum Channel {
     Accelerometer,
 }
 
+impl std::fmt::Display for Channel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Channel::Position => "position",
+            Channel::Velocity => "velocity",
+            Channel::Attitude => "attitude (roll, pitch, yaw)",
+            Channel::Rates => "body rates",
+            Channel::Airspeed => "airspeed",
+            Channel::Accelerometer => "accelerometer",
+        })
+    }
+}
+
 /// What the sensors read at one sample, as the model predicts it: the channels a flight
 /// records, in the data's frames. Measurement effects change it ([`Effect::measure`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -576,7 +602,8 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     }
 
     /// Whether any hook depends on time itself, not only on the state (a gust, a schedule).
-    /// None of the catalogue's does. `true`, the default, is the safe answer for an effect
+    /// None of the catalogue's does but `incidence_lift` (the attitude the flight recorded at
+    /// that time). `true`, the default, is the safe answer for an effect
     /// that does not say: the comparison's tangent then takes the model's Jacobian afresh
     /// at every pair of steps instead of holding it while the state barely moves.
     fn varies_in_time(&self) -> bool {
@@ -647,6 +674,13 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     /// can show nothing, and is no candidate.
     fn channels(&self) -> &'static [Channel] {
         &[]
+    }
+    /// A recorded channel the effect acts from that its context lacks (the attitude, for a
+    /// point mass's force from the body's incidence on a model built without one): a model
+    /// refuses the effect then, and the diagnosis does not offer it. `None`, the default:
+    /// the effect needs nothing recorded.
+    fn lacks_channel(&self) -> Option<Channel> {
+        None
     }
 
     /// Why the effect's force or moment at this sample is NaN or ∞, naming the values that
@@ -753,6 +787,7 @@ pub(crate) mod tests {
             origin: Origin::default(),
             span_m: 3.0,
             chord_m: 0.0,
+            ..EffectContext::default()
         }
     }
 
@@ -786,6 +821,19 @@ pub(crate) mod tests {
         }
     }
 
+    /// The baseline of a vehicle family built for a flight that recorded an attitude (the nose
+    /// 12° above the horizon, turning), so that every effect, those acting from it too, can
+    /// be added.
+    fn baseline_with_attitude(kind: crate::VehicleKind) -> crate::model::Model {
+        use wireflight_geometry::euler::EulerZyx;
+        let times = [0.0, 1.0, 2.0];
+        let attitude = times.map(|t| EulerZyx::new(0.2 * t, 12f64.to_radians(), 0.1));
+        let recorded = RecordedAttitude::new(&times, &attitude).map(Arc::new);
+        crate::spec::ModelSpec::baseline(kind)
+            .build_recorded(Origin::default(), recorded)
+            .unwrap()
+    }
+
     /// A fixed wing in flight (turning, climbing, rolling) and commands for it: where the
     /// effects' derivatives are compared.
     pub(crate) fn flying() -> (crate::model::State, crate::Controls) {
@@ -809,7 +857,6 @@ pub(crate) mod tests {
     /// the propeller torque have one.
     #[test]
     fn an_effect_at_its_absent_values_changes_nothing() {
-        use crate::spec::ModelSpec;
         use crate::VehicleKind;
         let mut tried = Vec::new();
         for info in catalogue_and_terms() {
@@ -825,7 +872,7 @@ pub(crate) mod tests {
                 continue;
             }
             for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
-                let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
+                let base = baseline_with_attitude(kind);
                 let mut e = info.build(&base.effect_context());
                 if !e.applies_to(kind) {
                     continue;
@@ -857,6 +904,7 @@ pub(crate) mod tests {
             "prop_torque",
             "gyro_bias",
             "nav_delay",
+            "incidence_lift",
         ] {
             assert!(tried.contains(&name), "{name} has no absent values");
         }
@@ -868,12 +916,11 @@ pub(crate) mod tests {
     /// dependent ones say so.
     #[test]
     fn an_effect_that_does_not_vary_in_space_does_not() {
-        use crate::spec::ModelSpec;
         use crate::VehicleKind;
         let mut still = Vec::new();
         for info in catalogue_and_terms() {
             for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
-                let base = ModelSpec::baseline(kind).build(Origin::default()).unwrap();
+                let base = baseline_with_attitude(kind);
                 let e = info.build(&base.effect_context());
                 if !e.applies_to(kind) || e.varies_in_space() {
                     continue;
@@ -900,7 +947,14 @@ pub(crate) mod tests {
                 }
             }
         }
-        for name in ["wind", "drag", "gyroscopic", "prop_torque", "actuator_lag"] {
+        for name in [
+            "wind",
+            "drag",
+            "gyroscopic",
+            "prop_torque",
+            "actuator_lag",
+            "incidence_lift",
+        ] {
             assert!(still.contains(&name), "{name} says it varies in space");
         }
         for name in ["density_altitude", "gravity_model", "ground_effect"] {

@@ -421,6 +421,7 @@ mod tests {
             origin: super::super::Origin::default(),
             span_m: 3.0,
             chord_m: 0.3,
+            ..EffectContext::default()
         }
     }
 
