@@ -1004,7 +1004,8 @@ fn per_axis(values: &[f64; 3], se: &[f64; 3], axes: [&str; 3]) -> String {
 }
 
 /// The filter's innovations by channel, in units of the noise (position, velocity, attitude,
-/// rates; the channels measured): `position 1.02, velocity 0.98, … × the noise`.
+/// rates, airspeed, accelerometer: those measured): `position 1.02, velocity 0.98, … × the
+/// noise`.
 pub fn innovations_text(pass: &crate::filter_error::flight::Pass) -> String {
     let r = &pass.rows_noise_units;
     let channel = |rows: std::ops::Range<usize>| {
