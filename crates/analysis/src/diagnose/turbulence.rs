@@ -246,7 +246,9 @@ pub fn compare_through_turbulence(
     for c in added.iter() {
         let _ = c.correction.apply(&mut model);
     }
-    let filter = match FlightFilter::new(&model, prep.data, &prep.noise, &compare) {
+    // (The filter adds the references' model error of `compare` to the measured noise
+    // itself; `prep.noise` has it already.)
+    let filter = match FlightFilter::new(&model, prep.data, &prep.measured_noise, &compare) {
         Ok(f) => f,
         Err(e) if forced => return Err(e),
         Err(_) => return Ok(None),
