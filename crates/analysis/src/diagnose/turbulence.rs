@@ -28,7 +28,7 @@
 //! is turbulence with the causes output error kept, refitted.
 
 use super::{Candidate, Correction, DiagnoseConfig, Diagnosis, Verdict};
-use crate::compare::{combined, estimate_noise, CompareConfig, NoiseEstimate, Prepared};
+use crate::compare::{estimate_noise, CompareConfig, NoiseEstimate, Prepared};
 use crate::filter_error::flight::{FilterError, FlightFilter, GustEstimate, GustModel};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
@@ -105,9 +105,13 @@ fn reference_floor(
     model_error: &NoiseEstimate,
 ) -> ([f64; 3], [f64; 3]) {
     let mut floor = ([0.0; 3], [0.0; 3]);
+    // The filter adds the model error to each reference's measured noise itself.
+    let compare = CompareConfig {
+        model_error: Some(*model_error),
+        ..*compare
+    };
     for (_, r) in references {
-        let noise = combined(&estimate_noise(r), model_error);
-        let Ok(f) = FlightFilter::new(base, r, &noise, compare) else {
+        let Ok(f) = FlightFilter::new(base, r, &estimate_noise(r), &compare) else {
             continue;
         };
         let g = f.estimate_gusts(base);
@@ -217,12 +221,70 @@ fn refit_causes(
     refits
 }
 
+/// The filter on the model as given with the causes kept, where it runs: the gusts, and the
+/// causes' numbers refitted through it (the gusts estimated again on the refitted model).
+struct FilterRun<'d> {
+    /// `base` with the causes, their numbers the filter's.
+    model: Model,
+    filter: FlightFilter<'d>,
+    gusts: GustEstimate,
+    refits: Vec<Refit>,
+    /// The references' floor ([`reference_floor`]), against reference flights.
+    reference_sigma_mps: Option<([f64; 3], [f64; 3])>,
+}
+
+impl<'d> FilterRun<'d> {
+    /// Run the filter on `base` with `causes` (whose values become the filter's) over
+    /// `data`, its noise `noise` and `compare`'s windows; `floor`: the reference flights and
+    /// the model error they measured. None where the filter cannot run and is not `forced`,
+    /// or where the gusts are not significant and it is not `forced`.
+    fn start(
+        base: &Model,
+        causes: &mut [Candidate],
+        data: &'d FlightData,
+        noise: &NoiseEstimate,
+        compare: &CompareConfig,
+        floor: Option<(&[(&str, &FlightData)], &NoiseEstimate)>,
+        forced: bool,
+    ) -> Result<Option<Self>, FilterError> {
+        let mut model = base.clone();
+        for c in causes.iter() {
+            let _ = c.correction.apply(&mut model);
+        }
+        let filter = match FlightFilter::new(&model, data, noise, compare) {
+            Ok(f) => f,
+            Err(e) if forced => return Err(e),
+            Err(_) => return Ok(None),
+        };
+        let mut gusts = filter.estimate_gusts(&model);
+        let reference_sigma_mps = floor
+            .filter(|(references, _)| !references.is_empty())
+            .map(|(references, error)| reference_floor(base, references, compare, error));
+        if !forced && !significant_beyond(&gusts, reference_sigma_mps.as_ref()) {
+            return Ok(None);
+        }
+        let refits = refit_causes(&filter, &mut model, causes, &gusts.model());
+        if !refits.is_empty() {
+            // The gusts again on the refitted model: the causes no longer hide part of them.
+            gusts = filter.estimate_gusts(&model);
+        }
+        Ok(Some(Self {
+            model,
+            filter,
+            gusts,
+            refits,
+            reference_sigma_mps,
+        }))
+    }
+}
+
 /// `compare` through the filter-error method: with `Method::Auto` only where a diagnosis of
 /// the model as compared leaves the flight unexplained (`unexplained`: the caller's, as it
 /// has the diagnosis's options), and reported only where the gusts are significant (against
-/// reference flights, above their floor); with `Method::FilterError` always. `base` is the model as given; `added` the effects `--add` fitted by output error,
-/// fitted again here through the filter (their values become the filter's). Returns the
-/// finding and the model with the refitted effects, or None.
+/// reference flights, above their floor); with `Method::FilterError` always. `base` is the
+/// model as given; `added` the effects `--add` fitted by output error, fitted again here
+/// through the filter (their values become the filter's). Returns the finding and the model
+/// with the refitted effects, or None.
 ///
 /// A comparison searches no cause, and where a deterministic one is missing the filter may
 /// take its response for gusts (a steady wind for a slow gust): hence the diagnosis first.
@@ -241,37 +303,28 @@ pub fn compare_through_turbulence(
     if method == Method::OutputError || (!forced && !unexplained) {
         return Ok(None);
     }
+    // The filter adds the references' model error to the measured noise itself.
     let compare = prep.config();
-    let mut model = base.clone();
-    for c in added.iter() {
-        let _ = c.correction.apply(&mut model);
-    }
-    // (The filter adds the references' model error of `compare` to the measured noise
-    // itself; `prep.noise` has it already.)
-    let filter = match FlightFilter::new(&model, prep.data, &prep.measured_noise, &compare) {
-        Ok(f) => f,
-        Err(e) if forced => return Err(e),
-        Err(_) => return Ok(None),
-    };
-    let mut gusts = filter.estimate_gusts(&model);
-    let reference_sigma_mps = match &compare.model_error {
-        Some(e) if !references.is_empty() => Some(reference_floor(base, references, &compare, e)),
-        _ => None,
-    };
-    if !forced && !significant_beyond(&gusts, reference_sigma_mps.as_ref()) {
-        return Ok(None);
-    }
-    let refits = refit_causes(&filter, &mut model, added, &gusts.model());
-    if !refits.is_empty() {
-        gusts = filter.estimate_gusts(&model);
-    }
-    let finding = TurbulenceFinding {
-        gusts,
-        refits,
+    let floor = compare.model_error.as_ref().map(|e| (references, e));
+    let Some(run) = FilterRun::start(
+        base,
+        added,
+        prep.data,
+        &prep.measured_noise,
+        &compare,
+        floor,
         forced,
-        reference_sigma_mps,
+    )?
+    else {
+        return Ok(None);
     };
-    Ok(Some((finding, model)))
+    let finding = TurbulenceFinding {
+        gusts: run.gusts,
+        refits: run.refits,
+        forced,
+        reference_sigma_mps: run.reference_sigma_mps,
+    };
+    Ok(Some((finding, run.model)))
 }
 
 /// Try the filter-error method on a diagnosis (module docs): with `Method::Auto` only where
@@ -293,33 +346,29 @@ pub fn through_turbulence(
     if method == Method::OutputError || (!forced && d.verdict != Verdict::Unexplained) {
         return Ok(());
     }
-    let mut model = base.clone();
-    for c in &d.found {
-        let _ = c.correction.apply(&mut model);
-    }
-    let filter = match FlightFilter::new(&model, data, &d.base_noise, compare) {
-        Ok(f) => f,
-        Err(e) if forced => return Err(e),
-        Err(_) => return Ok(()),
-    };
-    let mut gusts = filter.estimate_gusts(&model);
-    let reference_sigma_mps = match &d.reference {
-        Some(r) if !references.is_empty() => Some(reference_floor(
-            base,
-            references,
-            compare,
-            &r.floor.model_error,
-        )),
-        _ => None,
-    };
-    if !forced && !significant_beyond(&gusts, reference_sigma_mps.as_ref()) {
+    let floor = d
+        .reference
+        .as_ref()
+        .map(|r| (references, &r.floor.model_error));
+    let Some(run) = FilterRun::start(
+        base,
+        &mut d.found,
+        data,
+        &d.base_noise,
+        compare,
+        floor,
+        forced,
+    )?
+    else {
         return Ok(());
-    }
-    let mut refits = refit_causes(&filter, &mut model, &mut d.found, &gusts.model());
-    if !refits.is_empty() {
-        // The gusts again on the refitted model: the causes no longer hide part of them.
-        gusts = filter.estimate_gusts(&model);
-    }
+    };
+    let FilterRun {
+        mut model,
+        filter,
+        mut gusts,
+        mut refits,
+        reference_sigma_mps,
+    } = run;
     // Against reference flights the search stays off: the filter's values on a turbulent
     // flight and on calm ones differ by more than a changed number where the gust model and
     // the aircraft's response to gusts are not exact (module docs).
