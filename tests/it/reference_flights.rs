@@ -292,3 +292,44 @@ fn a_wrong_model_is_not_turbulence() {
     let t = &c["turbulence"];
     assert!(t.is_null() || t["significant"] == false, "{t:#}");
 }
+
+/// `compare` against the calm references runs the filter on a turbulent flight the output
+/// error leaves unexplained, weighs it by the noise and the references' model error (once),
+/// and finds the gusts as `diagnose` does: significant, of JSBSim's size, above the floor.
+#[test]
+fn compare_finds_jsbsim_turbulence_against_calm_references() {
+    let name = "turb-light-1";
+    let out = wireflight(&[
+        "-q",
+        "compare",
+        "--flight",
+        &flight(name),
+        "--aircraft",
+        identified().to_str().unwrap(),
+        "--reference",
+        &flight("ref-1"),
+        "--reference",
+        &flight("ref-2"),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "compare: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let c: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let t = &c["turbulence"];
+    assert_eq!(t["significant"], true, "{t:#}");
+    let truth = jsbsim_gust_sigma(name);
+    for (k, truth) in truth.iter().enumerate() {
+        let (est, floor) = (
+            t["sigma_mps"][k].as_f64().unwrap(),
+            t["reference_sigma_mps"][k].as_f64().unwrap(),
+        );
+        assert!(
+            (0.5..2.0).contains(&(est / truth)),
+            "axis {k}: {est} against {truth}"
+        );
+        assert!(floor < 0.5 * truth, "the references' {floor}");
+    }
+}
