@@ -40,7 +40,7 @@
 
 use super::{Candidate, Correction, DiagnoseConfig, Diagnosis, Verdict};
 use crate::compare::{estimate_noise, CompareConfig, NoiseEstimate, Prepared};
-use crate::filter_error::flight::{FilterError, FlightFilter, GustEstimate, GustModel};
+use crate::filter_error::flight::{FilterError, FilterFit, FlightFilter, GustEstimate, GustModel};
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::chi2_quantile;
@@ -202,19 +202,33 @@ fn refit_causes(
     if slots.is_empty() {
         return refits;
     }
+    fit_refits(filter, model, &slots, &mut refits, gusts);
+    // The causes carry the filter's values from here on (the verdict, `--out`).
+    update_found(causes, model);
+    refits
+}
+
+/// The numbers of `refits` (put into the model by `slots`) fitted together through `filter`
+/// with `gusts`, from their values; `model` and `refits` take the fit's values, each σ
+/// scaled up by the innovations' spread where it exceeds the filter's account.
+fn fit_refits(
+    filter: &FlightFilter,
+    model: &mut Model,
+    slots: &[Slot],
+    refits: &mut [Refit],
+    gusts: &GustModel,
+) -> FilterFit {
     let theta0: Vec<f64> = refits.iter().map(|r| r.value).collect();
     let scales: Vec<f64> = theta0.iter().map(|v| v.abs().max(0.01)).collect();
-    let set = |m: &mut Model, theta: &[f64]| set_slots(m, &slots, theta);
+    let set = |m: &mut Model, theta: &[f64]| set_slots(m, slots, theta);
     let fit = filter.fit(model, &set, &theta0, &scales, gusts);
-    set_slots(model, &slots, &fit.theta);
+    set_slots(model, slots, &fit.theta);
     let spread = fit.pass.normalised.max(1.0);
     for ((r, v), s) in refits.iter_mut().zip(&fit.theta).zip(&fit.sigma) {
         r.value = *v;
         r.sigma = *s * spread;
     }
-    // The causes carry the filter's values from here on (the verdict, `--out`).
-    update_found(causes, model);
-    refits
+    fit
 }
 
 /// The filter on the model as given with the causes kept, where it runs: the gusts, and the
@@ -506,16 +520,8 @@ fn refit_jointly(
                 None => Slot::Effect(r.cause.clone(), r.param.clone()),
             })
             .collect();
-        let theta0: Vec<f64> = refits.iter().map(|r| r.value).collect();
-        let scales: Vec<f64> = theta0.iter().map(|v| v.abs().max(0.01)).collect();
-        let set = |m: &mut Model, theta: &[f64]| set_slots(m, &slots, theta);
-        let all = filter.fit(model, &set, &theta0, &scales, gusts);
-        set_slots(model, &slots, &all.theta);
+        let all = fit_refits(filter, model, &slots, refits, gusts);
         let spread = all.pass.normalised.max(1.0);
-        for ((r, v), s) in refits.iter_mut().zip(&all.theta).zip(&all.sigma) {
-            r.value = *v;
-            r.sigma = *s * spread;
-        }
         if refits.len() < 2 {
             break;
         }
