@@ -233,14 +233,19 @@ fn jsbsim_gust_sigma(name: &str) -> [f64; 3] {
 
 /// JSBSim's c172p flown in its own light turbulence, judged against the calm reference
 /// flights: turbulence, above what the filter finds on the references, with intensities of
-/// JSBSim's gusts' size (within a factor of two: the down gust comes out 36–42 % low, the
-/// horizontal ones within 35 % — the filter's gust model is not JSBSim's).
+/// JSBSim's gusts' size (within a factor of two: from 21 % low to 79 % high on one axis — the
+/// filter's gust model is not JSBSim's). The unchanged aircraft's flights name no cause: the
+/// numbers the filter moves on them (docs/turbulence.md) are not claimed as changes.
 #[test]
 fn jsbsim_turbulence_is_named_against_calm_references() {
-    for name in ["turb-light-1", "turb-cmalpha085"] {
+    for name in ["turb-light-1", "turb-light-2", "turb-cmalpha085"] {
         let d = diagnose_against_references(name);
         let verdict = d["verdict"].as_str().unwrap();
         assert!(verdict.starts_with("turbulence"), "{name}: {verdict}");
+        if name.starts_with("turb-light") {
+            assert_eq!(verdict, "turbulence", "{name}");
+            assert_eq!(d["found"], serde_json::json!([]), "{name}");
+        }
         let t = &d["turbulence"];
         assert_eq!(t["significant"], true);
         let truth = jsbsim_gust_sigma(name);
