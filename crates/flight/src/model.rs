@@ -297,6 +297,12 @@ impl Model {
         self.recorded_attitude = attitude;
     }
 
+    /// Whether the model has its flight's recorded attitude to act from
+    /// ([`Model::set_recorded_attitude`]): then a point mass reads the body's α and β.
+    pub fn has_recorded_attitude(&self) -> bool {
+        self.recorded_attitude.is_some()
+    }
+
     /// Add an effect.
     ///
     /// # Errors
@@ -462,9 +468,17 @@ impl Model {
         self.effects.iter().any(|e| e.varies_in_space())
     }
 
-    /// Whether the equations depend on time itself (an effect says so, or does not say).
+    /// Whether the equations depend on time itself (an effect says so, or does not say; or
+    /// a point mass's force terms act along the wind axes of the attitude its flight recorded
+    /// at each time, [`Model::point_mass_air`]).
     pub fn varies_in_time(&self) -> bool {
-        self.effects.iter().any(|e| e.varies_in_time())
+        let along_the_record = matches!(self.vehicle, Vehicle::PointMass)
+            && self.recorded_attitude.is_some()
+            && self
+                .effects
+                .iter()
+                .any(|e| super::effects::term::axis_of(e.info()).is_some());
+        along_the_record || self.effects.iter().any(|e| e.varies_in_time())
     }
 
     /// Air data of a fixed-wing state at time `t` (airspeed, α, β, ρ).
