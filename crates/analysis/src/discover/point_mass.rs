@@ -107,17 +107,36 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
     } else {
         library::point_mass()
     };
-    let columns: Vec<Vec<f64>> = library
-        .iter()
-        .map(|r| {
-            let at_row: Vec<f64> = vars.iter().map(|v| r.value(v)).collect();
-            let sm = smooth(&at_row);
-            rows.iter().map(|&i| sm[i]).collect()
+    // Each regressor as the force it would be along each axis, through the same pipeline as
+    // the lacking acceleration: its NED vector smoothed, then turned to the row's axes. The
+    // axes turn within the smoothing window (a body's roll turns its wind axes): a scalar
+    // smoothed alone would not be what the smoothed, turned acceleration holds of it.
+    let columns: Vec<Vec<Vec<f64>>> = (0..AXES.len())
+        .map(|a| {
+            library
+                .iter()
+                .map(|r| {
+                    let ned: [Vec<f64>; 3] = std::array::from_fn(|c| {
+                        let along: Vec<f64> = vars
+                            .iter()
+                            .zip(&axes)
+                            .map(|(v, ax)| r.value(v) * ax.col(a)[c])
+                            .collect();
+                        smooth(&along)
+                    });
+                    rows.iter()
+                        .map(|&i| {
+                            let v = glam::DVec3::new(ned[0][i], ned[1][i], ned[2][i]);
+                            axes[i].col(a).dot(v)
+                        })
+                        .collect()
+                })
+                .collect()
         })
         .collect();
     if targets
         .iter()
-        .chain(&columns)
+        .chain(columns.iter().flatten())
         .any(|c| c.iter().any(|v| !v.is_finite()))
     {
         return Err(too_few(0));
@@ -125,11 +144,8 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
     let targets: Vec<AxisTarget> = AXES
         .into_iter()
         .zip(targets)
-        .map(|(axis, y)| AxisTarget {
-            axis,
-            y,
-            columns: &columns,
-        })
+        .zip(&columns)
+        .map(|((axis, y), columns)| AxisTarget { axis, y, columns })
         .collect();
     Ok(select_terms(
         &targets,
