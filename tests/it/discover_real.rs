@@ -263,43 +263,25 @@ fn mk82_incidence_lift_reads_the_recorded_attitude() {
     let blind = dir.path().join("no-attitude.csv");
     let blind = blind.to_str().unwrap();
     simulate_point_mass_with_drag(blind, &[]);
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args([
-            "-q",
-            "compare",
-            "--flight",
-            blind,
-            "--add",
-            "incidence_lift",
-        ])
-        .output()
-        .expect("wireflight runs");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("incidence_lift") && err.contains("attitude (roll, pitch, yaw)"),
-        "{err}"
-    );
+    // The effect, and a term reading the body's angle of attack, are refused there, each
+    // naming itself and the attitude it lacks.
+    for (add, named) in [
+        ("incidence_lift", "incidence_lift"),
+        ("term:Z=k*qbar*alpha", "term(Z=k*qbar*alpha)"),
+    ] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
+            .args(["-q", "compare", "--flight", blind, "--add", add])
+            .output()
+            .expect("wireflight runs");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains(named) && err.contains("attitude (roll, pitch, yaw)"),
+            "{err}"
+        );
+    }
     let diagnosis = wireflight(&["-q", "diagnose", "--flight", blind]);
     assert!(!diagnosis.contains("incidence_lift"), "{diagnosis}");
-    // A term reading the body's angle of attack is refused there the same way.
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args([
-            "-q",
-            "compare",
-            "--flight",
-            blind,
-            "--add",
-            "term:Z=k*qbar*alpha",
-        ])
-        .output()
-        .expect("wireflight runs");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(
-        err.contains("term(Z=k*qbar*alpha)") && err.contains("attitude (roll, pitch, yaw)"),
-        "{err}"
-    );
 }
 
 /// JSBSim's c172p: `identify` on the two calm reference flights, `discover` on each with the
@@ -449,7 +431,7 @@ fn fly_the_mk82_attitude_with(hidden: &str, path: &std::path::Path) {
         (DVec3::new(d[0], d[1], d[2]), DVec3::new(d[3], d[4], d[5]))
     };
     let moved = |x: &State, (dp, dv): (DVec3, DVec3), h: f64| {
-        let mut y = x.clone();
+        let mut y = *x;
         y.set_pos_ned(x.pos_ned() + dp * h);
         y.set_vel(x.vel() + dv * h);
         y
