@@ -297,6 +297,12 @@ impl Model {
         self.recorded_attitude = attitude;
     }
 
+    /// Whether the model has its flight's recorded attitude to act from
+    /// ([`Model::set_recorded_attitude`]): then a point mass reads the body's α and β.
+    pub fn has_recorded_attitude(&self) -> bool {
+        self.recorded_attitude.is_some()
+    }
+
     /// Add an effect.
     ///
     /// # Errors
@@ -309,7 +315,14 @@ impl Model {
                 vehicle: self.vehicle.kind(),
             });
         }
-        if let Some(channel) = effect.lacks_channel() {
+        // A point mass reads α and β from its flight's recorded attitude, where it has one.
+        let blind_incidence = matches!(self.vehicle, Vehicle::PointMass)
+            && self.recorded_attitude.is_none()
+            && effect.reads_incidence();
+        let lacking = effect
+            .lacks_channel()
+            .or(blind_incidence.then_some(Channel::Attitude));
+        if let Some(channel) = lacking {
             return Err(ModelError::LacksChannel {
                 effect: effect.name(),
                 channel,
@@ -455,9 +468,17 @@ impl Model {
         self.effects.iter().any(|e| e.varies_in_space())
     }
 
-    /// Whether the equations depend on time itself (an effect says so, or does not say).
+    /// Whether the equations depend on time itself (an effect says so, or does not say; or
+    /// a point mass's force terms act along the wind axes of the attitude its flight recorded
+    /// at each time, [`Model::point_mass_air`]).
     pub fn varies_in_time(&self) -> bool {
-        self.effects.iter().any(|e| e.varies_in_time())
+        let along_the_record = matches!(self.vehicle, Vehicle::PointMass)
+            && self.recorded_attitude.is_some()
+            && self
+                .effects
+                .iter()
+                .any(|e| super::effects::term::axis_of(e.info()).is_some());
+        along_the_record || self.effects.iter().any(|e| e.varies_in_time())
     }
 
     /// Air data of a fixed-wing state at time `t` (airspeed, α, β, ρ).
@@ -573,9 +594,40 @@ impl Model {
         }
     }
 
+    /// A point mass's air data and the axes its force terms act along, for its air-relative
+    /// velocity at time `t`. Without a recorded attitude: its airspeed alone (α = β = 0) and
+    /// its flight-path axes ([`flight_path_axes`]). With one: the recorded body's α and β of
+    /// that velocity, and the wind axes that body defines — `X` along the velocity, `Z`
+    /// normal to it in the body's x–z plane (negative: the body's lift, toward −z_b, its bank
+    /// included), `Y` completing the triad (the side force).
+    pub fn point_mass_air(&self, t: f64, air_vel_ned: DVec3, rho: f64) -> (AirData, DMat3) {
+        let Some(attitude) = &self.recorded_attitude else {
+            let air = AirData {
+                airspeed: air_vel_ned.length(),
+                rho,
+                ..AirData::default()
+            };
+            return (air, flight_path_axes(air_vel_ned));
+        };
+        let rot = attitude.rotation_at(t);
+        let body = rot.transpose() * air_vel_ned;
+        let air = air_angles(body, rho);
+        if air.airspeed < 0.1 || !air.airspeed.is_finite() {
+            return (air, rot);
+        }
+        let along = body / air.airspeed;
+        // Normal to the velocity in the x–z plane, pointing to +z_b: (−sin α, 0, cos α).
+        let down = DVec3::new(-air.sin_alpha, 0.0, air.cos_alpha);
+        let side = down.cross(along);
+        (air, rot * DMat3::from_cols(along, side, down))
+    }
+
     fn point_mass_derivative(&self, t: f64, x: &State, frame: &Frame) -> State {
         let pos = x.pos_ned();
         let vel = x.vel();
+        // The airspeed of the air-relative velocity (a term's `airspeed` and `qbar`); a point
+        // mass has no body, so no α or β unless its flight recorded the body's attitude.
+        let (air, axes) = self.point_mass_air(t, vel - frame.wind, frame.rho);
         let s = Sample {
             t,
             pos_ned: pos,
@@ -588,25 +640,19 @@ impl Model {
             air_vel_ned: vel - frame.wind,
             controls: Controls::default(),
             mass: 1.0,
-            // The airspeed of the air-relative velocity (a term's `airspeed` and `qbar`);
-            // a point mass has no body, so no α or β.
-            air: AirData {
-                airspeed: (vel - frame.wind).length(),
-                rho: frame.rho,
-                ..AirData::default()
-            },
+            air,
             thrust: 0.0,
         };
         let mut acc = DVec3::new(0.0, 0.0, frame.g);
-        // A point mass's body axes are its flight-path axes: a force an effect gives in body
-        // axes (a force term, per unit mass) is turned to NED through them.
+        // A point mass's body axes are its flight-path (or wind) axes: a force an effect
+        // gives in body axes (a force term, per unit mass) is turned to NED through them.
         let mut path_force = DVec3::ZERO;
         for e in &self.effects {
             acc += e.accel_ned(&s);
             path_force += e.force_moment_body(&s).0;
         }
         if path_force != DVec3::ZERO {
-            acc += flight_path_axes(s.air_vel_ned) * path_force;
+            acc += axes * path_force;
         }
         let mut d = [0.0; STATE_LEN];
         d[0..3].copy_from_slice(&vel.to_array());

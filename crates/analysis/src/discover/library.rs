@@ -19,6 +19,12 @@ pub(super) enum Factor {
     Sin(Var),
     /// Its cosine.
     Cos(Var),
+    /// Its magnitude.
+    Abs(Var),
+    /// Its positive part, max(x, 0).
+    Above(Var),
+    /// Its negative part, min(x, 0).
+    Below(Var),
 }
 
 impl Factor {
@@ -27,6 +33,9 @@ impl Factor {
             Factor::Plain(x) => v[x.index()],
             Factor::Sin(x) => v[x.index()].sin(),
             Factor::Cos(x) => v[x.index()].cos(),
+            Factor::Abs(x) => v[x.index()].abs(),
+            Factor::Above(x) => v[x.index()].max(0.0),
+            Factor::Below(x) => v[x.index()].min(0.0),
         }
     }
 
@@ -35,6 +44,9 @@ impl Factor {
             Factor::Plain(x) => x.name().to_string(),
             Factor::Sin(x) => format!("sin({})", x.name()),
             Factor::Cos(x) => format!("cos({})", x.name()),
+            Factor::Abs(x) => format!("abs({})", x.name()),
+            Factor::Above(x) => format!("max({},0)", x.name()),
+            Factor::Below(x) => format!("min({},0)", x.name()),
         }
     }
 }
@@ -81,7 +93,12 @@ impl Regressor {
     /// Whether it reads variable `v` (plain or through a function).
     pub fn uses(&self, v: Var) -> bool {
         self.factors.iter().any(|f| match *f {
-            Factor::Plain(x) | Factor::Sin(x) | Factor::Cos(x) => x == v,
+            Factor::Plain(x)
+            | Factor::Sin(x)
+            | Factor::Cos(x)
+            | Factor::Abs(x)
+            | Factor::Above(x)
+            | Factor::Below(x) => x == v,
         })
     }
 }
@@ -175,6 +192,35 @@ pub fn point_mass() -> Vec<Regressor> {
     .collect()
 }
 
+/// The candidates of a point mass whose flight recorded the body's attitude: its own
+/// ([`point_mass`]) and q̄ times the body's incidence. For each of α and β: the angle (a
+/// linear lift or side force); the angle times its magnitude (the crossflow force of a body
+/// of revolution, odd like the angle); its square (even: a force that does not change sign
+/// with the angle, and along the path a drag growing with incidence); and the square of its
+/// positive and of its negative part — a force on one side of the angle only, as a table
+/// whose rows begin at α = 0 gives (max(α, 0)² = (α·|α| + α²)/2). The one-sided forms are
+/// candidates of their own because the stepwise selection adds one column at a time: on the
+/// way to the pair α·|α| and α², its first step's residual can fail the tests that the pair
+/// would pass.
+pub fn point_mass_with_incidence() -> Vec<Regressor> {
+    use Factor::{Above, Abs, Below, Plain};
+    let q = Plain(Var::Qbar);
+    let mut out = point_mass();
+    for angle in [Var::Alpha, Var::Beta] {
+        let (a, up, down) = (Plain(angle), Above(angle), Below(angle));
+        for factors in [
+            vec![q, a],
+            vec![q, a, Abs(angle)],
+            vec![q, a, a],
+            vec![q, up, up],
+            vec![q, down, down],
+        ] {
+            out.push(Regressor { factors });
+        }
+    }
+    out
+}
+
 /// "what ∝ its form: why" (the form `constant` without factors; no why where `why` of the
 /// product, written as `qbar*alpha`, is empty).
 fn worded(what: &str, r: &Regressor, why: impl FnOnce(&str) -> &'static str) -> String {
@@ -200,7 +246,8 @@ pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) ->
         Axis::Z => "acceleration normal to the flight path",
         Axis::L | Axis::M | Axis::N => "moment",
     };
-    worded(what, r, |product| match (axis, product) {
+    worded(what, r, |product| {
+        match (axis, product) {
         (Axis::X, "qbar") | (Axis::X, "airspeed^2") => "drag mis-estimated (negative: more drag)",
         (Axis::X, "qbar*airspeed") | (Axis::X, "qbar*airspeed^2") => {
             "drag growing faster than V² (compressibility, with the Mach number)"
@@ -212,7 +259,29 @@ pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) ->
             "a lift at constant incidence (negative: up)"
         }
         (Axis::Y, "qbar") | (Axis::Y, "airspeed^2") => "a side force at constant sideslip",
+        (Axis::Z, "qbar*alpha") => "the body's lift, linear in its angle of attack (negative: up)",
+        (Axis::Z, "qbar*alpha*abs(alpha)") => {
+            "the crossflow lift of a body at incidence, odd in α (negative: up at α > 0)"
+        }
+        (Axis::Z, "qbar*alpha^2") => {
+            "a lift that does not change sign with α; beside an odd one, a lift on one side of α only"
+        }
+        (Axis::Z, "qbar*max(alpha,0)^2") => {
+            "a lift at positive α only, growing as α² (negative: up), as from a lift table whose rows begin at α = 0"
+        }
+        (Axis::Z, "qbar*min(alpha,0)^2") => {
+            "a normal force at negative α only, growing as α² (positive: down)"
+        }
+        (Axis::Y, "qbar*beta") => "the body's side force in sideslip",
+        (Axis::Y, "qbar*beta*abs(beta)") => "the crossflow side force of a body, odd in β",
+        (Axis::Y, "qbar*beta^2") => {
+            "a side force that does not change sign with β; beside an odd one, on one side of β only"
+        }
+        (Axis::X, "qbar*alpha^2") | (Axis::X, "qbar*beta^2") => {
+            "drag growing with the body's incidence (negative: more drag)"
+        }
         _ => "",
+    }
     })
 }
 

@@ -144,35 +144,6 @@ pub struct Discovery {
     /// Whether the model is a point mass: the axes are its flight-path axes and the forces
     /// per unit mass (m/s²).
     pub point_mass: bool,
-    /// On a point mass whose flight carries an attitude: what q̄ times the body's angle to
-    /// its path explains across the path (no term a point mass can take, but the effect
-    /// `incidence_lift`, which reads the flight's attitude).
-    pub incidence: Vec<Incidence>,
-}
-
-/// On a point mass: the missing acceleration across the path regressed on q̄ times the
-/// sine of the body's angle to its path in that plane (its measured x axis, on the
-/// flight-path axes) — a lift or side force from the body's incidence, which the flight's
-/// attitude shows and a point mass carries only as the effect that reads it (`add`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Incidence {
-    /// `Y` or `Z`.
-    pub axis: Axis,
-    /// m/s² per pascal (S·C_Nα/m, positive: the force opposes the incidence).
-    pub coefficient: f64,
-    /// Its standard error.
-    pub sigma: f64,
-    /// RMS of the axis's missing acceleration, m/s².
-    pub rms_before: f64,
-    /// And after the incidence.
-    pub rms_after: f64,
-    /// Its likelihood ratio (the terms' threshold applies).
-    pub likelihood_ratio: f64,
-    /// The largest angle between the body's x axis and its path over the flight, degrees.
-    pub largest_deg: f64,
-    /// The effect that adds the force, as `--add` takes it: `incidence_lift`, whose k is
-    /// this coefficient (one k on both axes).
-    pub add: &'static str,
 }
 
 /// Finds the terms the model lacks on this flight (module docs).
@@ -355,7 +326,6 @@ fn select_terms(
         threshold,
         error_before: None,
         point_mass,
-        incidence: Vec::new(),
     }
 }
 

@@ -4,29 +4,28 @@
 //! acceleration, gravity plus its effects'. What it lacks is the measured acceleration (the
 //! smoothing differentiator of the NED velocity) less the model's at the same position and
 //! velocity, smoothed alike; it is read on the axes a point-mass force term acts along
-//! ([`flight_path_axes`]: `X` along the air-relative velocity, `Y` level to its right, `Z`
+//! ([`wireflight_flight::aero::flight_path_axes`]: `X` along the air-relative velocity, `Y` level to its right, `Z`
 //! downward normal to it), so that what is found is a term a point mass takes
 //! (`--add 'term:Z=k*qbar'`). The values are accelerations (m/s²): a point mass's mass is 1.
 //!
 //! The regressors are what a point mass has ([`library::point_mass`]): its airspeed, the
-//! dynamic pressure and density as the model has them, and its height. An angle of attack
-//! is not among them: the flight's attitude, where the data carry one, is the body's, which
-//! the point mass does not fly, so a term reading it could not be added to it. What it says
-//! is reported beside the terms ([`Incidence`]): q̄ times the body's angle to its path, on
-//! the side and normal axes — a lift, named, that the effect `incidence_lift` adds to a
-//! point mass from the same recorded attitude (its k is this coefficient).
+//! dynamic pressure and density as the model has them, and its height. Where the flight
+//! recorded the body's attitude, the model reads the body's angles of attack and sideslip
+//! from it and its force terms act along the wind axes that body defines
+//! ([`Model::point_mass_air`]: `Z` normal to the velocity in the body's x–z plane, its lift
+//! negative, `Y` its side): the axes are those, and the library adds q̄ times the angles in
+//! the forms a body's lift and side force take ([`library::point_mass_with_incidence`]), so
+//! that what is found is a term the same point mass takes (`--add 'term:Y=k*qbar*beta'`).
 
-use wireflight_flight::aero::flight_path_axes;
 use wireflight_flight::data::FlightData;
 use wireflight_flight::derive::{Differentiator, Window};
-use wireflight_flight::effects::INCIDENCE_LIFT;
 use wireflight_flight::expr::{Axis, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, State};
 use wireflight_flight::Controls;
 
 use super::{
-    held_integral, library, regression_rows, select, select_terms, AxisTarget, DiscoverError,
-    Discovery, Incidence, MIN_SAMPLES,
+    held_integral, library, regression_rows, select_terms, AxisTarget, DiscoverError, Discovery,
+    MIN_SAMPLES,
 };
 
 /// The forces a point mass can lack, on its flight-path axes.
@@ -64,9 +63,12 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
         let d = model.derivative(t, &x, &cmd).0;
         let (wind, rho) = model.air_at(pos, t);
         let air = v - wind;
+        let (air_data, path_axes) = model.point_mass_air(t, air, rho);
         let va = air.length();
         let mut row = [0.0; N_VARS];
         row[Var::Airspeed.index()] = va;
+        row[Var::Alpha.index()] = air_data.alpha;
+        row[Var::Beta.index()] = air_data.beta;
         row[Var::Qbar.index()] = 0.5 * rho * va * va;
         row[Var::Rho.index()] = rho;
         row[Var::Height.index()] = -pos.z;
@@ -75,7 +77,7 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
             return Err(too_few(i));
         }
         model_acc.push([d[3], d[4], d[5]]);
-        axes.push(flight_path_axes(air));
+        axes.push(path_axes);
         vars.push(row);
     }
     // Everything through the same filter, as on a fixed wing: the measured derivative is the
@@ -100,96 +102,55 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
             t.push(v);
         }
     }
-    let library = library::point_mass();
-    let columns: Vec<Vec<f64>> = library
-        .iter()
-        .map(|r| {
-            let at_row: Vec<f64> = vars.iter().map(|v| r.value(v)).collect();
-            let sm = smooth(&at_row);
-            rows.iter().map(|&i| sm[i]).collect()
+    let library = if model.has_recorded_attitude() {
+        library::point_mass_with_incidence()
+    } else {
+        library::point_mass()
+    };
+    // Each regressor as the force it would be along each axis, through the same pipeline as
+    // the lacking acceleration: its NED vector smoothed, then turned to the row's axes. The
+    // axes turn within the smoothing window (a body's roll turns its wind axes): a scalar
+    // smoothed alone would not be what the smoothed, turned acceleration holds of it.
+    let columns: Vec<Vec<Vec<f64>>> = (0..AXES.len())
+        .map(|a| {
+            library
+                .iter()
+                .map(|r| {
+                    let ned: [Vec<f64>; 3] = std::array::from_fn(|c| {
+                        let along: Vec<f64> = vars
+                            .iter()
+                            .zip(&axes)
+                            .map(|(v, ax)| r.value(v) * ax.col(a)[c])
+                            .collect();
+                        smooth(&along)
+                    });
+                    rows.iter()
+                        .map(|&i| {
+                            let v = glam::DVec3::new(ned[0][i], ned[1][i], ned[2][i]);
+                            axes[i].col(a).dot(v)
+                        })
+                        .collect()
+                })
+                .collect()
         })
         .collect();
     if targets
         .iter()
-        .chain(&columns)
+        .chain(columns.iter().flatten())
         .any(|c| c.iter().any(|v| !v.is_finite()))
     {
         return Err(too_few(0));
     }
-    let incidence = body_incidence(data, &axes, &vars, &rows, smooth);
     let targets: Vec<AxisTarget> = AXES
         .into_iter()
         .zip(targets)
-        .map(|(axis, y)| AxisTarget {
-            axis,
-            y,
-            columns: &columns,
-        })
+        .zip(&columns)
+        .map(|((axis, y), columns)| AxisTarget { axis, y, columns })
         .collect();
-    let mut found = select_terms(&targets, &library, library::point_mass_reading, true);
-    if let Some((columns, largest)) = incidence {
-        found.incidence = across_the_path(&targets, &columns, largest, found.threshold);
-    }
-    Ok(found)
-}
-
-/// Where the flight carries an attitude: q̄ times the body's x axis across the flight path
-/// (its level and its normal component: the sine of the body's angle to its path in each
-/// plane), smoothed and at the rows, for `Y` and `Z`; and the largest angle, degrees.
-/// None without an attitude, or with one not finite.
-fn body_incidence(
-    data: &FlightData,
-    axes: &[glam::DMat3],
-    vars: &[VarValues],
-    rows: &[usize],
-    smooth: impl Fn(&[f64]) -> Vec<f64>,
-) -> Option<([Vec<f64>; 2], f64)> {
-    let att = data.attitude.as_ref().filter(|a| a.len() == axes.len())?;
-    let mut across: [Vec<f64>; 2] = std::array::from_fn(|_| Vec::with_capacity(att.len()));
-    let mut largest: f64 = 0.0;
-    for ((e, path), v) in att.iter().zip(axes).zip(vars) {
-        let nose = path.transpose() * e.to_matrix().x_axis;
-        let qbar = v[Var::Qbar.index()];
-        largest = largest.max(nose.x.clamp(-1.0, 1.0).acos().to_degrees());
-        across[0].push(qbar * nose.y);
-        across[1].push(qbar * nose.z);
-    }
-    let columns = across.map(|c| {
-        let sm = smooth(&c);
-        rows.iter().map(|&i| sm[i]).collect::<Vec<f64>>()
-    });
-    let finite = columns.iter().flatten().all(|v| v.is_finite()) && largest.is_finite();
-    finite.then_some((columns, largest))
-}
-
-/// The body's incidence tried on the side and normal axes alone, admitted by the selection's
-/// own tests (likelihood ratio, material share, held-out fifths).
-fn across_the_path(
-    targets: &[AxisTarget<'_>],
-    columns: &[Vec<f64>; 2],
-    largest_deg: f64,
-    threshold: f64,
-) -> Vec<Incidence> {
-    let mut out = Vec::new();
-    for (target, column) in targets.iter().skip(1).zip(columns) {
-        let sel = select(&target.y, std::slice::from_ref(column), threshold);
-        let (Some(step), Some(&coefficient), Some(&sigma)) = (
-            sel.steps.first(),
-            sel.coefficients.first(),
-            sel.sigmas.first(),
-        ) else {
-            continue;
-        };
-        out.push(Incidence {
-            axis: target.axis,
-            coefficient,
-            sigma,
-            rms_before: step.rms_before,
-            rms_after: step.rms_after,
-            likelihood_ratio: step.likelihood_ratio,
-            largest_deg,
-            add: INCIDENCE_LIFT.name,
-        });
-    }
-    out
+    Ok(select_terms(
+        &targets,
+        &library,
+        library::point_mass_reading,
+        true,
+    ))
 }

@@ -46,7 +46,6 @@ pub fn discovery_text(d: &Discovery) -> String {
             s,
             "  no term is significant: nothing the library can say is missing"
         );
-        incidence_text(&mut s, d);
         return s;
     }
     match d.error_before {
@@ -95,40 +94,7 @@ pub fn discovery_text(d: &Discovery) -> String {
         }
         let _ = writeln!(s, "     add: --add '{}'", t.add);
     }
-    incidence_text(&mut s, d);
     s
-}
-
-/// What the flight's attitude says across a point mass's path, where it says anything.
-fn incidence_text(s: &mut String, d: &Discovery) {
-    let Some(first) = d.incidence.first() else {
-        return;
-    };
-    let _ = writeln!(
-        s,
-        "  across the path, the flight's attitude (the body's, up to {:.1}° off its path; a point \
-         mass flies none, but an effect reads the flight's):",
-        first.largest_deg
-    );
-    for i in &d.incidence {
-        let _ = writeln!(
-            s,
-            "  {}: ∝ qbar × the body's angle to its path: removes {:.0}% of the axis's missing \
-             acceleration (RMS {} → {} m/s²), k = {} ± {} m/s² per Pa, likelihood ratio {:.1}",
-            i.axis.name(),
-            100.0 * (1.0 - (i.rms_after / i.rms_before).powi(2)),
-            fmt_number(i.rms_before),
-            fmt_number(i.rms_after),
-            fmt_number(i.coefficient),
-            fmt_number(i.sigma),
-            i.likelihood_ratio
-        );
-    }
-    let _ = writeln!(
-        s,
-        "  a force from the body's incidence (a lift): --add {}",
-        first.add
-    );
 }
 
 /// The JSON of a discovery: `{"terms": [...], "axes": [...], ...}`, terms best first.
@@ -162,15 +128,5 @@ pub fn discovery_json(d: &Discovery) -> Value {
         "threshold": d.threshold,
         "error_before": d.error_before,
         "point_mass": d.point_mass,
-        "incidence": d.incidence.iter().map(|i| json!({
-            "axis": i.axis.name(),
-            "coefficient": i.coefficient,
-            "sigma": i.sigma,
-            "rms_before": i.rms_before,
-            "rms_after": i.rms_after,
-            "likelihood_ratio": i.likelihood_ratio,
-            "largest_deg": i.largest_deg,
-            "add": i.add,
-        })).collect::<Vec<_>>(),
     })
 }

@@ -682,6 +682,12 @@ pub trait Effect: Send + Sync + std::fmt::Debug + EffectClone {
     fn lacks_channel(&self) -> Option<Channel> {
         None
     }
+    /// Whether the effect reads the body's angle of attack or sideslip ([`Sample::air`]): a
+    /// point mass has them only from its flight's recorded attitude, and refuses the effect
+    /// without one. `false`, the default.
+    fn reads_incidence(&self) -> bool {
+        false
+    }
 
     /// Why the effect's force or moment at this sample is NaN or ∞, naming the values that
     /// made it so — `None` when it is finite, or for an effect that cannot tell (the

@@ -1,7 +1,7 @@
 //! What a flight recorded that an effect may act from: the body's attitude, for a model that
 //! does not fly one (a point mass) but whose force depends on where the body points.
 
-use glam::DVec3;
+use glam::{DMat3, DQuat, DVec3};
 use wireflight_geometry::euler::EulerZyx;
 
 /// The body's x axis (its nose) in NED at each recorded time, shared by every effect of a
@@ -12,6 +12,9 @@ pub struct RecordedAttitude {
     times: Vec<f64>,
     /// The body x axis in NED at each time (unit length).
     nose_ned: Vec<DVec3>,
+    /// The body → NED rotation at each time, each quaternion on the side of its
+    /// predecessor's (q and −q are the same rotation: interpolation takes the shorter way).
+    body_to_ned: Vec<DQuat>,
 }
 
 impl std::fmt::Debug for RecordedAttitude {
@@ -38,9 +41,16 @@ impl RecordedAttitude {
         if times.is_empty() || times.len() != attitude.len() || !increasing || !finite {
             return None;
         }
+        let mut body_to_ned: Vec<DQuat> = Vec::with_capacity(attitude.len());
+        for e in attitude {
+            let q = DQuat::from_mat3(&e.to_matrix()).normalize();
+            let same_side = body_to_ned.last().is_none_or(|p| p.dot(q) >= 0.0);
+            body_to_ned.push(if same_side { q } else { -q });
+        }
         Some(Self {
             times: times.to_vec(),
             nose_ned: attitude.iter().map(|e| e.to_matrix().x_axis).collect(),
+            body_to_ned,
         })
     }
 
@@ -73,6 +83,33 @@ impl RecordedAttitude {
         // from zero, and normalising it is the nearby great-circle point to first order.
         (a + w * (b - a)).try_normalize().unwrap_or(a)
     }
+
+    /// The body → NED rotation at time `t` (its columns the body axes in NED): interpolated
+    /// between the samples around it, the first or last sample's outside the record — the
+    /// whole attitude, roll included, where [`nose_at`](Self::nose_at) is the nose alone.
+    /// A binary search: no allocation, O(log n).
+    pub fn rotation_at(&self, t: f64) -> DMat3 {
+        let n = self.body_to_ned.len();
+        let after = self.times.partition_point(|&s| s <= t);
+        let q = if after == 0 {
+            self.body_to_ned.first().copied().unwrap_or(DQuat::IDENTITY)
+        } else if after >= n {
+            self.body_to_ned.last().copied().unwrap_or(DQuat::IDENTITY)
+        } else {
+            let (t0, t1) = (self.times[after - 1], self.times[after]);
+            let w = (t - t0) / (t1 - t0);
+            let (a, b) = (self.body_to_ned[after - 1], self.body_to_ned[after]);
+            // Neighbouring samples are close rotations on the same side: the normalised
+            // chord is the slerp to first order, without its trigonometry.
+            let mixed = a * (1.0 - w) + b * w;
+            if mixed.length_squared() > 0.0 {
+                mixed.normalize()
+            } else {
+                a
+            }
+        };
+        DMat3::from_quat(q)
+    }
 }
 
 #[cfg(test)]
@@ -93,6 +130,15 @@ mod tests {
         assert!(RecordedAttitude::new(&[1.0, 1.0], &[level, up]).is_none());
         assert!(RecordedAttitude::new(&[1.0], &[level, up]).is_none());
         assert!(RecordedAttitude::new(&[], &[]).is_none());
+        // The whole rotation: half way from level to nose up, the nose is 45° up and the
+        // right wing stays level.
+        let rot = r.rotation_at(1.5);
+        assert!((rot.x_axis - want).length() < 1e-12, "{}", rot.x_axis);
+        assert!((rot.y_axis - DVec3::Y).length() < 1e-12, "{}", rot.y_axis);
+        let rolled = EulerZyx::new(0.4, 0.1, 2.0);
+        let held = RecordedAttitude::new(&[0.0], &[rolled]).unwrap();
+        let diff = held.rotation_at(3.0) - rolled.to_matrix();
+        assert!(diff.to_cols_array().iter().all(|d| d.abs() < 1e-12));
         let bad = EulerZyx::new(f64::NAN, 0.0, 0.0);
         assert!(RecordedAttitude::new(&[1.0], &[bad]).is_none());
     }

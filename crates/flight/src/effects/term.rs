@@ -5,7 +5,13 @@
 //! A point mass takes a force term (`X`, `Y`, `Z`) that reads only what a point mass has
 //! ([`POINT_MASS_VARIABLES`]): its body axes are its flight-path axes
 //! ([`crate::aero::flight_path_axes`]: `X` along the air-relative velocity, `Z` downward
-//! normal to it), and the term's value is an acceleration (its mass is 1).
+//! normal to it), and the term's value is an acceleration (its mass is 1). Where its flight
+//! recorded the body's attitude, `alpha` and `beta` are that body's angles to the
+//! air-relative velocity and the axes are the wind axes it defines
+//! ([`crate::model::Model::point_mass_air`]: `Z` normal to the velocity in the body's x–z
+//! plane, negative toward the body's top — its lift, bank included — and `Y` its side):
+//! `--add 'term:Z=k1*qbar*alpha*abs(alpha)+k2*qbar*alpha^2'` is a body's lift from its
+//! incidence. Without a recorded attitude a point mass refuses a term reading them.
 //!
 //! A term's parameters are known only when its text is read, while an effect's
 //! [`EffectInfo`] is `&'static` (every other effect's is a `static`, and the model file, the
@@ -41,10 +47,19 @@ pub const COEFF_RANGE: (f64, f64) = (-1e9, 1e9);
 /// typical flight values (see [`coefficient_scale`]).
 const TYPICAL_OUTPUT: f64 = 1.0;
 
-/// The variables a point mass has: the air-relative velocity's size and the air (no body,
-/// so no angles, rates, surfaces or propeller).
-pub const POINT_MASS_VARIABLES: [Var; 5] =
-    [Var::Airspeed, Var::Qbar, Var::Rho, Var::Height, Var::G];
+/// The variables a point mass has: the air-relative velocity's size and the air, and the
+/// angles of attack and sideslip of the body its flight recorded (a model built without a
+/// recorded attitude refuses a term reading those: [`Effect::reads_incidence`]). No rates,
+/// surfaces or propeller.
+pub const POINT_MASS_VARIABLES: [Var; 7] = [
+    Var::Airspeed,
+    Var::Qbar,
+    Var::Rho,
+    Var::Height,
+    Var::G,
+    Var::Alpha,
+    Var::Beta,
+];
 
 /// The vehicles a term means something for: a force that reads only
 /// [`POINT_MASS_VARIABLES`] both, anything else the fixed wing alone.
@@ -359,6 +374,9 @@ impl Effect for TermEffect {
     fn varies_in_time(&self) -> bool {
         false
     }
+    fn reads_incidence(&self) -> bool {
+        self.term.expr.uses(Var::Alpha) || self.term.expr.uses(Var::Beta)
+    }
     fn varies_in_space(&self) -> bool {
         self.term.expr.uses(Var::Height)
     }
@@ -564,6 +582,65 @@ mod tests {
             .clone()
             .add_effect(moment.build(&base.effect_context()).unwrap())
             .is_err());
+    }
+
+    /// On a point mass whose flight recorded the body's attitude, `alpha` and `beta` are that
+    /// body's and `Z` is normal to the velocity in its x–z plane: a body banked 90° and 10°
+    /// nose-left of a northward path has a sideslip and its `Z` points west. Without the
+    /// record the same term is refused for the attitude it lacks.
+    #[test]
+    fn a_point_mass_reads_the_recorded_bodys_incidence_and_axes() {
+        use crate::effects::RecordedAttitude;
+        use crate::model::{Model, ModelError, State, Vehicle};
+        use crate::spec::EffectSpec;
+        use wireflight_geometry::euler::EulerZyx;
+        let spec = EffectSpec::parse("term(Z=k*qbar*alpha+c*qbar*beta):k=-0.01,c=0").unwrap();
+        let blind = Model::new(Vehicle::PointMass, super::super::Origin::default());
+        let refused = blind
+            .clone()
+            .add_effect(spec.build(&blind.effect_context()).unwrap());
+        assert!(
+            matches!(refused, Err(ModelError::LacksChannel { channel, .. })
+                if channel == super::super::Channel::Attitude),
+            "{refused:?}"
+        );
+        let mut base = blind.clone();
+        // Yawed 10° left of north, pitched 5° up, banked 90° right: the body's z points west.
+        let body = EulerZyx::new(-10f64.to_radians(), 5f64.to_radians(), 90f64.to_radians());
+        let record = RecordedAttitude::new(&[0.0, 1.0], &[body, body]).unwrap();
+        base.set_recorded_attitude(Some(Arc::new(record)));
+        let mut with = base.clone();
+        with.add_effect(spec.build(&base.effect_context()).unwrap())
+            .unwrap();
+        let mut x = State::default();
+        let v = DVec3::new(50.0, 0.0, 0.0);
+        x.set_vel(v);
+        let rho = crate::effects::RHO_SEA_LEVEL;
+        let (air, axes) = base.point_mass_air(0.5, v, rho);
+        let u = body.to_matrix().transpose() * v;
+        assert!((air.alpha - u.z.atan2(u.x)).abs() < 1e-12, "{}", air.alpha);
+        assert!(
+            (air.beta - (u.y / 50.0).asin()).abs() < 1e-12,
+            "{}",
+            air.beta
+        );
+        assert!((axes.x_axis - DVec3::X).length() < 1e-12);
+        assert!(
+            axes.z_axis.dot(body.to_matrix().y_axis).abs() < 1e-12,
+            "in the x–z plane"
+        );
+        let cmd = Controls::default();
+        let d = |m: &Model| {
+            let s = m.derivative(0.5, &x, &cmd).0;
+            DVec3::new(s[3], s[4], s[5])
+        };
+        let lift = d(&with) - d(&base);
+        let want = -0.01 * 0.5 * rho * 2500.0 * air.alpha * axes.z_axis;
+        assert!(
+            (lift - want).length() < 1e-9 * want.length(),
+            "{lift} vs {want}"
+        );
+        assert!(lift.dot(v).abs() < 1e-9, "normal to the velocity: {lift}");
     }
 
     #[test]
