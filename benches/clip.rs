@@ -7,6 +7,8 @@
 //! * `inside`: every edge inside the volume (trivial accept);
 //! * `outside`: every edge outside one plane (trivial reject);
 //! * `crossing`: half inside, half crossing one to three planes;
+//! * `behind`: half inside, half from inside to behind the eye (w < 0: out through four to
+//!   six planes at once), the crossing set's layout with the mixed set's slowest kind;
 //! * `mixed`: 40% inside, 25% outside one plane, 25% crossing, 10% through the eye plane (the
 //!   set of the earlier benchmark);
 //! * `flythrough`: the clip-space edges of 40 frames of a flight around the window's world
@@ -105,6 +107,8 @@ fn set(kind: &str, n: usize) -> Vec<(Vec4, Vec4)> {
             "outside" => (beyond_right(&mut rng), beyond_right(&mut rng)),
             "crossing" if i % 2 == 0 => (inside(&mut rng), inside(&mut rng)),
             "crossing" => crossing(&mut rng),
+            "behind" if i % 2 == 0 => (inside(&mut rng), inside(&mut rng)),
+            "behind" => (inside(&mut rng), behind(&mut rng)),
             _ => match i % 20 {
                 0..=7 => (inside(&mut rng), inside(&mut rng)),
                 8..=12 => (beyond_right(&mut rng), beyond_right(&mut rng)),
@@ -304,7 +308,14 @@ const CACHED_EDGES: usize = 8192;
 
 fn homogeneous(c: &mut Criterion) {
     let n = edges_count();
-    for kind in ["inside", "outside", "crossing", "mixed", "flythrough"] {
+    for kind in [
+        "inside",
+        "outside",
+        "crossing",
+        "behind",
+        "mixed",
+        "flythrough",
+    ] {
         let edges = if kind == "flythrough" {
             flythrough(n)
         } else {

@@ -112,6 +112,60 @@ fn soa_batch_and_coded_path_match_the_per_edge_clipper_exactly() {
     }
 }
 
+/// Steps with few crossing edges that cross many planes each (an edge from inside to behind
+/// the eye leaves through four to six): where the lanes pack their (lane, plane) pairs side by
+/// side before dividing. Inside edges, edges out through one to three planes and edges
+/// through the eye plane, in random order and proportions, against the per-edge clipper.
+#[test]
+fn soa_batch_matches_the_per_edge_clipper_on_edges_through_the_eye_plane() {
+    let mut rng = Rng::new(0xE7E);
+    let inside = |rng: &mut Rng| {
+        let w = rng.range_f32(0.5, 50.0);
+        Vec4::new(
+            rng.range_f32(-w, w),
+            rng.range_f32(-w, w),
+            rng.range_f32(0.0, w),
+            w,
+        )
+    };
+    for depth in [DepthRange::ZeroToOne, DepthRange::NegOneToOne] {
+        for behind_share in [0.02, 0.1, 0.3] {
+            let edges: Vec<_> = (0..20_000)
+                .map(|_| {
+                    let a = inside(&mut rng);
+                    let mut c = inside(&mut rng);
+                    if rng.chance(behind_share) {
+                        // Behind the eye: w < 0.
+                        c = Vec4::new(
+                            rng.range_f32(-20.0, 20.0),
+                            rng.range_f32(-20.0, 20.0),
+                            rng.range_f32(-20.0, 20.0),
+                            -rng.range_f32(0.0, 20.0),
+                        );
+                    } else if rng.chance(0.3) {
+                        // Out through x = w, sometimes y = −w and z = w too.
+                        let k = rng.range_f32(1.0, 3.0);
+                        c.x = c.w * k;
+                        if rng.chance(0.5) {
+                            c.y = -c.w * k;
+                        }
+                        if rng.chance(0.3) {
+                            c.z = c.w * k;
+                        }
+                    }
+                    if rng.chance(0.3) {
+                        (c, a)
+                    } else {
+                        (a, c)
+                    }
+                })
+                .collect();
+            check_batch(&edges, depth)
+                .unwrap_or_else(|e| panic!("{depth:?} behind {behind_share}: {e}"));
+        }
+    }
+}
+
 fn camera() -> Camera {
     Camera {
         eye: Vec3::new(-50.0, 20.0, 30.0),
