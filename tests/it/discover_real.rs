@@ -102,6 +102,7 @@ fn a_point_mass_lift_is_found_added_and_fitted() {
         "-q", "discover", "--flight", flight, "--add", "drag", "--json",
     ]);
     assert_eq!(d["point_mass"], true);
+    assert_eq!(d["point_mass_axes"], "flight_path", "no attitude recorded");
     let first = &d["terms"][0];
     assert_eq!(first["axis"], "Z", "{d:#}");
     assert_eq!(first["regressors"], serde_json::json!(["qbar"]), "{d:#}");
@@ -130,6 +131,7 @@ fn mk82_discover_finds_the_drag_the_side_force_and_the_one_sided_lift() {
     let mk82 = data_file("jsbsim-mk82.csv");
     let mk82 = mk82.to_str().unwrap();
     let d = json(&["-q", "discover", "--flight", mk82, "--json"]);
+    assert_eq!(d["point_mass_axes"], "wind", "the recorded body's axes");
     let along = terms_on(&d, "X");
     let regressors: Vec<&Value> = along.iter().map(|t| &t["regressors"]).collect();
     assert!(

@@ -292,7 +292,10 @@ impl Model {
     }
 
     /// Give the model the attitude its flight recorded, for the effects added after this
-    /// that act from it ([`EffectContext::recorded_attitude`]); those added before keep theirs.
+    /// that act from it ([`EffectContext::recorded_attitude`]; those added before keep theirs),
+    /// and for a point mass's air data and force axes, which read the model's record at every
+    /// step ([`Model::point_mass_air`]): set it before a point mass's terms are added, and
+    /// keep it while they act.
     pub fn set_recorded_attitude(&mut self, attitude: Option<Arc<RecordedAttitude>>) {
         self.recorded_attitude = attitude;
     }

@@ -22,16 +22,16 @@
 //! new one, and the aircraft number whose likelihood ratio given the others (deflated alike)
 //! is weakest goes back to the set's value while it no longer beats that bound — output
 //! error's causes included, as output error chose them with the gusts' response in its
-//! residuals (on a c172p set in light turbulence with the pitch stiffness changed, output error
-//! keeps the lift slope, which the pitch stiffness explains once both are fitted through the
-//! filter); then the gusts are estimated again.
+//! residuals; then the gusts are estimated again. (On a c172p flight in light turbulence with
+//! the pitch stiffness changed, a search that held what it had kept named the mass beside the
+//! pitch stiffness; fitted together, the pitch stiffness explains it and the mass goes.)
 //!
 //! Against reference flights the search stays off. On JSBSim's c172p in its own light
 //! turbulence the filter moves numbers on an *unchanged* flight as well as on a changed one,
 //! where calm reference flights cannot show it: above all the force numbers (each fitted
-//! alone: the span −11 to −15 %, the wing area +5 to +8 %, the Oswald factor −18 to −28 %,
-//! the parasitic drag +9 to +16 %, the propeller −7 to −11 %, the lift slope +54 to +82 %;
-//! likelihood ratios of 1 400 to 3 150), and the roll damping (−34 to −37 %). The same
+//! alone: the span, wing area, Oswald factor, parasitic drag, propeller and lift slope by
+//! 6 to 82 %, likelihood ratios of 1 400 to 3 150; `docs/turbulence.md` has the table), and
+//! the roll damping (−35 to −37 %). The same
 //! numbers move the same way in every window of the flight, so a test against the scatter
 //! between windows does not tell them from a changed number; and once the strongest of them
 //! is fitted, the changed pitch stiffness's own signal is gone. The way JSBSim's gusts act on
@@ -489,7 +489,22 @@ fn search_number(
     best.map(|(_, r)| r)
 }
 
-/// The aircraft key a refitted number is, where it is one (`aircraft:KEY`, the number `KEY`).
+/// How a refitted number is put into a model: an aircraft number of an aircraft cause (one
+/// key or several), else an effect's parameter.
+fn slot_of(r: &Refit) -> Slot {
+    let key = r
+        .cause
+        .starts_with("aircraft:")
+        .then(|| KEYS.iter().find(|k| k.name == r.param))
+        .flatten();
+    match key {
+        Some(k) => Slot::Aircraft(k.name),
+        None => Slot::Effect(r.cause.clone(), r.param.clone()),
+    }
+}
+
+/// The aircraft key a refitted number is, where it is a cause of its own (`aircraft:KEY`, the
+/// number `KEY`): the numbers that may be dropped alone.
 fn aircraft_key(r: &Refit) -> Option<&'static str> {
     let key = r
         .cause
@@ -513,16 +528,11 @@ fn refit_jointly(
     let mut dropped = Vec::new();
     // Each round fits the numbers left, so the rounds are bounded by the numbers.
     for _ in 0..=refits.len() {
-        let slots: Vec<Slot> = refits
-            .iter()
-            .map(|r| match aircraft_key(r) {
-                Some(key) => Slot::Aircraft(key),
-                None => Slot::Effect(r.cause.clone(), r.param.clone()),
-            })
-            .collect();
+        let slots: Vec<Slot> = refits.iter().map(slot_of).collect();
         let all = fit_refits(filter, model, &slots, refits, gusts);
         let spread = all.pass.normalised.max(1.0);
-        if refits.len() < 2 {
+        // A joint fit that failed is no evidence against any number: keep them all.
+        if refits.len() < 2 || !all.pass.neg_log_likelihood.is_finite() {
             break;
         }
         // The weakest aircraft number given the others: each back at the set's value, the
@@ -552,14 +562,17 @@ fn refit_jointly(
             let fit = filter.fit(&without, &set, &theta, &scales, gusts);
             let lr = 2.0 * (fit.pass.neg_log_likelihood - all.pass.neg_log_likelihood)
                 / (spread * spread);
+            // A fit without the number that failed says nothing for dropping it.
+            if lr.is_nan() {
+                continue;
+            }
             if weakest.as_ref().is_none_or(|(w, ..)| lr < *w) {
                 set_slots(&mut without, &others, &fit.theta);
                 weakest = Some((lr, j, without, fit.theta));
             }
         }
-        // (A NaN ratio is no evidence for the number either.)
         match weakest {
-            Some((lr, j, without, theta)) if lr.is_nan() || lr <= critical => {
+            Some((lr, j, without, theta)) if lr <= critical => {
                 *model = without;
                 let gone = refits.remove(j);
                 for (r, v) in refits.iter_mut().zip(theta) {

@@ -236,8 +236,9 @@ fn worded(what: &str, r: &Regressor, why: impl FnOnce(&str) -> &'static str) -> 
     }
 }
 
-/// A physical reading of a point mass's term on a flight-path axis (`X` along the
-/// velocity, `Y` level to its right, `Z` downward normal to it).
+/// A physical reading of a point mass's term on its axes: the flight path's (`X` along the
+/// velocity, `Y` level to its right, `Z` downward normal to it) or a recorded body's wind
+/// axes (`Z` normal to the velocity in the body's x–z plane, `Y` its side).
 pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
     use wireflight_flight::expr::Axis;
     let what = match axis {
@@ -248,40 +249,40 @@ pub fn point_mass_reading(axis: wireflight_flight::expr::Axis, r: &Regressor) ->
     };
     worded(what, r, |product| {
         match (axis, product) {
-        (Axis::X, "qbar") | (Axis::X, "airspeed^2") => "drag mis-estimated (negative: more drag)",
-        (Axis::X, "qbar*airspeed") | (Axis::X, "qbar*airspeed^2") => {
-            "drag growing faster than V² (compressibility, with the Mach number)"
+            (Axis::X, "qbar") | (Axis::X, "airspeed^2") => "drag mis-estimated (negative: more drag)",
+            (Axis::X, "qbar*airspeed") | (Axis::X, "qbar*airspeed^2") => {
+                "drag growing faster than V² (compressibility, with the Mach number)"
+            }
+            (Axis::X, "qbar*height") | (Axis::X, "qbar*height^2") => {
+                "drag's density wrong with height (density_altitude)"
+            }
+            (Axis::Z, "qbar") | (Axis::Z, "airspeed^2") => {
+                "a lift at constant incidence (negative: up)"
+            }
+            (Axis::Y, "qbar") | (Axis::Y, "airspeed^2") => "a side force at constant sideslip",
+            (Axis::Z, "qbar*alpha") => "the body's lift, linear in its angle of attack (negative: up)",
+            (Axis::Z, "qbar*alpha*abs(alpha)") => {
+                "the crossflow lift of a body at incidence, odd in α (negative: up at α > 0)"
+            }
+            (Axis::Z, "qbar*alpha^2") => {
+                "a lift that does not change sign with α; beside an odd one, a lift on one side of α only"
+            }
+            (Axis::Z, "qbar*max(alpha,0)^2") => {
+                "a lift at positive α only, growing as α² (negative: up), as from a lift table whose rows begin at α = 0"
+            }
+            (Axis::Z, "qbar*min(alpha,0)^2") => {
+                "a normal force at negative α only, growing as α² (positive: down)"
+            }
+            (Axis::Y, "qbar*beta") => "the body's side force in sideslip",
+            (Axis::Y, "qbar*beta*abs(beta)") => "the crossflow side force of a body, odd in β",
+            (Axis::Y, "qbar*beta^2") => {
+                "a side force that does not change sign with β; beside an odd one, on one side of β only"
+            }
+            (Axis::X, "qbar*alpha^2") | (Axis::X, "qbar*beta^2") => {
+                "drag growing with the body's incidence (negative: more drag)"
+            }
+            _ => "",
         }
-        (Axis::X, "qbar*height") | (Axis::X, "qbar*height^2") => {
-            "drag's density wrong with height (density_altitude)"
-        }
-        (Axis::Z, "qbar") | (Axis::Z, "airspeed^2") => {
-            "a lift at constant incidence (negative: up)"
-        }
-        (Axis::Y, "qbar") | (Axis::Y, "airspeed^2") => "a side force at constant sideslip",
-        (Axis::Z, "qbar*alpha") => "the body's lift, linear in its angle of attack (negative: up)",
-        (Axis::Z, "qbar*alpha*abs(alpha)") => {
-            "the crossflow lift of a body at incidence, odd in α (negative: up at α > 0)"
-        }
-        (Axis::Z, "qbar*alpha^2") => {
-            "a lift that does not change sign with α; beside an odd one, a lift on one side of α only"
-        }
-        (Axis::Z, "qbar*max(alpha,0)^2") => {
-            "a lift at positive α only, growing as α² (negative: up), as from a lift table whose rows begin at α = 0"
-        }
-        (Axis::Z, "qbar*min(alpha,0)^2") => {
-            "a normal force at negative α only, growing as α² (positive: down)"
-        }
-        (Axis::Y, "qbar*beta") => "the body's side force in sideslip",
-        (Axis::Y, "qbar*beta*abs(beta)") => "the crossflow side force of a body, odd in β",
-        (Axis::Y, "qbar*beta^2") => {
-            "a side force that does not change sign with β; beside an odd one, on one side of β only"
-        }
-        (Axis::X, "qbar*alpha^2") | (Axis::X, "qbar*beta^2") => {
-            "drag growing with the body's incidence (negative: more drag)"
-        }
-        _ => "",
-    }
     })
 }
 

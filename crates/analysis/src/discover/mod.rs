@@ -141,14 +141,18 @@ pub struct Discovery {
     /// The comparison's error (× the noise) of the model as given, when measured
     /// ([`error_after::measure_errors`]).
     pub error_before: Option<f64>,
-    /// Whether the model is a point mass: the axes are its flight-path axes and the forces
-    /// per unit mass (m/s²).
+    /// Whether the model is a point mass: the forces per unit mass (m/s²) on its flight-path
+    /// axes, or on the wind axes of a recorded body ([`Discovery::wind_axes`]).
     pub point_mass: bool,
+    /// A point mass read on the wind axes of the body its flight recorded (every force term it
+    /// takes acts on those axes), not on its flight-path axes.
+    pub wind_axes: bool,
 }
 
 /// Finds the terms the model lacks on this flight (module docs).
 ///
-/// A point mass is read on its flight-path axes, forces only (`point_mass.rs`).
+/// A point mass is read on its flight-path axes, or on the wind axes of the body its flight
+/// recorded, forces only (`point_mass.rs`).
 ///
 /// # Errors
 /// A flight without the channels the equations of motion need.
@@ -326,6 +330,7 @@ fn select_terms(
         threshold,
         error_before: None,
         point_mass,
+        wind_axes: false,
     }
 }
 

@@ -1,4 +1,4 @@
-//! `discover` on a point mass: the acceleration it lacks along its flight-path axes.
+//! `discover` on a point mass: the acceleration it lacks on the axes its force terms act along.
 //!
 //! A point mass has no body, attitude or moments: its equations of motion are its NED
 //! acceleration, gravity plus its effects'. What it lacks is the measured acceleration (the
@@ -28,7 +28,7 @@ use super::{
     MIN_SAMPLES,
 };
 
-/// The forces a point mass can lack, on its flight-path axes.
+/// The forces a point mass can lack, on its flight-path axes (or a recorded body's wind axes).
 const AXES: [Axis; 3] = [Axis::X, Axis::Y, Axis::Z];
 
 /// [`super::discover`] for a point mass (module docs).
@@ -147,10 +147,7 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
         .zip(&columns)
         .map(|((axis, y), columns)| AxisTarget { axis, y, columns })
         .collect();
-    Ok(select_terms(
-        &targets,
-        &library,
-        library::point_mass_reading,
-        true,
-    ))
+    let mut found = select_terms(&targets, &library, library::point_mass_reading, true);
+    found.wind_axes = model.has_recorded_attitude();
+    Ok(found)
 }

@@ -26,6 +26,16 @@ pub fn discovery_text(d: &Discovery) -> String {
          a term passes at likelihood ratio {:.1} on the effective samples):",
         d.samples, d.candidates, d.threshold
     );
+    if d.point_mass {
+        let axes = if d.wind_axes {
+            "the wind axes of the body the flight recorded: X along the air velocity, Z normal \
+             to it in the body's x–z plane (negative toward its top), Y its side"
+        } else {
+            "the flight path's: X along the air velocity, Y level to its right, Z downward \
+             normal to it"
+        };
+        let _ = writeln!(s, "  point mass, per unit mass, on {axes}");
+    }
     let _ = writeln!(
         s,
         "  axis  unit   RMS missing  after terms  effective samples"
@@ -128,5 +138,6 @@ pub fn discovery_json(d: &Discovery) -> Value {
         "threshold": d.threshold,
         "error_before": d.error_before,
         "point_mass": d.point_mass,
+        "point_mass_axes": d.point_mass.then_some(if d.wind_axes { "wind" } else { "flight_path" }),
     })
 }

@@ -629,6 +629,22 @@ mod tests {
             axes.z_axis.dot(body.to_matrix().y_axis).abs() < 1e-12,
             "in the x–z plane"
         );
+        // Signs, not only directions: Z toward the body's belly (west here, the body rolled
+        // onto its right wing), the triad right-handed, the side axis the wind axes' own.
+        assert!(
+            axes.z_axis.dot(body.to_matrix().z_axis) > 0.0,
+            "{}",
+            axes.z_axis
+        );
+        assert!(axes.z_axis.dot(-DVec3::Y) > 0.9, "west: {}", axes.z_axis);
+        assert!((axes.determinant() - 1.0).abs() < 1e-12);
+        let (sa, ca) = air.alpha.sin_cos();
+        let (sb, cb) = air.beta.sin_cos();
+        let side_body = body.to_matrix().transpose() * axes.y_axis;
+        assert!(
+            (side_body - DVec3::new(-ca * sb, cb, -sa * sb)).length() < 1e-12,
+            "{side_body}"
+        );
         let cmd = Controls::default();
         let d = |m: &Model| {
             let s = m.derivative(0.5, &x, &cmd).0;
