@@ -325,3 +325,34 @@ pub fn reading(axis: wireflight_flight::expr::Axis, r: &Regressor) -> String {
         _ => "",
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use wireflight_flight::expr::{Expr, Var, N_VARS};
+
+    /// Every candidate, read back as the term language reads its printed expression, has the
+    /// value the regression gave it: what `discover` prints to add is what it measured — on
+    /// both sides of zero, where `abs`, `max(…,0)` and `min(…,0)` differ.
+    #[test]
+    fn every_printed_candidate_evaluates_to_its_regressor() {
+        let libraries = [fixed_wing(), point_mass(), point_mass_with_incidence()];
+        for sign in [1.0, -1.0] {
+            let mut v = [0.0; N_VARS];
+            for (i, var) in Var::ALL.into_iter().enumerate() {
+                // Distinct, of either sign, none zero.
+                let alternate = if i % 2 == 0 { 1.0 } else { -1.0 };
+                v[var.index()] = sign * alternate * (0.05 + 0.013 * i as f64);
+            }
+            for r in libraries.iter().flatten() {
+                let text = r.expression("k");
+                let e = Expr::parse(&text).unwrap_or_else(|err| panic!("{text}: {err}"));
+                let (got, want) = (e.eval(&v, &[1.0]), r.value(&v));
+                assert!(
+                    (got - want).abs() <= 1e-12 * want.abs().max(1e-12),
+                    "{text}: {got} against {want}"
+                );
+            }
+        }
+    }
+}
