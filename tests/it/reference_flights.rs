@@ -53,9 +53,15 @@ fn identified() -> &'static Path {
 
 /// `diagnose --json` of a test flight against the identified set and the two references.
 fn diagnose_against_references(name: &str) -> Value {
+    against_references("diagnose", name)
+}
+
+/// `COMMAND --json` (`diagnose`, `compare`) of a test flight against the identified set and
+/// the two references.
+fn against_references(command: &str, name: &str) -> Value {
     let out = wireflight(&[
         "-q",
-        "diagnose",
+        command,
         "--flight",
         &flight(name),
         "--aircraft",
@@ -68,7 +74,7 @@ fn diagnose_against_references(name: &str) -> Value {
     ]);
     assert!(
         out.status.success(),
-        "diagnose {name}: {}",
+        "{command} {name}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).expect("JSON")
@@ -246,21 +252,25 @@ fn jsbsim_turbulence_is_named_against_calm_references() {
             assert_eq!(verdict, "turbulence", "{name}");
             assert_eq!(d["found"], serde_json::json!([]), "{name}");
         }
-        let t = &d["turbulence"];
-        assert_eq!(t["significant"], true);
-        let truth = jsbsim_gust_sigma(name);
-        for k in 0..3 {
-            let (est, floor) = (
-                t["sigma_mps"][k].as_f64().unwrap(),
-                t["reference_sigma_mps"][k].as_f64().unwrap(),
-            );
-            assert!(
-                (0.5..2.0).contains(&(est / truth[k])),
-                "{name} axis {k}: {est} against JSBSim's {}",
-                truth[k]
-            );
-            assert!(floor < 0.5 * truth[k], "{name}: the references' {floor}");
-        }
+        gusts_of_jsbsims_size(name, &d["turbulence"]);
+    }
+}
+
+/// A turbulence finding against the references: significant, each gust σ within a factor of
+/// two of what JSBSim flew on flight `name`, and the references' floor under half of it.
+fn gusts_of_jsbsims_size(name: &str, t: &Value) {
+    assert_eq!(t["significant"], true, "{name}: {t:#}");
+    let truth = jsbsim_gust_sigma(name);
+    for (k, truth) in truth.iter().enumerate() {
+        let (est, floor) = (
+            t["sigma_mps"][k].as_f64().unwrap(),
+            t["reference_sigma_mps"][k].as_f64().unwrap(),
+        );
+        assert!(
+            (0.5..2.0).contains(&(est / truth)),
+            "{name} axis {k}: {est} against JSBSim's {truth}"
+        );
+        assert!(floor < 0.5 * truth, "{name}: the references' {floor}");
     }
 }
 
@@ -303,38 +313,6 @@ fn a_wrong_model_is_not_turbulence() {
 /// and finds the gusts as `diagnose` does: significant, of JSBSim's size, above the floor.
 #[test]
 fn compare_finds_jsbsim_turbulence_against_calm_references() {
-    let name = "turb-light-1";
-    let out = wireflight(&[
-        "-q",
-        "compare",
-        "--flight",
-        &flight(name),
-        "--aircraft",
-        identified().to_str().unwrap(),
-        "--reference",
-        &flight("ref-1"),
-        "--reference",
-        &flight("ref-2"),
-        "--json",
-    ]);
-    assert!(
-        out.status.success(),
-        "compare: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let c: Value = serde_json::from_slice(&out.stdout).unwrap();
-    let t = &c["turbulence"];
-    assert_eq!(t["significant"], true, "{t:#}");
-    let truth = jsbsim_gust_sigma(name);
-    for (k, truth) in truth.iter().enumerate() {
-        let (est, floor) = (
-            t["sigma_mps"][k].as_f64().unwrap(),
-            t["reference_sigma_mps"][k].as_f64().unwrap(),
-        );
-        assert!(
-            (0.5..2.0).contains(&(est / truth)),
-            "axis {k}: {est} against {truth}"
-        );
-        assert!(floor < 0.5 * truth, "the references' {floor}");
-    }
+    let c = against_references("compare", "turb-light-1");
+    gusts_of_jsbsims_size("turb-light-1", &c["turbulence"]);
 }

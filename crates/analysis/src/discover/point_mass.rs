@@ -4,9 +4,10 @@
 //! acceleration, gravity plus its effects'. What it lacks is the measured acceleration (the
 //! smoothing differentiator of the NED velocity) less the model's at the same position and
 //! velocity, smoothed alike; it is read on the axes a point-mass force term acts along
-//! ([`wireflight_flight::aero::flight_path_axes`]: `X` along the air-relative velocity, `Y` level to its right, `Z`
-//! downward normal to it), so that what is found is a term a point mass takes
-//! (`--add 'term:Z=k*qbar'`). The values are accelerations (m/s²): a point mass's mass is 1.
+//! ([`wireflight_flight::aero::flight_path_axes`]: `X` along the air-relative velocity, `Y`
+//! level to its right, `Z` downward normal to it), so that what is found is a term a point
+//! mass takes (`--add 'term:Z=k*qbar'`). The values are accelerations (m/s²): a point mass's
+//! mass is 1.
 //!
 //! The regressors are what a point mass has ([`library::point_mass`]): its airspeed, the
 //! dynamic pressure and density as the model has them, and its height. Where the flight
