@@ -9,7 +9,7 @@ use crate::analysis::compare::{
 use crate::analysis::conditions::{conditions, explain_growth, growth_exponent, Condition};
 use crate::analysis::diagnose::reference::diagnose_against;
 use crate::analysis::diagnose::turbulence::{compare_through_turbulence, Method};
-use crate::analysis::diagnose::{add_fitted, diagnose, promising_numbers, DiagnoseConfig, Verdict};
+use crate::analysis::diagnose::{diagnose, promising_numbers, DiagnoseConfig, Verdict};
 use crate::analysis::report::{
     axes_text, candidate_json, comparison_json, conditions_json, count, fmt_opt, fmt_params,
     innovations_text, model_label, noise_json, noise_text, turbulence_json, turbulence_text,
@@ -130,7 +130,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     );
     let before = Findings::of(&base, &data, &prep);
     let mut after_model = base.clone();
-    let fitted = add_fitted(
+    let fitted = crate::app::diagnose::add_fitted_on(
         &mut after_model,
         &prep,
         &args.model.add_specs()?,
@@ -138,6 +138,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             compare: cfg,
             ..DiagnoseConfig::default()
         },
+        &args.flight,
     )?;
     let after = (!fitted.is_empty()).then(|| Findings::of(&after_model, &data, &prep));
     // What is said about where the model fails describes the model as it ends up.

@@ -42,7 +42,13 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     )?;
     if !args.model.add.is_empty() {
         let prep = Prepared::new(&data, cfg.compare);
-        add_fitted(&mut base, &prep, &args.model.add_specs()?, &cfg)?;
+        add_fitted_on(
+            &mut base,
+            &prep,
+            &args.model.add_specs()?,
+            &cfg,
+            &args.flight,
+        )?;
     }
     let mut declared = declared;
     if args.discover {
@@ -288,6 +294,20 @@ fn aircraft_source(
     })
 }
 
+/// [`add_fitted`] on `flight`'s windows, its error naming the flight and the option: whether
+/// an `--add` effect applies can depend on what that flight recorded (an effect that reads
+/// the attitude, on a flight without one).
+pub(crate) fn add_fitted_on(
+    model: &mut crate::flight::model::Model,
+    prep: &Prepared,
+    specs: &[crate::flight::spec::EffectSpec],
+    cfg: &DiagnoseConfig,
+    flight: &std::path::Path,
+) -> anyhow::Result<Vec<crate::analysis::diagnose::Candidate>> {
+    add_fitted(model, prep, specs, cfg)
+        .map_err(|e| anyhow::anyhow!("{}: --add: {e}", crate::app::shown(flight)))
+}
+
 /// Refuse to compare `model`, with `extra` effects added at their given values, on `data`
 /// where a force of theirs is NaN or ∞ at a measured state (a term such as `k*ln(throttle -
 /// 2)`): the error names the time, the term, the operation and the values — never a fit
@@ -304,7 +324,10 @@ pub(crate) fn check_forces_finite(
     for spec in extra.iter().filter(|s| !s.is_aircraft()) {
         // An effect already in the model, or one that does not apply, is refused where it is
         // fitted, with its own message.
-        let _ = probe.add_effect(spec.build(&ctx)?);
+        let effect = spec
+            .build(&ctx)
+            .map_err(|e| anyhow::anyhow!("{}: --add: {e}", crate::app::shown(flight)))?;
+        let _ = probe.add_effect(effect);
     }
     for e in declared {
         let _ = probe.add_effect(e.clone());

@@ -1,12 +1,13 @@
 //! `wireflight discover`: the force or moment the model lacks, as terms to add.
 
 use crate::analysis::compare::Prepared;
-use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
+use crate::analysis::diagnose::DiagnoseConfig;
 use crate::analysis::discover::discover;
 use crate::analysis::discover::error_after::measure_errors;
 use crate::analysis::discover::report::{discovery_json, discovery_text};
 use crate::analysis::report::model_label;
 use crate::app::cli::DiscoverArgs;
+use crate::app::diagnose::add_fitted_on;
 
 /// Run `wireflight discover`.
 ///
@@ -22,7 +23,13 @@ pub fn run(args: &DiscoverArgs) -> anyhow::Result<()> {
     args.windows.check_fits(&args.flight, &data, &cfg.compare)?;
     let prep = Prepared::new(&data, cfg.compare);
     if !args.model.add.is_empty() {
-        add_fitted(&mut model, &prep, &args.model.add_specs()?, &cfg)?;
+        add_fitted_on(
+            &mut model,
+            &prep,
+            &args.model.add_specs()?,
+            &cfg,
+            &args.flight,
+        )?;
     }
     let mut found = discover(&model, &data)
         .map_err(|e| anyhow::anyhow!("{}: {e}", crate::app::shown(&args.flight)))?;

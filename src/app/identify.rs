@@ -5,10 +5,11 @@ use anyhow::{bail, Context};
 use serde_json::json;
 
 use crate::analysis::compare::{compare, Prepared};
-use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
+use crate::analysis::diagnose::DiagnoseConfig;
 use crate::analysis::identify::{free_keys, identify, Identification, IdentifyConfig};
 use crate::analysis::report::{model_label, Table};
 use crate::app::cli::IdentifyArgs;
+use crate::app::diagnose::add_fitted_on;
 use crate::flight::data::FlightData;
 use crate::flight::model::{Model, Vehicle};
 use crate::flight::params::keys;
@@ -53,7 +54,13 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
             ..DiagnoseConfig::default()
         };
         let prep = Prepared::new(&flights[0], cfg.compare);
-        add_fitted(&mut base, &prep, &args.model.add_specs()?, &dcfg)?;
+        add_fitted_on(
+            &mut base,
+            &prep,
+            &args.model.add_specs()?,
+            &dcfg,
+            &args.flight[0],
+        )?;
     }
     for (path, data) in args.flight.iter().zip(&flights) {
         args.windows.check_fits(path, data, &cfg.compare)?;

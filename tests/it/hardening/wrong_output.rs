@@ -188,3 +188,38 @@ fn frames_dir_holds_one_runs_frames_only() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+#[test]
+fn an_add_the_flight_cannot_carry_is_refused_naming_the_flight() {
+    // Whether `--add` applies can depend on what the flight recorded: a term in α on a point
+    // mass whose flight has no attitude. The refusal names the flight and the option.
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let o = run(
+        &[
+            "simulate",
+            "--vehicle",
+            "point-mass",
+            "--duration",
+            "5",
+            "--out",
+            "pm.csv",
+        ],
+        d,
+    );
+    assert_ok(&o);
+    for cmd in ["compare", "diagnose", "discover"] {
+        let o = run(
+            &[cmd, "--flight", "pm.csv", "--add", "term:Z=k*qbar*alpha"],
+            d,
+        );
+        assert_refused(&o, &["pm.csv", "--add", "term(Z=k*qbar*alpha)", "attitude"]);
+    }
+    let o = run(
+        &[
+            "compare", "--flight", "pm.csv", "--add", "drag", "--add", "drag",
+        ],
+        d,
+    );
+    assert_refused(&o, &["pm.csv", "--add", "`drag` is already in the model"]);
+}
