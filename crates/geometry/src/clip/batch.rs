@@ -14,10 +14,9 @@
 //! * Flat edge lists in structure-of-arrays form ([`EdgesSoa`] → [`SegmentsSoa`]): blocks of
 //!   [`BLOCK`] edges; a block that is all inside is copied out whole (nine bulk copies). Any
 //!   other block, where the CPU has AVX-512 (`batch/avx512.rs`): one pass of 16-edge steps,
-//!   each classified with masks, its crossing edges packed into lanes and clipped eight at a
-//!   time in `f64` (all six planes at once, [`clip_crossing`]'s arithmetic operation for
-//!   operation), and compacted straight
-//!   into the output. Elsewhere (the portable build, and its crossing lanes compiled for AVX2 where
+//!   each classified with masks, its crossing edges packed into lanes and clipped sixteen at
+//!   a time in `f32` (all six planes at once, [`clip_crossing`]'s arithmetic operation for
+//!   operation), and compacted straight into the output. Elsewhere (the portable build, and its crossing lanes compiled for AVX2 where
 //!   the CPU has it): the codes of the block's endpoints from straight-line compares, the
 //!   crossing edges gathered into lanes and clipped there, and the block compacted through a
 //!   small staging area with no branch on the trivial outcomes. Both builds give the same
@@ -32,7 +31,7 @@
 
 use glam::Vec4;
 
-use super::blinn::clip_crossing;
+use super::blinn::{clip_crossing, SINGLE_LIMIT};
 use super::{ClipOutcome, ClipStats, DepthRange, PLANE_COUNT, SETTLE_REL};
 
 #[cfg(target_arch = "x86_64")]
@@ -304,7 +303,7 @@ pub fn clip_soa(edges: &EdgesSoa, depth: DepthRange, out: &mut SegmentsSoa) -> C
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Path {
     /// One masked pass per block (`batch/avx512.rs`): classify 16 edges, pack the crossing
-    /// ones into lanes, clip them eight at a time in `f64`, compact by permutes.
+    /// ones into lanes, clip them sixteen at a time in `f32`, compact by permutes.
     /// AVX-512F, BMI2, POPCNT.
     #[cfg(target_arch = "x86_64")]
     Avx512,
@@ -457,7 +456,7 @@ fn clip_soa_impl<const ZERO_TO_ONE: bool>(
 /// 1. the crossing edges (finite, neither trivially accepted nor rejected) are gathered into
 ///    lanes ([`Crossing`]);
 /// 2. all of them are clipped at once ([`crossing_lanes`]: the entry and exit parameters of
-///    every plane, `t_in`/`t_out`, the new ends, in `f64` lanes as [`clip_crossing`] computes
+///    every plane, `t_in`/`t_out`, the new ends, in `f32` lanes as [`clip_crossing`] computes
 ///    them, so bit for bit its results); the few lanes it leaves to the scalar code get it;
 /// 3. every edge is written to the next staging slot (its own ends, or its lane's clipped
 ///    ends) and the slot kept if the edge is drawn: no branch on the common outcomes, which
@@ -592,15 +591,23 @@ const LANE_VISIBLE: u8 = 1;
 /// would recompute.
 const LANE_SCALAR: u8 = 2;
 
-/// Lanes per step of [`crossing_lanes`]: two AVX2 vectors of `f64`, four SSE2 ones.
+/// Lanes per step of [`crossing_lanes`]: one AVX2 vector of `f32`, two SSE2 ones.
 const LANES: usize = 8;
 
-/// The boundary coordinates of `[x, y, z, w]` in `f64`, in [`super::boundary_coords_of`]'s
-/// order and with its operations.
+/// The boundary coordinates of `[x, y, z, w]` in [`super::boundary_coords_of`]'s order and
+/// with its operations.
 #[inline(always)]
-fn bc64<const ZERO_TO_ONE: bool>([x, y, z, w]: [f64; 4]) -> [f64; PLANE_COUNT] {
+fn bc_of<T, const ZERO_TO_ONE: bool>([x, y, z, w]: [T; 4]) -> [T; PLANE_COUNT]
+where
+    T: Copy + std::ops::Add<Output = T> + std::ops::Sub<Output = T>,
+{
     let near = if ZERO_TO_ONE { z } else { w + z };
     [w + x, w - x, w + y, w - y, near, w - z]
+}
+
+#[inline(always)]
+fn bc32<const ZERO_TO_ONE: bool>(p: [f32; 4]) -> [f32; PLANE_COUNT] {
+    bc_of::<f32, ZERO_TO_ONE>(p)
 }
 
 /// Whether `settle()` keeps the computed end `p` as it is: every boundary coordinate ≥
@@ -611,7 +618,7 @@ fn settles_as_is<const ZERO_TO_ONE: bool>(p: [f32; 4]) -> bool {
     // Finite, non-negative values: the maximum does not depend on the order.
     let m = p[0].abs().max(p[1].abs()).max(p[2].abs()).max(p[3].abs());
     let slack = SETTLE_REL * f64::from(m);
-    let bc = bc64::<ZERO_TO_ONE>(p.map(f64::from));
+    let bc = bc_of::<f64, ZERO_TO_ONE>(p.map(f64::from));
     let mut within = true;
     for b in bc {
         within &= b >= -slack;
@@ -619,21 +626,24 @@ fn settles_as_is<const ZERO_TO_ONE: bool>(p: [f32; 4]) -> bool {
     within | !(p[3] > 0.0)
 }
 
-/// One lane of [`crossing_lanes`]: [`clip_crossing`]'s arithmetic, operation for operation
-/// in `f64`, with selects instead of branches (so that the compiler can run lanes side by
-/// side). The outcode bits are recovered from the signs of the `f64` boundary coordinates
-/// (a rounded sum has the sign of the exact one, and is zero only when that is), every plane
-/// is visited and its parameter kept only where it crosses, and the early exit becomes one
+/// One lane of [`crossing_lanes`]: [`clip_crossing`]'s `f32` arithmetic, operation for
+/// operation, with selects instead of branches (so that the compiler can run lanes side by
+/// side). The outcode bits are recovered from the signs of the boundary coordinates (a
+/// rounded sum has the sign of the exact one, and is zero only when that is), every plane is
+/// visited and its parameter kept only where it crosses, and the early exit becomes one
 /// final test (`t_in` only rises and `t_out` only falls, so they cross at the end if they
 /// ever do). `max`/`min` become compares: the only ties where they could differ are exit
-/// parameters of ±0, which go to the scalar code.
+/// parameters of ±0, which go to the scalar code, as do edges with a coordinate beyond
+/// [`SINGLE_LIMIT`] (the per-edge clipper computes those in `f64`).
 #[inline(always)]
 fn crossing_lane<const ZERO_TO_ONE: bool>(a: [f32; 4], c: [f32; 4]) -> ([f32; 4], [f32; 4], u8) {
-    let a64 = a.map(f64::from);
-    let c64 = c.map(f64::from);
-    let a_bc = bc64::<ZERO_TO_ONE>(a64);
-    let c_bc = bc64::<ZERO_TO_ONE>(c64);
-    let (mut t_in, mut t_out) = (0.0f64, 1.0f64);
+    let mut largest = 0f32;
+    for v in a.iter().chain(&c) {
+        largest = largest.max(v.abs());
+    }
+    let a_bc = bc32::<ZERO_TO_ONE>(a);
+    let c_bc = bc32::<ZERO_TO_ONE>(c);
+    let (mut t_in, mut t_out) = (0.0f32, 1.0f32);
     let (mut enters, mut leaves) = (false, false);
     for i in 0..PLANE_COUNT {
         let t_hit = a_bc[i] / (a_bc[i] - c_bc[i]);
@@ -647,18 +657,17 @@ fn crossing_lane<const ZERO_TO_ONE: bool>(a: [f32; 4], c: [f32; 4]) -> ([f32; 4]
         enters |= enter;
         leaves |= leave;
     }
-    let visible = t_in <= t_out; // never NaN
-    let d: [f64; 4] = std::array::from_fn(|k| c64[k] - a64[k]);
+    let visible = t_in <= t_out; // never NaN below the limit (and beyond it not used)
     let p: [f32; 4] = std::array::from_fn(|k| {
         if enters {
-            (a64[k] + t_in * d[k]) as f32
+            a[k] + t_in * (c[k] - a[k])
         } else {
             a[k]
         }
     });
     let q: [f32; 4] = std::array::from_fn(|k| {
         if leaves {
-            (a64[k] + t_out * d[k]) as f32
+            a[k] + t_out * (c[k] - a[k])
         } else {
             c[k]
         }
@@ -667,7 +676,9 @@ fn crossing_lane<const ZERO_TO_ONE: bool>(a: [f32; 4], c: [f32; 4]) -> ([f32; 4]
         | (enters & !settles_as_is::<ZERO_TO_ONE>(p))
         | (leaves & !settles_as_is::<ZERO_TO_ONE>(q));
     let drawn = (p[3] > 0.0) & (q[3] > 0.0);
-    let state = if !visible {
+    let state = if largest > SINGLE_LIMIT {
+        LANE_SCALAR
+    } else if !visible {
         LANE_AWAY
     } else if scalar {
         LANE_SCALAR
@@ -705,7 +716,7 @@ fn crossing_lanes_body<const ZERO_TO_ONE: bool>(x: &mut Crossing, n: usize) {
     }
 }
 
-/// [`crossing_lanes_body`] compiled for AVX2 (four `f64` per instruction instead of two).
+/// [`crossing_lanes_body`] compiled for AVX2 (eight `f32` per instruction instead of four).
 ///
 /// # Safety
 /// The CPU must have AVX2.

@@ -4,24 +4,25 @@
 //!
 //! Per step: **classify** (`f32`): the twelve boundary coordinates of both ends; the least of
 //! them (< 0: outside some plane), the least over the planes of the greater of each pair
-//! (< 0: both ends outside one plane), a finiteness test, and from them the lane masks:
-//! trivially accepted and drawn, trivially rejected, non-finite, crossing (finite, neither
-//! trivial). **Pack** the crossing edges into the low lanes of registers (one compress of the
-//! lane numbers, then one permute per coordinate). **Clip the lanes** (eight at a time, `f64`):
-//! [`super::super::blinn::clip_crossing`]'s arithmetic in the same operations and order, all
-//! six planes at once with masks (a plane no lane crosses is skipped), `t_in`/`t_out` by
-//! masked max/min, the new ends, and `settle()`'s test (both only for the side some lane
-//! moves: mostly the start points are inside, and then they are passed through). The rare
-//! lanes whose result could depend on the order of ties (an exit parameter of ±0) or that
-//! `settle()` would recompute take the scalar code. **Compact**: each drawn edge's own ends,
+//! (< 0: both ends outside one plane), one test that every coordinate is finite and within
+//! the per-edge clipper's `f32` limit (an unsigned maximum of the bit patterns), and from
+//! them the lane masks: trivially accepted and drawn, trivially rejected, non-finite,
+//! crossing (finite, neither trivial). **Pack** the crossing edges into the low lanes of
+//! registers (one compress of the lane numbers, then one permute per coordinate). **Clip the
+//! lanes** (all sixteen at once, `f32`): [`super::super::blinn::clip_crossing`]'s arithmetic
+//! in the same operations and order, all six planes at once with masks (a plane no lane
+//! crosses is skipped), `t_in`/`t_out` by masked max/min, the new ends, and `settle()`'s test
+//! (both only for the side some lane moves: mostly the start points are inside, and then
+//! they are passed through). The rare lanes whose result could depend on the order of ties
+//! (an exit parameter of ±0), that `settle()` might recompute, or that the per-edge clipper
+//! computes in `f64` (a coordinate beyond [`SINGLE_LIMIT`]) take the scalar code. **Compact**: each drawn edge's own ends,
 //! or for a crossing edge its lane's clipped ends, picked by one two-table permute per
 //! coordinate and stored straight into the output's spare capacity. The inputs are
 //! prefetched two blocks ahead (the pass reads each step's lines only when it gets there).
 //!
 //! Every arithmetic instruction here is exact and deterministic (IEEE add, subtract, multiply,
-//! divide, min/max without ties that matter, conversions with round-to-nearest, compares),
-//! so the lanes give bit for bit what the per-edge clipper gives; the tests hold this path
-//! and the portable one to it.
+//! divide, min/max without ties that matter, compares), so the lanes give bit for bit what
+//! the per-edge clipper gives; the tests hold this path and the portable one to it.
 //!
 //! `unsafe` here: the intrinsics (each function is compiled for AVX-512F, BMI2 and POPCNT and
 //! entered only after [`available`] said yes), their loads and stores (masked to the live
@@ -32,7 +33,7 @@ use std::arch::x86_64::*;
 
 use glam::Vec4;
 
-use super::super::blinn::clip_crossing;
+use super::super::blinn::{clip_crossing, SINGLE_LIMIT};
 use super::super::{boundary_coords, outcode, ClipOutcome, ClipStats, DepthRange, SETTLE_REL};
 use super::{all_inside, EdgesSoa, SegmentsSoa, BLOCK};
 
@@ -119,16 +120,6 @@ fn copy_out(a: &[&[f32]; 4], c: &[&[f32]; 4], start: usize, out: &mut SegmentsSo
     out.edge.extend(start as u32..(start + a[0].len()) as u32);
 }
 
-/// `x` with its sign flipped (exactly `-x`).
-#[target_feature(enable = "avx512f")]
-#[inline]
-unsafe fn neg_pd(x: __m512d) -> __m512d {
-    _mm512_castsi512_pd(_mm512_xor_si512(
-        _mm512_castpd_si512(x),
-        _mm512_set1_epi64(i64::MIN),
-    ))
-}
-
 /// The six boundary coordinates of 16 points in `f32` (`[w+x, w−x, w+y, w−y, near, w−z]`).
 /// For finite coordinates each is < 0 exactly when the point is outside that plane, as
 /// [`super::vertex_code`]'s compares say: a rounded sum has the sign of the exact one and is
@@ -166,6 +157,23 @@ unsafe fn finite_mask(a: [__m512; 4], c: [__m512; 4]) -> u16 {
     let sc = _mm512_add_ps(_mm512_add_ps(d4, d5), _mm512_add_ps(d6, d7));
     let z = _mm512_add_ps(sa, sc);
     _mm512_cmp_ps_mask::<_CMP_ORD_Q>(z, z)
+}
+
+/// Lanes (of 16) whose eight coordinates are all at most [`SINGLE_LIMIT`] in magnitude, and
+/// so finite: the edges the per-edge clipper clips in `f32`. A float's bits with the sign
+/// shifted out order as its magnitude (±∞ above every finite value, NaN above ∞), so one
+/// unsigned maximum of them per lane and one compare say it.
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn ordinary_mask(a: [__m512; 4], c: [__m512; 4]) -> u16 {
+    let key = |v: __m512| _mm512_slli_epi32::<1>(_mm512_castps_si512(v));
+    let [k0, k1, k2, k3] = a.map(key);
+    let [k4, k5, k6, k7] = c.map(key);
+    let m = _mm512_max_epu32(
+        _mm512_max_epu32(_mm512_max_epu32(k0, k1), _mm512_max_epu32(k2, k3)),
+        _mm512_max_epu32(_mm512_max_epu32(k4, k5), _mm512_max_epu32(k6, k7)),
+    );
+    _mm512_cmple_epu32_mask(m, _mm512_set1_epi32((SINGLE_LIMIT.to_bits() << 1) as i32))
 }
 
 /// One block (`1..=BLOCK` edges) that the compare-only test did not accept whole, in one
@@ -303,7 +311,14 @@ unsafe fn step<const ZERO_TO_ONE: bool>(
         shared = _mm512_min_ps(shared, _mm512_max_ps(ba[i], bc[i]));
     }
     let zero = _mm512_setzero_ps();
-    let finite = finite_mask(pa, pc) & live;
+    // Nearly always every lane is ordinary (finite, nothing beyond the `f32` limit), and
+    // that one test is all; otherwise the lanes are sorted into non-finite and `f64` ones.
+    let ordinary = ordinary_mask(pa, pc) & live;
+    let finite = if ordinary == live {
+        live
+    } else {
+        finite_mask(pa, pc) & live
+    };
     // A outside some plane (the same signs as the lanes' `f64` boundary coordinates).
     let a_out = _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest_a, zero);
     let either = a_out | _mm512_mask_cmp_ps_mask::<_CMP_LT_OQ>(finite, lowest_c, zero);
@@ -336,34 +351,13 @@ unsafe fn step<const ZERO_TO_ONE: bool>(
     let n = cross.count_ones();
     // The packed lanes whose A is outside some plane: where none is, no lane enters.
     let a_out = _pext_u32(u32::from(a_out), u32::from(cross));
-    // Clip them eight at a time in `f64`.
-    let low = |v: __m512| _mm512_castps512_ps256(v);
-    let high = |v: __m512| _mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(_mm512_castps_pd(v)));
-    let live_lo = if n >= 8 { 0xFF } else { (1u8 << n) - 1 };
-    let (mut visible, mut scalar) = {
-        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(low), live_lo, a_out as u8);
-        for k in 0..4 {
-            clipped[k] = _mm512_castps256_ps512(p[k]);
-            clipped[4 + k] = _mm512_castps256_ps512(q[k]);
-        }
-        (u16::from(v), u16::from(s))
-    };
-    if n > 8 {
-        let live_hi = if n >= 16 { 0xFF } else { (1u8 << (n - 8)) - 1 };
-        let (p, q, v, s) = clip_lanes::<ZERO_TO_ONE>(packed.map(high), live_hi, (a_out >> 8) as u8);
-        let join = |lo: __m512, hi: __m256| {
-            _mm512_castpd_ps(_mm512_insertf64x4::<1>(
-                _mm512_castps_pd(lo),
-                _mm256_castps_pd(hi),
-            ))
-        };
-        for k in 0..4 {
-            clipped[k] = join(clipped[k], p[k]);
-            clipped[4 + k] = join(clipped[4 + k], q[k]);
-        }
-        visible |= u16::from(v) << 8;
-        scalar |= u16::from(s) << 8;
-    }
+    // Clip them, all sixteen lanes at once in `f32`.
+    let live = if n >= 16 { 0xFFFF } else { (1u16 << n) - 1 };
+    let double = _pext_u32(u32::from(!ordinary), u32::from(cross)) as u16;
+    let (p, q, mut visible, scalar) =
+        clip_lanes::<ZERO_TO_ONE>(&packed, live, a_out as u16, double);
+    clipped[..4].copy_from_slice(&p);
+    clipped[4..].copy_from_slice(&q);
     if scalar != 0 {
         // SAFETY: the features are this function's.
         visible |= unsafe { scalar_lanes::<ZERO_TO_ONE>(&packed, clipped, scalar) };
@@ -429,66 +423,61 @@ unsafe fn scalar_lanes<const ZERO_TO_ONE: bool>(
     visible
 }
 
-/// Eight packed crossing edges (`e`: A's x, y, z, w, then C's, as `f32`; bit l of `live`:
-/// lane l holds an edge; `may_enter` zero: no lane's A is outside a plane, so none enters,
-/// and the entry tests are skipped): their clipped ends; returns them with the masks of lanes drawn and
-/// of lanes left to the scalar code.
+/// Sixteen packed crossing edges (`e`: A's x, y, z, w, then C's; bit l of `live`: lane l
+/// holds an edge; `may_enter` zero: no lane's A is outside a plane, so none enters, and the
+/// entry tests are skipped): their clipped ends; returns them with the masks of lanes drawn
+/// and of lanes left to the scalar code.
 ///
-/// Operation for operation [`clip_crossing`]: the `f64` boundary coordinates
-/// (`[w+x, w−x, w+y, w−y, near, w−z]`), whose signs are the outcode bits (a rounded sum has
-/// the sign of the exact one); per plane crossed, `t_hit = bc_A / (bc_A − bc_C)`, raising
-/// `t_in` where A is outside and lowering `t_out` where C is; the early exit as one final
-/// test (`t_in` only rises and `t_out` only falls); the new ends `a + t·(c − a)`, rounded
-/// to `f32`; `settle()`'s test of each new end. Entry parameters are > 0, so the maximum
-/// has no ties of signed zeros; an exit parameter can be ±0, and such lanes go to the
-/// scalar code, as do ends that `settle()` would recompute.
+/// Operation for operation [`clip_crossing`]'s `f32` arithmetic: the boundary coordinates
+/// (`[w+x, w−x, w+y, w−y, near, w−z]`), whose signs are the outcode bits; per plane crossed,
+/// `t_hit = bc_A / (bc_A − bc_C)`, raising `t_in` where A is outside and lowering `t_out` where
+/// C is; the early exit as one final test (`t_in` only rises and `t_out` only falls); the new
+/// ends `a + t·(c − a)`; `settle()`'s test of each new end, made conservatively in `f32`.
+/// Entry parameters are > 0, so the maximum has no ties of signed zeros; an exit parameter can
+/// be ±0. Such lanes go to the scalar code, as do ends that `settle()` might recompute and
+/// edges with a coordinate beyond [`SINGLE_LIMIT`], which the per-edge clipper clips in `f64`.
 #[target_feature(enable = "avx512f")]
 #[inline]
 #[allow(clippy::type_complexity)]
 unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
-    e: [__m256; 8],
-    live: u8,
-    may_enter: u8,
-) -> ([__m256; 4], [__m256; 4], u8, u8) {
-    let mut a = [_mm512_setzero_pd(); 4];
-    let mut c = [_mm512_setzero_pd(); 4];
-    for k in 0..4 {
-        a[k] = _mm512_cvtps_pd(e[k]);
-        c[k] = _mm512_cvtps_pd(e[4 + k]);
-    }
-    let a_bc = bc::<ZERO_TO_ONE>(a);
-    let c_bc = bc::<ZERO_TO_ONE>(c);
-    let zero = _mm512_setzero_pd();
+    e: &[__m512; 8],
+    live: u16,
+    may_enter: u16,
+    double: u16,
+) -> ([__m512; 4], [__m512; 4], u16, u16) {
+    let a = [e[0], e[1], e[2], e[3]];
+    let c = [e[4], e[5], e[6], e[7]];
+    let double = double & live;
+    let a_bc = bc_ps::<ZERO_TO_ONE>(a);
+    let c_bc = bc_ps::<ZERO_TO_ONE>(c);
+    let zero = _mm512_setzero_ps();
     let mut t_in = zero;
-    let mut t_out = _mm512_set1_pd(1.0);
-    let (mut enters, mut leaves) = (0u8, 0u8);
+    let mut t_out = _mm512_set1_ps(1.0);
+    let (mut enters, mut leaves) = (0u16, 0u16);
     for i in 0..6 {
         let enter = if may_enter != 0 {
-            _mm512_cmp_pd_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live
+            _mm512_cmp_ps_mask::<_CMP_LT_OQ>(a_bc[i], zero) & live
         } else {
             0
         };
-        let leave = _mm512_cmp_pd_mask::<_CMP_LT_OQ>(c_bc[i], zero) & live;
+        let leave = _mm512_cmp_ps_mask::<_CMP_LT_OQ>(c_bc[i], zero) & live;
         if enter | leave != 0 {
-            let t_hit = _mm512_div_pd(a_bc[i], _mm512_sub_pd(a_bc[i], c_bc[i]));
-            t_in = _mm512_mask_max_pd(t_in, enter, t_in, t_hit);
-            t_out = _mm512_mask_min_pd(t_out, leave, t_out, t_hit);
+            let t_hit = _mm512_div_ps(a_bc[i], _mm512_sub_ps(a_bc[i], c_bc[i]));
+            t_in = _mm512_mask_max_ps(t_in, enter, t_in, t_hit);
+            t_out = _mm512_mask_min_ps(t_out, leave, t_out, t_hit);
         }
         enters |= enter;
         leaves |= leave;
     }
-    let open = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(t_in, t_out);
+    let open = _mm512_cmp_ps_mask::<_CMP_LE_OQ>(t_in, t_out);
     // Where no lane moves an end (no lane enters: every A inside, the common case; or none
     // leaves), that end is the input's in every lane: no new ends to compute, nothing for
     // `settle()` to check, only its w > 0 test.
-    let moved = |ends: &[__m512d; 4], t: __m512d, mask: u8, k: usize| {
-        let d = _mm512_sub_pd(c[k], a[k]);
-        let e = _mm512_add_pd(a[k], _mm512_mul_pd(t, d));
-        // An end that is not moved keeps its `f32` value (f32 → f64 → f32 is exact).
-        _mm512_cvtpd_ps(_mm512_mask_blend_pd(mask, ends[k], e))
+    let moved = |ends: &[__m512; 4], t: __m512, mask: u16, k: usize| {
+        let step = _mm512_mul_ps(t, _mm512_sub_ps(c[k], a[k]));
+        _mm512_mask_add_ps(ends[k], mask, a[k], step)
     };
-    let mut p = [e[0], e[1], e[2], e[3]];
-    let mut q = [e[4], e[5], e[6], e[7]];
+    let (mut p, mut q) = (a, c);
     for k in 0..4 {
         if enters != 0 {
             p[k] = moved(&a, t_in, enters, k);
@@ -497,62 +486,54 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
             q[k] = moved(&c, t_out, leaves, k);
         }
     }
-    let front = |w: __m512d| _mm512_cmp_pd_mask::<_CMP_GT_OQ>(w, zero);
+    let front = |w: __m512| _mm512_cmp_ps_mask::<_CMP_GT_OQ>(w, zero);
     let (p_ok, p_front) = if enters != 0 {
         settles_as_is::<ZERO_TO_ONE>(p)
     } else {
-        (0xFF, front(a[3]))
+        (0xFFFF, front(a[3]))
     };
     let (q_ok, q_front) = if leaves != 0 {
         settles_as_is::<ZERO_TO_ONE>(q)
     } else {
-        (0xFF, front(c[3]))
+        (0xFFFF, front(c[3]))
     };
-    let zero_exit = _mm512_cmp_pd_mask::<_CMP_EQ_OQ>(t_out, zero);
+    let zero_exit = _mm512_cmp_ps_mask::<_CMP_EQ_OQ>(t_out, zero);
     let scalar = (leaves & zero_exit) | (enters & !p_ok) | (leaves & !q_ok);
     let open = open & live;
-    (p, q, open & !scalar & p_front & q_front, open & scalar)
+    // An edge for `f64` goes to the scalar code whatever its `f32` lanes say.
+    (
+        p,
+        q,
+        open & !scalar & !double & p_front & q_front,
+        (open & scalar) | double,
+    )
 }
 
-/// The boundary coordinates of eight points in `f64`, in
-/// [`super::super::boundary_coords_of`]'s order and operations.
+/// `settle()`'s test in `f32`, conservatively: lanes where it certainly returns the computed
+/// end as it is (w > 0 and every boundary coordinate ≥ −`SETTLE_REL`·max |pᵢ| in `f64`, or
+/// w ≤ 0), and the lanes where w > 0. The `f32` boundary coordinates are within 2⁻²⁴ of twice
+/// max |pᵢ| of the `f64` ones, so a bound 2⁻⁸·`SETTLE_REL` tighter (≈ 4·10⁻⁶ of max |pᵢ|,
+/// against at most 1.2·10⁻⁷ of error) never passes an end that `settle()` would recompute;
+/// the few ends between the two bounds go to the scalar code, which decides exactly.
 #[target_feature(enable = "avx512f")]
 #[inline]
-unsafe fn bc<const ZERO_TO_ONE: bool>([x, y, z, w]: [__m512d; 4]) -> [__m512d; 6] {
-    let near = if ZERO_TO_ONE { z } else { _mm512_add_pd(w, z) };
-    [
-        _mm512_add_pd(w, x),
-        _mm512_sub_pd(w, x),
-        _mm512_add_pd(w, y),
-        _mm512_sub_pd(w, y),
-        near,
-        _mm512_sub_pd(w, z),
-    ]
-}
-
-/// For eight computed ends (finite `f32`): whether `settle()` returns each as it is (every
-/// boundary coordinate ≥ −`SETTLE_REL`·max |pᵢ| in `f64`, or w not > 0), and whether w > 0.
-#[target_feature(enable = "avx512f")]
-#[inline]
-unsafe fn settles_as_is<const ZERO_TO_ONE: bool>(p: [__m256; 4]) -> (u8, u8) {
-    let mut p64 = [_mm512_setzero_pd(); 4];
-    let mut abs = [_mm512_setzero_pd(); 4];
-    for k in 0..4 {
-        p64[k] = _mm512_cvtps_pd(p[k]);
-        abs[k] = _mm512_abs_pd(p64[k]);
-    }
-    let [_, _, z, w] = p64;
-    // |pᵢ| and their maximum are exact in f64, and do not depend on the order.
-    let m = _mm512_max_pd(_mm512_max_pd(abs[0], abs[1]), _mm512_max_pd(abs[2], abs[3]));
-    let floor = neg_pd(_mm512_mul_pd(_mm512_set1_pd(SETTLE_REL), m));
+unsafe fn settles_as_is<const ZERO_TO_ONE: bool>(p: [__m512; 4]) -> (u16, u16) {
+    let abs = p.map(|v| _mm512_abs_ps(v));
+    let [_, _, z, w] = p;
+    let m = _mm512_max_ps(_mm512_max_ps(abs[0], abs[1]), _mm512_max_ps(abs[2], abs[3]));
+    let floor = _mm512_mul_ps(_mm512_set1_ps(SETTLE_FLOOR), m);
     // The least boundary coordinate. min(w + x, w − x) is w − |x| rounded (rounding is
-    // monotonic), so four subtractions and three minima give what settle()'s six do.
-    let near = if ZERO_TO_ONE { z } else { _mm512_add_pd(w, z) };
-    let least = _mm512_min_pd(
-        _mm512_min_pd(_mm512_sub_pd(w, abs[0]), _mm512_sub_pd(w, abs[1])),
-        _mm512_min_pd(near, _mm512_sub_pd(w, z)),
+    // monotonic), so four subtractions and three minima give what the six do.
+    let near = if ZERO_TO_ONE { z } else { _mm512_add_ps(w, z) };
+    let least = _mm512_min_ps(
+        _mm512_min_ps(_mm512_sub_ps(w, abs[0]), _mm512_sub_ps(w, abs[1])),
+        _mm512_min_ps(near, _mm512_sub_ps(w, z)),
     );
-    let within = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(least, floor);
-    let front = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(p64[3], _mm512_setzero_pd());
+    let within = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(least, floor);
+    let front = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(w, _mm512_setzero_ps());
     (within | !front, front)
 }
+
+/// −`SETTLE_REL`·(1 − 2⁻⁸) in `f32`: [`settles_as_is`]'s bound.
+#[allow(clippy::cast_possible_truncation)]
+const SETTLE_FLOOR: f32 = (-SETTLE_REL * (1.0 - 1.0 / 256.0)) as f32;
