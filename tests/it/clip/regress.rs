@@ -4,7 +4,7 @@
 
 use super::check::{check_homogeneous, check_planar, Tally, HOMOGENEOUS, PLANAR};
 use glam::{Vec2, Vec4};
-use wireflight::clip::{cyrus_beck, ClipVolume, DepthRange, Window2};
+use wireflight::clip::{clip_edge, cyrus_beck, ClipOutcome, ClipVolume, DepthRange, Window2};
 
 /// Cyrus-Beck computed the rate `d₁ = D·n` as a dot product with the rounded `D`, so an end
 /// inside the volume (on the planes y = w and z = w) got `t₁ = 1 − 3·10⁻⁷` and moved:
@@ -51,4 +51,29 @@ fn planar_ends_on_an_edge_stay_put_beside_a_far_end() {
             }
         }
     }
+}
+
+/// Blinn's AVX-512 lanes kept an end that the per-edge clipper's `settle()` moves. The edge
+/// from `(7.2e-43, 0, 0, 0)` (x = 514 of the smallest `f32` steps, at the eye) to
+/// `(5.25e-20, −1, 0, 3)` enters at t = 2.4e-43, where the new end is x = 514 steps, w = 513:
+/// one step outside x = w. `settle()` (in `f64`) recomputes and clamps it to x = w; the
+/// lanes' `f32` test compared w − x with −0.001·max |p|, which underflowed to one whole step
+/// and let the end through. Found by the `blinn` target in 123 000 executions; fixed by
+/// leaving ends smaller than 2⁻¹⁰⁰ to the scalar code.
+#[test]
+fn blinn_batch_settles_a_subnormal_end_as_the_per_edge_clipper_does() {
+    let start = Vec4::new(7.2e-43, 0.0, 0.0, 0.0);
+    let end = Vec4::new(5.249_999_7e-20, -1.0, 0.0, 3.0);
+    let inside = (
+        Vec4::new(0.25, -0.5, 0.5, 1.0),
+        Vec4::new(-0.5, 0.25, 0.25, 1.0),
+    );
+    let edges: Vec<(Vec4, Vec4)> = (0..40)
+        .map(|i| if i % 3 == 0 { (start, end) } else { inside })
+        .collect();
+    super::check::check_batch(&edges, DepthRange::ZeroToOne).unwrap_or_else(|e| panic!("{e}"));
+    let ClipOutcome::Clipped(p, _) = clip_edge(start, end, DepthRange::ZeroToOne) else {
+        panic!("the edge is visible");
+    };
+    assert_eq!(p.x, p.w, "settle() puts the new end on x = w");
 }

@@ -511,10 +511,13 @@ unsafe fn clip_lanes<const ZERO_TO_ONE: bool>(
 
 /// `settle()`'s test in `f32`, conservatively: lanes where it certainly returns the computed
 /// end as it is (w > 0 and every boundary coordinate ≥ −`SETTLE_REL`·max |pᵢ| in `f64`, or
-/// w ≤ 0), and the lanes where w > 0. The `f32` boundary coordinates are within 2⁻²⁴ of twice
-/// max |pᵢ| of the `f64` ones, so a bound 2⁻⁸·`SETTLE_REL` tighter (≈ 4·10⁻⁶ of max |pᵢ|,
-/// against at most 1.2·10⁻⁷ of error) never passes an end that `settle()` would recompute;
-/// the few ends between the two bounds go to the scalar code, which decides exactly.
+/// w ≤ 0), and the lanes where w > 0. Where max |pᵢ| ≥ 2⁻¹⁰⁰ the bound −`SETTLE_FLOOR`·max |pᵢ|
+/// is a normal `f32` (no underflow: its rounding is relative, 2⁻²⁴), and each `f32` boundary
+/// coordinate is within 2⁻²⁴ of twice max |pᵢ| of the `f64` one, or within 2⁻¹⁵⁰ where it is
+/// subnormal; so a bound 2⁻⁸·`SETTLE_REL` tighter (≈ 4·10⁻⁶ of max |pᵢ|, against at most
+/// 1.2·10⁻⁷ of error) never passes an end that `settle()` would recompute. The few ends
+/// between the two bounds, and ends smaller than 2⁻¹⁰⁰ (where a subnormal bound would round
+/// by more than the margin), go to the scalar code, which decides exactly.
 #[target_feature(enable = "avx512f")]
 #[inline]
 unsafe fn settles_as_is<const ZERO_TO_ONE: bool>(p: [__m512; 4]) -> (u16, u16) {
@@ -529,7 +532,8 @@ unsafe fn settles_as_is<const ZERO_TO_ONE: bool>(p: [__m512; 4]) -> (u16, u16) {
         _mm512_min_ps(_mm512_sub_ps(w, abs[0]), _mm512_sub_ps(w, abs[1])),
         _mm512_min_ps(near, _mm512_sub_ps(w, z)),
     );
-    let within = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(least, floor);
+    let within = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(least, floor)
+        & _mm512_cmp_ps_mask::<_CMP_GE_OQ>(m, _mm512_set1_ps(SETTLE_SMALLEST));
     let front = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(w, _mm512_setzero_ps());
     (within | !front, front)
 }
@@ -537,3 +541,6 @@ unsafe fn settles_as_is<const ZERO_TO_ONE: bool>(p: [__m512; 4]) -> (u16, u16) {
 /// −`SETTLE_REL`·(1 − 2⁻⁸) in `f32`: [`settles_as_is`]'s bound.
 #[allow(clippy::cast_possible_truncation)]
 const SETTLE_FLOOR: f32 = (-SETTLE_REL * (1.0 - 1.0 / 256.0)) as f32;
+
+/// 2⁻¹⁰⁰: the least max |pᵢ| whose end [`settles_as_is`] decides.
+const SETTLE_SMALLEST: f32 = 1.0 / (1u128 << 100) as f32;
