@@ -16,11 +16,12 @@
 //!   other block, where the CPU has AVX-512 (`batch/avx512.rs`): one pass of 16-edge steps,
 //!   each classified with masks, its crossing edges packed into lanes and clipped sixteen at
 //!   a time in `f32` (all six planes at once, [`clip_crossing`]'s arithmetic operation for
-//!   operation), and compacted straight into the output. Elsewhere (the portable build, and its crossing lanes compiled for AVX2 where
-//!   the CPU has it): the codes of the block's endpoints from straight-line compares, the
-//!   crossing edges gathered into lanes and clipped there, and the block compacted through a
-//!   small staging area with no branch on the trivial outcomes. Both builds give the same
-//!   bits; the tests run every build the CPU has.
+//!   operation), and compacted straight into the output. Elsewhere (the portable build,
+//!   and its crossing lanes compiled for AVX2 where the CPU has it): the codes of the
+//!   block's endpoints from straight-line compares, the crossing edges gathered into lanes
+//!   and clipped there, and the block compacted through a small staging area with no branch
+//!   on the trivial outcomes. Both builds give the same bits; the tests run every build
+//!   the CPU has.
 //!
 //! Why the outcodes can skip the boundary coordinates: `w + x < 0` (rounded in `f32`) holds
 //! exactly when `x < −w` (rounding keeps the sign of a sum, and a sum of two floats is zero

@@ -15,9 +15,10 @@
 //! (both only for the side some lane moves: mostly the start points are inside, and then
 //! they are passed through). The rare lanes whose result could depend on the order of ties
 //! (an exit parameter of ±0), that `settle()` might recompute, or that the per-edge clipper
-//! computes in `f64` (a coordinate beyond [`SINGLE_LIMIT`]) take the scalar code. **Compact**: each drawn edge's own ends,
-//! or for a crossing edge its lane's clipped ends, picked by one two-table permute per
-//! coordinate and stored straight into the output's spare capacity. The inputs are
+//! computes in `f64` (a coordinate beyond [`SINGLE_LIMIT`]) take the scalar code.
+//! **Compact**: each drawn edge's own ends, or for a crossing edge its lane's clipped ends,
+//! picked by one two-table permute per coordinate and stored straight into the output's
+//! spare capacity. The inputs are
 //! prefetched two blocks ahead (the pass reads each step's lines only when it gets there).
 //!
 //! Every arithmetic instruction here is exact and deterministic (IEEE add, subtract, multiply,
