@@ -606,11 +606,6 @@ where
     [w + x, w - x, w + y, w - y, near, w - z]
 }
 
-#[inline(always)]
-fn bc32<const ZERO_TO_ONE: bool>(p: [f32; 4]) -> [f32; PLANE_COUNT] {
-    bc_of::<f32, ZERO_TO_ONE>(p)
-}
-
 /// Whether `settle()` keeps the computed end `p` as it is: every boundary coordinate ≥
 /// −`SETTLE_REL`·max |pᵢ| (in `f64`, as `settle()` computes it), or `p.w ≤ 0`.
 #[inline(always)]
@@ -642,8 +637,8 @@ fn crossing_lane<const ZERO_TO_ONE: bool>(a: [f32; 4], c: [f32; 4]) -> ([f32; 4]
     for v in a.iter().chain(&c) {
         largest = largest.max(v.abs());
     }
-    let a_bc = bc32::<ZERO_TO_ONE>(a);
-    let c_bc = bc32::<ZERO_TO_ONE>(c);
+    let a_bc = bc_of::<f32, ZERO_TO_ONE>(a);
+    let c_bc = bc_of::<f32, ZERO_TO_ONE>(c);
     let (mut t_in, mut t_out) = (0.0f32, 1.0f32);
     let (mut enters, mut leaves) = (false, false);
     for i in 0..PLANE_COUNT {
