@@ -271,32 +271,59 @@ fn intensities_rise_with_the_level_and_meet_the_table_above_2000_ft() {
     assert!((m.length_m[2] - 1750.0 * 0.3048).abs() < 1e-9);
 }
 
-/// The JSBSim flights in light turbulence read as flights, carry their gust truth, and the
-/// gust columns' σ are those of the header.
+/// The JSBSim flights in light turbulence read as flights and carry their gust truth: the
+/// intensity of JSBSim's gust process (MIL-F-8785C's σ exceeded with probability 10⁻³ at the
+/// flight's height, 6.9 ft/s at 1750 ft and 7.4 at 3750 ft, interpolated as JSBSim does) and
+/// the sample σ of the flight's own gust columns.
 #[test]
 fn jsbsim_turbulent_flights_carry_their_gust_truth() {
     for name in ["turb-light-1", "turb-light-2", "turb-cmalpha085"] {
         let path = crate::support::data_file(&format!("jsbsim-c172p-{name}.csv"));
         let flight = wireflight::flight::data::read(&path).unwrap();
         assert_eq!(flight.len(), 1251, "{name}");
-        let sigma = flight
-            .meta
-            .other
-            .iter()
-            .find(|(k, _)| k == "jsbsim_gust_sigma_mps")
-            .map(|(_, v)| v.clone())
-            .expect("a gust σ line");
-        let values: Vec<f64> = sigma
-            .split_whitespace()
-            .filter_map(|w| w.split_once('=')?.1.parse().ok())
-            .collect();
-        assert_eq!(values.len(), 3, "{sigma}");
-        // Light turbulence: σ of order 1 m/s (0.5 to 3 m/s over 50 s).
-        assert!(
-            values.iter().all(|s| (0.5..3.0).contains(s)),
-            "{name}: {sigma}"
-        );
+        let header = |key: &str| -> Vec<f64> {
+            let line = flight
+                .meta
+                .other
+                .iter()
+                .find(|(k, _)| k == key)
+                .map(|(_, v)| v.clone())
+                .unwrap_or_else(|| panic!("{name}: a {key} line"));
+            line.split_whitespace()
+                .filter_map(|w| w.split_once('=')?.1.parse().ok())
+                .collect()
+        };
+        let height_m = flight.meta.altitude_m.unwrap()
+            - flight.pos_ned.iter().map(|p| p.z).sum::<f64>() / flight.len() as f64;
+        let h_ft = height_m / 0.3048;
+        let intensity = (6.9 + (h_ft - 1750.0) / 2000.0 * 0.5) * 0.3048;
+        let stated = header("jsbsim_gust_intensity_mps");
+        assert_eq!(stated.len(), 3, "{name}");
+        for s in &stated {
+            assert!(
+                (s - intensity).abs() < 1e-3,
+                "{name}: {s} against {intensity}"
+            );
+        }
+        // The sample σ over the flight's 50 s, from its gust columns.
         let text = std::fs::read_to_string(&path).unwrap();
+        let mut rows = text.lines().filter(|l| !l.starts_with('#'));
+        let columns: Vec<&str> = rows.next().unwrap().split(',').collect();
+        let gust_columns = ["turb_north_mps", "turb_east_mps", "turb_down_mps"]
+            .map(|c| columns.iter().position(|k| *k == c).unwrap());
+        let values: Vec<[f64; 3]> = rows
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                gust_columns.map(|i| f[i].parse().unwrap())
+            })
+            .collect();
+        let sample = header("jsbsim_gust_sigma_mps");
+        for axis in 0..3 {
+            let x: Vec<f64> = values.iter().map(|v| v[axis]).collect();
+            let mean = x.iter().sum::<f64>() / x.len() as f64;
+            let sd = (x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / x.len() as f64).sqrt();
+            assert!((sd - sample[axis]).abs() < 1e-3, "{name} axis {axis}: {sd}");
+        }
         assert!(text.contains("# jsbsim_turbulence: Dryden milspec turbulence light"));
     }
 }

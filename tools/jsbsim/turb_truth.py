@@ -3,8 +3,11 @@
 
     python3 tools/jsbsim/turb_truth.py tests/data/jsbsim-c172p-turb-light-1.csv
 
-Adds `# jsbsim_gust_sigma_mps: north=… east=… down=…` (the sample standard deviation of the
-`turb_north/east/down_mps` columns over the flight, m/s) and
+Adds `# jsbsim_gust_intensity_mps: north=… east=… down=…` (the σ of JSBSim's gust process
+at the flight's mean height, the same on every axis: `turb_process.jsbsim_intensity_mps`, the
+number an estimate of the intensity is judged against), `# jsbsim_gust_sigma_mps: north=…
+east=… down=…` (the sample standard deviation of the `turb_north/east/down_mps` columns over
+the flight, m/s: one stretch of turbulence, which scatters around the intensity) and
 `# jsbsim_gust_correlation_s: north=… east=… down=…` (the lag at which each column's
 autocorrelation first falls below 1/e, s), drops the rotary gust columns (`turb_p/q/r_dps`)
 and writes the gust columns with 3 decimals, so a 50 s flight at 25 Hz stays under 200 kB.
@@ -16,6 +19,8 @@ from __future__ import annotations
 import math
 import os
 import sys
+
+from turb_process import jsbsim_intensity_mps
 
 KEEP = ["turb_north_mps", "turb_east_mps", "turb_down_mps"]
 DROP = ["turb_p_dps", "turb_q_dps", "turb_r_dps"]
@@ -51,6 +56,10 @@ def main(path: str) -> int:
         sig.append(math.sqrt(sum((v - m) ** 2 for v in x) / len(x)))
         lag.append(efold_lag(x, dt))
     names = ["north", "east", "down"]
+    meta = dict(l[2:].split(": ", 1) for l in head if ": " in l)
+    height = float(meta["altitude_m"]) - sum(float(r[idx["down_m"]]) for r in rows) / len(rows)
+    intensity = jsbsim_intensity_mps(height)
+    head.append("# jsbsim_gust_intensity_mps: " + " ".join(f"{n}={intensity:.4f}" for n in names))
     head.append("# jsbsim_gust_sigma_mps: " + " ".join(f"{n}={s:.4f}" for n, s in zip(names, sig)))
     head.append("# jsbsim_gust_correlation_s: " + " ".join(f"{n}={v:.2f}" for n, v in zip(names, lag)))
     keep = [i for i, c in enumerate(cols) if c not in DROP]
@@ -61,7 +70,7 @@ def main(path: str) -> int:
     with open(tmp, "w") as f:
         f.write("\n".join(head + out) + "\n")
     os.replace(tmp, path)
-    print(f"{path}: gust σ N/E/D {sig[0]:.3f}/{sig[1]:.3f}/{sig[2]:.3f} m/s, "
+    print(f"{path}: gust intensity {intensity:.3f} m/s; sample σ N/E/D {sig[0]:.3f}/{sig[1]:.3f}/{sig[2]:.3f} m/s, "
           f"1/e lag {lag[0]:.2f}/{lag[1]:.2f}/{lag[2]:.2f} s, {os.path.getsize(path)} bytes")
     return 0
 

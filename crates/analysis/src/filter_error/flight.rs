@@ -6,7 +6,9 @@
 //! **States.** The model's state plus the states of three Dryden shaping filters whose
 //! outputs are the gust velocities g (north, east, down, m/s): the first-order form
 //! (1 + sT)⁻¹ for u and the second-order (1 + √3·sT)/(1 + sT)² for v and w (MIL-F-8785C's
-//! spectra, the forms `simulate` and JSBSim fly), T = L/V with V the flight's mean airspeed
+//! spectra, the forms `simulate` flies; JSBSim's `milspec` turbulence flies v and w through
+//! first-order approximations, (1 + sT/2)⁻¹, whose spectra agree with these at low frequency
+//! and within 4/3 at high), T = L/V with V the flight's mean airspeed
 //! (the frozen field of Taylor's hypothesis), each scaled to its stationary deviation σ; and
 //! three rotary disturbances, first-order angular accelerations about the body axes with
 //! Dryden's rotary time constant 4b/(πV) (rotary gusts act through the rate damping; JSBSim
