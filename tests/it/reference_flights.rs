@@ -243,9 +243,10 @@ fn jsbsim_gusts(name: &str, line: &str) -> [f64; 3] {
 /// JSBSim's c172p flown in its own light turbulence, judged against the calm reference
 /// flights: turbulence, above what the filter finds on the references, with each gust σ within
 /// 25 % of the intensity of JSBSim's gust process (from 23 % low to 20 % high: the filter's
-/// v and w spectra are Dryden's, JSBSim flies first-order approximations of them). The
-/// unchanged aircraft's flights name no cause: the numbers the filter moves on them
-/// (docs/turbulence.md) are not claimed as changes.
+/// v and w spectra are Dryden's, JSBSim flies first-order approximations of them). No cause
+/// is named and the aircraft's numbers are not searched: the numbers the filter moves on the
+/// unchanged aircraft's flights (docs/turbulence.md) are not claimed as changes — nor,
+/// against calm references, is the changed pitch stiffness found.
 #[test]
 fn jsbsim_turbulence_is_named_against_calm_references() {
     for name in ["turb-light-1", "turb-light-2", "turb-cmalpha085"] {
@@ -256,6 +257,9 @@ fn jsbsim_turbulence_is_named_against_calm_references() {
             assert_eq!(verdict, "turbulence", "{name}");
             assert_eq!(d["found"], serde_json::json!([]), "{name}");
         }
+        // The aircraft's numbers are not searched against calm references, and the text
+        // says so rather than ruling a change out.
+        assert_eq!(d["turbulence"]["aircraft_searched"], false, "{name}");
         gusts_of_jsbsims_intensity(name, &d["turbulence"]);
     }
 }
@@ -284,6 +288,38 @@ fn gusts_of_jsbsims_intensity(name: &str, t: &Value) {
             "{name}: the references' {floor}"
         );
     }
+}
+
+/// On the turbulent flight whose pitch stiffness JSBSim changed, the text against calm
+/// references names no cause and does not rule one out either: it says the aircraft's
+/// numbers were not searched.
+#[test]
+fn against_calm_references_turbulence_rules_no_change_out() {
+    let out = wireflight(&[
+        "-q",
+        "diagnose",
+        "--flight",
+        &flight("turb-cmalpha085"),
+        "--aircraft",
+        identified().to_str().unwrap(),
+        "--reference",
+        &flight("ref-1"),
+        "--reference",
+        &flight("ref-2"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let verdict = text
+        .lines()
+        .find(|l| l.trim_start().starts_with("verdict:"))
+        .expect("a verdict line");
+    assert!(verdict.contains("verdict: turbulence — gusts"), "{verdict}");
+    assert!(verdict.contains("none ruled out"), "{verdict}");
+    assert!(!verdict.contains("no deterministic cause"), "{verdict}");
 }
 
 /// A calm flight the model leaves unexplained (JSBSim's elevator steps) is not called

@@ -161,7 +161,8 @@ fn json_array3(v: &Value) -> [f64; 3] {
 }
 
 /// `simulate --turbulence light`, nothing else wrong: `diagnose` says `turbulence`, with the
-/// intensities within 25% of the truth, and no deterministic cause.
+/// intensities within 25% of the truth, and no deterministic cause (the aircraft's numbers
+/// searched through the filter).
 #[test]
 fn diagnose_names_turbulence_with_its_intensity() {
     let dir = tempfile::tempdir().unwrap();
@@ -172,6 +173,8 @@ fn diagnose_names_turbulence_with_its_intensity() {
     let t = &d["turbulence"];
     let sigma = json_array3(&t["sigma_mps"]);
     assert!(within(sigma, truth, 0.25), "{sigma:?} against {truth:?}");
+    // Without reference flights the filter searched the aircraft's numbers and kept none.
+    assert_eq!(t["aircraft_searched"], true);
     // The report shows the gusts as the text does, each with its ±.
     let html = std::fs::read_to_string(&page).unwrap();
     let section = html

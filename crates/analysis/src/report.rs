@@ -384,6 +384,7 @@ pub fn turbulence_json(t: &crate::diagnose::turbulence::TurbulenceFinding) -> Va
         "significant": t.significant(),
         "reference_sigma_mps": t.reference_sigma_mps.map(|r| r.0),
         "forced": t.forced,
+        "aircraft_searched": t.aircraft_searched,
         "sigma_mps": g.sigma_mps,
         "sigma_se_mps": g.sigma_se_mps,
         "rotary_radps2": g.rotary_radps2,
@@ -974,8 +975,15 @@ fn verdict_against_noise(d: &Diagnosis, fall: &str) -> String {
                 .as_ref()
                 .map(|t| gusts_text(&t.gusts))
                 .unwrap_or_default();
-            if names.is_empty() {
+            let searched = d.turbulence.as_ref().is_some_and(|t| t.aircraft_searched);
+            if names.is_empty() && searched {
                 format!("turbulence — {gusts}; no deterministic cause besides")
+            } else if names.is_empty() {
+                format!(
+                    "turbulence — {gusts}; no cause named, and none ruled out: against calm \
+                     reference flights the filter moves an unchanged aircraft's numbers too, so \
+                     its numbers were not searched (docs/turbulence.md)"
+                )
             } else {
                 format!(
                     "turbulence + {} — {gusts}; the causes' numbers fitted through the filter",

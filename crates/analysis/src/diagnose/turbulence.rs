@@ -84,6 +84,10 @@ pub struct TurbulenceFinding {
     /// Against reference flights: the largest gust σ the filter finds on them (north, east,
     /// down, m/s) and its ±, the floor a model that is not exact puts under the estimate.
     pub reference_sigma_mps: Option<([f64; 3], [f64; 3])>,
+    /// Whether the filter's own search for a wrong number of the aircraft ran. It does not
+    /// in `compare`, nor against reference flights (module docs), so "no cause besides the
+    /// gusts" is a finding only where it did.
+    pub aircraft_searched: bool,
 }
 
 impl TurbulenceFinding {
@@ -333,6 +337,7 @@ pub fn compare_through_turbulence(
         refits: run.refits,
         forced,
         reference_sigma_mps: run.reference_sigma_mps,
+        aircraft_searched: false,
     };
     Ok(Some((finding, run.model)))
 }
@@ -382,7 +387,8 @@ pub fn through_turbulence(
     // Against reference flights the search stays off: the filter's values on a turbulent
     // flight and on calm ones differ by more than a changed number where the gust model and
     // the aircraft's response to gusts are not exact (module docs).
-    if gusts.significant() && references.is_empty() {
+    let aircraft_searched = gusts.significant() && references.is_empty();
+    if aircraft_searched {
         let mut taken: Vec<String> = refits.iter().map(|r| r.param.clone()).collect();
         for _ in 0..MOST_CAUSES {
             let Some(r) = search_number(&filter, &model, &gusts, &taken, cfg) else {
@@ -416,6 +422,7 @@ pub fn through_turbulence(
         refits,
         forced,
         reference_sigma_mps,
+        aircraft_searched,
     };
     if finding.significant() {
         let mut names: Vec<String> = d.found.iter().map(|c| c.effect.clone()).collect();

@@ -445,11 +445,16 @@ fn verdict_section(r: &Report) -> String {
             "found",
             format!(
                 "Turbulence: what output error leaves is random, gusts the filter-error method \
-                 estimates{}.",
+                 estimates{}{}.",
                 if names.is_empty() {
                     String::new()
                 } else {
                     format!(", with {} besides", names.join(" and "))
+                },
+                if d.turbulence.as_ref().is_some_and(|t| t.aircraft_searched) {
+                    ""
+                } else {
+                    "; the aircraft's numbers were not searched through the filter"
                 }
             ),
         ),
