@@ -242,7 +242,7 @@ fn jsbsim_gusts(name: &str, line: &str) -> [f64; 3] {
 
 /// JSBSim's c172p flown in its own light turbulence, judged against the calm reference
 /// flights: turbulence, above what the filter finds on the references, with each gust σ within
-/// 25 % of the intensity of JSBSim's gust process (from 23 % low to 20 % high: the filter's
+/// 25 % of the intensity of JSBSim's gust process (from 24 % low to 20 % high: the filter's
 /// v and w spectra are Dryden's, JSBSim flies first-order approximations of them). No cause
 /// is named and the aircraft's numbers are not searched: the numbers the filter moves on the
 /// unchanged aircraft's flights (docs/turbulence.md) are not claimed as changes — nor,
