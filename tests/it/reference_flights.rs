@@ -59,25 +59,34 @@ fn diagnose_against_references(name: &str) -> Value {
 /// `COMMAND --json` (`diagnose`, `compare`) of a test flight against the identified set and
 /// the two references.
 fn against_references(command: &str, name: &str) -> Value {
-    let out = wireflight(&[
+    serde_json::from_str(&against_references_output(command, name, &["--json"])).expect("JSON")
+}
+
+/// What `COMMAND` (`diagnose`, `compare`) with `extra` prints of a test flight against the
+/// identified set and the two references.
+fn against_references_output(command: &str, name: &str, extra: &[&str]) -> String {
+    let identified = identified().to_str().unwrap();
+    let (test, ref_1, ref_2) = (flight(name), flight("ref-1"), flight("ref-2"));
+    let mut args = vec![
         "-q",
         command,
         "--flight",
-        &flight(name),
+        &test,
         "--aircraft",
-        identified().to_str().unwrap(),
+        identified,
         "--reference",
-        &flight("ref-1"),
+        &ref_1,
         "--reference",
-        &flight("ref-2"),
-        "--json",
-    ]);
+        &ref_2,
+    ];
+    args.extend_from_slice(extra);
+    let out = wireflight(&args);
     assert!(
         out.status.success(),
         "{command} {name}: {}",
         String::from_utf8_lossy(&out.stderr)
     );
-    serde_json::from_slice(&out.stdout).expect("JSON")
+    String::from_utf8(out.stdout).expect("UTF-8")
 }
 
 /// The verdict names exactly `key` (an aircraft number), and its change from the reference
@@ -295,24 +304,7 @@ fn gusts_of_jsbsims_intensity(name: &str, t: &Value) {
 /// numbers were not searched.
 #[test]
 fn against_calm_references_turbulence_rules_no_change_out() {
-    let out = wireflight(&[
-        "-q",
-        "diagnose",
-        "--flight",
-        &flight("turb-cmalpha085"),
-        "--aircraft",
-        identified().to_str().unwrap(),
-        "--reference",
-        &flight("ref-1"),
-        "--reference",
-        &flight("ref-2"),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = against_references_output("diagnose", "turb-cmalpha085", &[]);
     let verdict = text
         .lines()
         .find(|l| l.trim_start().starts_with("verdict:"))
