@@ -43,6 +43,10 @@ def main(path: str) -> int:
         lines = f.read().splitlines()
     head = [l for l in lines if l.startswith("#")]
     head = [l for l in head if not l.startswith("# jsbsim_gust_")]
+    meta = dict(l[2:].split(": ", 1) for l in head if ": " in l)
+    if "severity 3)" not in meta.get("jsbsim_turbulence", ""):
+        raise SystemExit(f"{path}: the intensity is written here for JSBSim's light turbulence "
+                         f"(severity 3) only, not {meta.get('jsbsim_turbulence', 'none')!r}")
     body = [l for l in lines if not l.startswith("#")]
     cols = body[0].split(",")
     rows = [r.split(",") for r in body[1:]]
@@ -56,7 +60,7 @@ def main(path: str) -> int:
         sig.append(math.sqrt(sum((v - m) ** 2 for v in x) / len(x)))
         lag.append(efold_lag(x, dt))
     names = ["north", "east", "down"]
-    meta = dict(l[2:].split(": ", 1) for l in head if ": " in l)
+    # FGWinds takes the height above the ground; JSBSim's ground here is at sea level.
     height = float(meta["altitude_m"]) - sum(float(r[idx["down_m"]]) for r in rows) / len(rows)
     intensity = jsbsim_intensity_mps(height)
     head.append("# jsbsim_gust_intensity_mps: " + " ".join(f"{n}={intensity:.4f}" for n in names))
