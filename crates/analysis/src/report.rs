@@ -1060,7 +1060,7 @@ pub fn turbulence_text(t: &crate::diagnose::turbulence::TurbulenceFinding) -> St
     // Where a length is assumed, the data fix the gusts' power at the frequencies the flight
     // shows (∝ σ²/L), not σ alone: a σ holds for its length (docs/turbulence.md).
     let assumed = if g.length_se_m.iter().any(Option::is_none) {
-        "; a σ holds for its axis's assumed length and scales as √L"
+        "; a σ holds for its axis's assumed length and scales about as √L"
     } else {
         ""
     };
