@@ -26,15 +26,18 @@ fn aerosonde() -> Model {
     )
 }
 
-fn truth_of(flight: &FlightData) -> GustTruth {
-    let record = flight
+/// The value of the flight's metadata line `# KEY: …`.
+fn meta_line<'a>(flight: &'a FlightData, key: &str) -> Option<&'a str> {
+    flight
         .meta
         .other
         .iter()
-        .find(|(k, _)| k == TRUTH_KEY)
-        .map(|(_, v)| v.clone())
-        .expect("a turbulence record");
-    GustTruth::parse(&record).unwrap()
+        .find(|(k, _)| k == key)
+        .map(|(_, v)| v.as_str())
+}
+
+fn truth_of(flight: &FlightData) -> GustTruth {
+    GustTruth::parse(meta_line(flight, TRUTH_KEY).expect("a turbulence record")).unwrap()
 }
 
 /// σ and the correlation at lags 0.5·T and T of a series `dt` apart.
@@ -282,13 +285,7 @@ fn jsbsim_turbulent_flights_carry_their_gust_truth() {
         let flight = wireflight::flight::data::read(&path).unwrap();
         assert_eq!(flight.len(), 1251, "{name}");
         let header = |key: &str| -> Vec<f64> {
-            let line = flight
-                .meta
-                .other
-                .iter()
-                .find(|(k, _)| k == key)
-                .map(|(_, v)| v.clone())
-                .unwrap_or_else(|| panic!("{name}: a {key} line"));
+            let line = meta_line(&flight, key).unwrap_or_else(|| panic!("{name}: a {key} line"));
             line.split_whitespace()
                 .filter_map(|w| w.split_once('=')?.1.parse().ok())
                 .collect()
