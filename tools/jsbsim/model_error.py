@@ -2,7 +2,7 @@
 """What the c172p parameter set lacks in turbulence: JSBSim's own force and moment against the
 set's, at JSBSim's own air-relative state.
 
-    python3 tools/jsbsim/model_error.py                  # calm and light turbulence, ~10 s
+    python3 tools/jsbsim/model_error.py                  # calm and light turbulence, ~4 s
 
 The analysis's flight model is never JSBSim's aircraft; reference flights measure how far it is
 off in calm air. In turbulence the aircraft meets states calm flights do not (sideslips and
