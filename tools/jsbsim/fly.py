@@ -234,12 +234,14 @@ TURBULENCE = {  # MIL-F-8785C reference values (FGWinds.h): W20 (ft/s), severity
 
 def fly(manoeuvre: str, duration: float, rate: float, airspeed: float, altitude: float,
         lat: float, lon: float, heading: float, wind=(0.0, 0.0, 0.0), variant=None,
-        turbulence=None, turbulence_seed=1, inputs_seed=1):
+        turbulence=None, turbulence_seed=1, inputs_seed=1, record=None):
     """Fly and return (rows, info). rows: list of sample dicts (SI, radians) with the command.
 
     variant: a c172p_variant.Variant (scaled coefficients, payload) or None; turbulence:
     None or a key of TURBULENCE (Dryden milspec, switched on after the trim and the restart,
-    seeded with turbulence_seed); the gusts are recorded in each row as `turb`."""
+    seeded with turbulence_seed); the gusts are recorded in each row as `turb`. record: None
+    or a function of the C172P whose value each row keeps as `record` (more of JSBSim's state
+    than the CSV holds)."""
     steps_per_row = round(1.0 / (rate * DT))
     if abs(steps_per_row * rate * DT - 1.0) > 1e-9:
         raise SystemExit(f"--rate must divide {1 / DT:.0f} Hz (got {rate})")
@@ -267,6 +269,8 @@ def fly(manoeuvre: str, duration: float, rate: float, airspeed: float, altitude:
         st = sim.sample()
         if turbulence:
             st["turb"] = turbulence_truth(sim)
+        if record is not None:
+            st["record"] = record(sim)
         return st
 
     rows = []

@@ -33,7 +33,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fly  # noqa: E402
-from c172p_sim import C172P, DT, FT, SLUG_FT3  # noqa: E402
+from c172p_sim import C172P, FT, SLUG_FT3  # noqa: E402
 from check import BM, G0, load_params  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -45,48 +45,28 @@ AXES = ["X N", "Y N", "Z N", "L N·m", "M N·m", "N N·m"]
 
 def fly_recording(inputs_seed: int, turbulence: str | None, turbulence_seed: int,
                   duration: float, rate: float) -> list[dict]:
-    """Fly the sequence manoeuvre and record, per sample, JSBSim's force and moment and the
-    air-relative state (SI, radians)."""
-    sim = C172P()
-    trim = sim.trim(50.0, 1000.0, 47.4, 8.5, 0.0)
-    man = fly.Sequence(trim, rate, inputs_seed)
-    cmd = fly.quantise_command(man.controls(0.0, dict(trim)))
-    sim.command(*cmd)
-    sim.restart(trim)
-    if turbulence:
-        w20, severity = fly.TURBULENCE[turbulence]
-        sim["simulation/randomseed"] = turbulence_seed
-        sim["atmosphere/turb-type"] = 3
-        sim["atmosphere/turbulence/milspec/windspeed_at_20ft_AGL-fps"] = w20
-        sim["atmosphere/turbulence/milspec/severity"] = severity
-    sim.set_origin()
-    f = sim.fdm
+    """Fly the sequence manoeuvre (`fly.fly`) and keep, per sample, JSBSim's force and moment
+    and the air-relative state (SI, radians)."""
 
-    def record(throttle: float) -> dict:
+    def record(sim: C172P) -> dict:
+        f = sim.fdm
         aero_f, aero_m = sim.aero_fm(remove_alphadot=False)
         no_ad_f, no_ad_m = sim.aero_fm(remove_alphadot=True)
         prop_f, prop_m = sim.prop_fm()
-        de, da, dr = sim.surfaces()
         return dict(
             total=[a + p for a, p in zip(aero_f + aero_m, prop_f + prop_m)],
             without_alphadot=[a + p for a, p in zip(no_ad_f + no_ad_m, prop_f + prop_m)],
             uvw_air=[f[f"velocities/{c}-aero-fps"] * FT for c in "uvw"],
-            rates=[f[f"velocities/{c}-rad_sec"] for c in "pqr"],
             rates_air=[f[f"velocities/{c}-aero-rad_sec"] for c in "pqr"],
-            alpha=f["aero/alpha-rad"], beta=f["aero/beta-rad"],
-            va=f["velocities/vt-fps"] * FT, rho=f["atmosphere/rho-slugs_ft3"] * SLUG_FT3,
-            controls=(throttle, de, da, dr))
+            rho=f["atmosphere/rho-slugs_ft3"] * SLUG_FT3)
 
-    steps = round(1.0 / (rate * DT))
-    rows = [record(cmd[3])]
-    for k in range(1, int(round(duration * rate)) + 1):
-        for j in range(steps):
-            if j == steps - 1:
-                cmd = fly.quantise_command(man.controls(k / rate, sim.sample()))
-                sim.command(*cmd)
-            f.run()
-        rows.append(record(cmd[3]))
-    return rows
+    rows, _ = fly.fly("sequence", duration, rate, 50.0, 1000.0, 47.4, 8.5, 0.0,
+                      turbulence=turbulence, turbulence_seed=turbulence_seed,
+                      inputs_seed=inputs_seed, record=record)
+    return [dict(row["record"], rates=[row["p"], row["q"], row["r"]], alpha=row["alpha"],
+                 beta=row["beta"], va=row["va"],
+                 controls=(row["cmd"][3], row["de"], row["da"], row["dr"]))
+            for row in rows]
 
 
 def differences(rows: list[dict], bm: BM, s_wing: float, air_rates: bool, alphadot: bool,
