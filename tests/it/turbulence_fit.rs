@@ -192,8 +192,8 @@ fn diagnose_names_turbulence_with_its_intensity() {
 
 /// One wrong number in light turbulence: output error finds the cause but leaves the error
 /// above the noise and its value pulled by the gusts; the verdict is turbulence with that
-/// cause, and the value refitted through the filter is within 10% of the truth — closer than
-/// output error's by more than three of the filter's σ.
+/// cause, and the value refitted through the filter is within 10% of the truth and within
+/// three of its own σ — closer than output error's by more than three of the filter's σ.
 fn changed_number_through_turbulence(key: &str, truth: f64) {
     let dir = tempfile::tempdir().unwrap();
     let hidden = format!("aircraft:{key}={truth}");
@@ -212,8 +212,8 @@ fn changed_number_through_turbulence(key: &str, truth: f64) {
         refit["output_error"].as_f64().unwrap(),
     );
     assert!(
-        (value / truth - 1.0).abs() < 0.10,
-        "{key}: {value} against {truth}"
+        (value / truth - 1.0).abs() < 0.10 && (value - truth).abs() < 3.0 * sigma,
+        "{key}: {value} ± {sigma} against {truth}"
     );
     assert!(
         (oe - truth).abs() > (value - truth).abs() + 3.0 * sigma,
@@ -234,7 +234,9 @@ fn pitch_stiffness_through_turbulence() {
 /// The c172p (50 m/s, 1000 m, 25 Hz) in light turbulence (2.22 m/s on every axis at that
 /// height) with its pitch stiffness × 0.85 (−1.952 → −1.6592): output error's fit of it is
 /// 10% off (−1.4933) and not significant; through the filter the verdict names the pitch
-/// stiffness alone, within 2% of the truth (−1.6787 ± 0.0078).
+/// stiffness alone, within 0.5% of the truth and within three of its own σ (−1.6585 ±
+/// 0.0011). Gusts estimated once, on the set's pitch stiffness, took a pitching disturbance
+/// the air did not have and put it 1.2% strong, 2.5 times the ± it stated.
 #[test]
 fn only_the_changed_number_is_kept_through_turbulence() {
     let dir = tempfile::tempdir().unwrap();
@@ -265,10 +267,13 @@ fn only_the_changed_number_is_kept_through_turbulence() {
     );
     let refits = d["turbulence"]["refits"].as_array().unwrap();
     assert_eq!(refits.len(), 1, "{refits:#?}");
-    let value = refits[0]["value"].as_f64().unwrap();
+    let (value, sigma) = (
+        refits[0]["value"].as_f64().unwrap(),
+        refits[0]["sigma"].as_f64().unwrap(),
+    );
     assert!(
-        (value / truth - 1.0).abs() < 0.02,
-        "{value} against {truth}"
+        (value / truth - 1.0).abs() < 0.005 && (value - truth).abs() < 3.0 * sigma,
+        "{value} ± {sigma} against {truth}"
     );
 }
 
@@ -340,7 +345,8 @@ fn calm_changes_are_not_turbulence_and_the_method_can_be_forced() {
 /// `compare --add` in light turbulence: output error leaves the model above the floor, so
 /// the filter runs; it finds the gusts (within 25%), its innovations are at the noise on
 /// the navigation channels, and the added number is fitted again through it — within 2% of
-/// the truth, closer than output error's by more than three σ — and written by `--out`.
+/// the truth and three of its σ, closer than output error's by more than three σ — and
+/// written by `--out`.
 /// `--method output-error` keeps to output error.
 #[test]
 fn compare_fits_through_turbulence() {
@@ -383,8 +389,8 @@ fn compare_fits_through_turbulence() {
         refit["output_error"].as_f64().unwrap(),
     );
     assert!(
-        (value / truth - 1.0).abs() < 0.02,
-        "{value} against {truth}"
+        (value / truth - 1.0).abs() < 0.02 && (value - truth).abs() < 3.0 * sigma,
+        "{value} ± {sigma} against {truth}"
     );
     assert!(
         (oe - truth).abs() > (value - truth).abs() + 3.0 * sigma,
@@ -409,9 +415,9 @@ fn compare_fits_through_turbulence() {
 }
 
 /// `identify` in light turbulence: output error's roll damping is pulled by the gusts; the
-/// values `identify` reports are refitted through the filter, within 1% of the truth, closer
-/// than output error's by more than three of their σ; `--method output-error` keeps output
-/// error's.
+/// values `identify` reports are refitted through the filter, within 1% of the truth and
+/// three of their σ, closer than output error's by more than three of their σ; `--method
+/// output-error` keeps output error's.
 #[test]
 fn identify_refits_through_turbulence() {
     let dir = tempfile::tempdir().unwrap();
@@ -447,7 +453,10 @@ fn identify_refits_through_turbulence() {
     );
     let oe = fe["turbulence"]["output_error"][0].as_f64().unwrap();
     assert_eq!(fe["turbulence"]["flights"][0]["significant"], true);
-    assert!((value / truth - 1.0).abs() < 0.01, "{value}");
+    assert!(
+        (value / truth - 1.0).abs() < 0.01 && (value - truth).abs() < 3.0 * sigma,
+        "{value} ± {sigma}"
+    );
     assert!(
         (oe - truth).abs() > (value - truth).abs() + 3.0 * sigma,
         "{oe} {value} ± {sigma}"

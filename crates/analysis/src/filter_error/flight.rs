@@ -99,6 +99,14 @@ pub const TURBULENCE_LR_BOUND: f64 = 22.46;
 /// χ² with three degrees of freedom at 0.1 %: the gust velocities must earn theirs on top of
 /// the rotary disturbance (a missing moment looks like one).
 pub const GUST_LR_BOUND: f64 = 16.27;
+/// Rounds at most of estimating the gusts on numbers just fitted through the filter and
+/// fitting the numbers again with them (`diagnose` and `identify` through turbulence): the
+/// gusts estimated once, on numbers that were not yet the filter's, stop short of the
+/// likelihood's joint maximum.
+pub const SETTLE_ROUNDS: usize = 4;
+/// The numbers and the gusts are settled when a round moves no number by more than this
+/// share of its σ.
+pub const SETTLED_SIGMAS: f64 = 0.1;
 /// Smallest gust σ called turbulence, m/s: half of MIL-F-8785C's light turbulence near the
 /// ground (0.77–0.88 m/s). Below it, what the filter takes for gusts is as likely the model's
 /// own error: 0.1–0.3 m/s on JSBSim's calm c172p flights, with an exact model 0.01–0.05.

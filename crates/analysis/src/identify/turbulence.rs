@@ -1,13 +1,17 @@
 //! Identification through turbulence: where the flights were flown in gusts, the numbers
 //! output error identified are fitted again by the filter-error method
 //! ([`crate::filter_error::flight`]) on every flight together, each flight with the gusts the
-//! filter estimates on it, held to the starting set by the same prior. `Method::Auto` does
-//! so only where some flight's gusts are significant.
+//! filter estimates on it, held to the starting set by the same prior; then the gusts again
+//! on the refitted set and the numbers again with them, in turn, until a fit moves no number
+//! by more than [`SETTLED_SIGMAS`] of its σ (as a diagnosis settles its causes,
+//! [`crate::diagnose::turbulence`]). `Method::Auto` does so only where some flight's gusts
+//! are significant.
 
 use super::{Identification, IdentifyConfig};
 use crate::compare::{compare, estimate_noise};
 use crate::filter_error::flight::{
-    fit_flights, FilterError, FlightFilter, GustEstimate, MethodChoice as Method,
+    fit_flights, FilterError, FlightFilter, GustEstimate, MethodChoice as Method, SETTLED_SIGMAS,
+    SETTLE_ROUNDS,
 };
 use wireflight_flight::data::FlightData;
 use wireflight_flight::model::Model;
@@ -15,7 +19,7 @@ use wireflight_flight::model::Model;
 /// What the filter-error method did to an identification.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ThroughTurbulence {
-    /// The gusts on each flight (on the model output error identified).
+    /// The gusts on each flight (estimated on the refitted set).
     pub gusts: Vec<GustEstimate>,
     /// Output error's values of the numbers, in the identification's order (the estimates now
     /// hold the filter's).
@@ -47,10 +51,10 @@ pub fn through_turbulence(
             Err(_) => return Ok(None),
         }
     }
-    let gusts: Vec<GustEstimate> = filters
-        .iter()
-        .map(|f| f.estimate_gusts(&id.model))
-        .collect();
+    let estimate = |model: &Model| -> Vec<GustEstimate> {
+        filters.iter().map(|f| f.estimate_gusts(model)).collect()
+    };
+    let mut gusts = estimate(&id.model);
     if !forced && !gusts.iter().any(GustEstimate::significant) {
         return Ok(None);
     }
@@ -67,25 +71,43 @@ pub fn through_turbulence(
         .iter()
         .map(|v| (0.1 * v.abs()).max(1e-3))
         .collect();
-    let pairs: Vec<(&FlightFilter, _)> = filters
-        .iter()
-        .zip(&gusts)
-        .map(|(f, g)| (f, g.model()))
-        .collect();
-    let fit = fit_flights(
-        &pairs,
-        &id.model,
-        &set,
-        &output_error,
-        &scales,
-        Some((&centre, &prior)),
-    );
-    let spread = fit.pass.normalised.max(1.0);
-    for ((e, v), s) in id.estimates.iter_mut().zip(&fit.theta).zip(&fit.sigma) {
-        e.value = *v;
-        e.sigma = s * spread;
+    let mut theta = output_error.clone();
+    let mut settled = false;
+    for round in 0..=SETTLE_ROUNDS {
+        if round > 0 {
+            gusts = estimate(&id.model);
+        }
+        let pairs: Vec<(&FlightFilter, _)> = filters
+            .iter()
+            .zip(&gusts)
+            .map(|(f, g)| (f, g.model()))
+            .collect();
+        let fit = fit_flights(
+            &pairs,
+            &id.model,
+            &set,
+            &theta,
+            &scales,
+            Some((&centre, &prior)),
+        );
+        let spread = fit.pass.normalised.max(1.0);
+        // The first fit is judged against output error's values, which it is meant to move.
+        settled = round > 0;
+        for ((e, v), s) in id.estimates.iter_mut().zip(&fit.theta).zip(&fit.sigma) {
+            let sigma = s * spread;
+            settled &= (v - e.value).abs() <= SETTLED_SIGMAS * sigma || !sigma.is_finite();
+            e.value = *v;
+            e.sigma = sigma;
+        }
+        set(&mut id.model, &fit.theta);
+        theta.clone_from(&fit.theta);
+        if settled {
+            break;
+        }
     }
-    set(&mut id.model, &fit.theta);
+    if !settled {
+        gusts = estimate(&id.model);
+    }
     id.after = flights
         .iter()
         .map(|d| compare(&id.model, d, cfg.compare))
