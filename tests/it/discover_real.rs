@@ -292,6 +292,7 @@ fn mk82_incidence_lift_reads_the_recorded_attitude() {
 /// are small (each reference gives different ones); the held-out error must not grow by more
 /// than the noise.
 #[test]
+#[ignore = "validation tier: cargo test -- --ignored"]
 fn c172p_terms_found_after_identify_do_not_worsen_the_held_out_flight() {
     let dir = tempfile::tempdir().unwrap();
     let flight = |name: &str| {

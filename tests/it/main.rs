@@ -40,6 +40,7 @@ mod sensors;
 mod several_causes;
 mod terms;
 mod terms_window;
+mod tiers;
 mod turbulence;
 mod turbulence_fit;
 mod view;

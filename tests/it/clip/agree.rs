@@ -6,8 +6,8 @@
 //!
 //! Counts: `WIREFLIGHT_CLIP_CASES` edges per test (default 400 000 homogeneous edges, half
 //! per depth range, and 400 000 2D edges, each checked with all five algorithms: 2 000 000
-//! checks per test, a few seconds at the test profile's opt-level 1); the `#[ignore]`d
-//! `*_many` tests run 2 000 000 edges each (`cargo test --release -- --ignored`).
+//! checks per test, a few seconds at the test profile's opt-level 1); the `*_many` tests, in
+//! the validation tier (`cargo test --locked -- --ignored`), run 2 000 000 edges each.
 
 use super::check::{check_homogeneous, check_planar, Tally, HOMOGENEOUS, PLANAR};
 use crate::support::Rng;
@@ -321,14 +321,14 @@ fn planar_algorithms_agree_with_the_reference() {
 
 /// 2 000 000 homogeneous edges (× 5 algorithms).
 #[test]
-#[ignore = "long: 2 000 000 edges; run with --ignored (ideally --release)"]
+#[ignore = "validation tier: cargo test -- --ignored"]
 fn homogeneous_algorithms_agree_many() {
     run_homogeneous(2_000_000, 0xBEEF_0000);
 }
 
 /// 2 000 000 2D edges (× 5 algorithms).
 #[test]
-#[ignore = "long: 2 000 000 edges; run with --ignored (ideally --release)"]
+#[ignore = "validation tier: cargo test -- --ignored"]
 fn planar_algorithms_agree_many() {
     run_planar(2_000_000, 0xBEEF_2D00);
 }
