@@ -91,6 +91,7 @@ where
         Command::Clip(args) => clip::run(&args),
         Command::Import(args) => import::run(&args),
         Command::Keys(args) => commands::keys::run(&args),
+        Command::Effects(args) => commands::effects::run(&args),
     }
 }
 

@@ -13,6 +13,7 @@ mod clip;
 mod diagnose;
 mod discover;
 mod discover_real;
+mod effects_cmd;
 mod euler;
 mod euler_cli;
 mod euler_pictures;

@@ -3,6 +3,7 @@
 mod analysis;
 mod clip;
 mod data;
+mod effects;
 mod euler;
 
 use std::path::PathBuf;
@@ -18,6 +19,7 @@ use crate::flight::VehicleKind;
 pub use analysis::*;
 pub use clip::*;
 pub use data::*;
+pub use effects::*;
 pub use euler::*;
 
 mod values;
@@ -76,6 +78,9 @@ pub enum Command {
     Import(ImportArgs),
     /// List every `aircraft:KEY` of a fixed-wing parameter set: unit, range, meaning, value.
     Keys(KeysArgs),
+    /// List the catalogue's effects: what each adds, its parameters' units, ranges and
+    /// defaults, and command lines that use it.
+    Effects(EffectsArgs),
 }
 
 /// `wireflight keys` options.
@@ -84,12 +89,17 @@ pub enum Command {
 Examples:
   wireflight keys
   wireflight keys --aircraft assets/aircraft/c172p.toml
+  wireflight keys --json
   wireflight simulate --hidden aircraft:c_m_alpha=-3.3 --out a.csv   # a key set in the truth
   wireflight diagnose --flight a.csv --add aircraft:c_m_alpha          # a key fitted")]
 pub struct KeysArgs {
     /// Parameter set whose values are listed: `aerosonde` or a .toml file.
     #[arg(long, default_value = "aerosonde", value_name = "NAME|FILE.toml")]
     pub aircraft: String,
+    /// Machine-readable output (JSON) on stdout: the set's name and every key with its table,
+    /// unit, range, value and meaning.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Which model to run against data (shared by compare and diagnose).
@@ -390,16 +400,16 @@ Examples:
   wireflight simulate --model docs/examples/model.toml --manoeuvre figure-eight --duration 140 --out f8.csv
 
 Manoeuvres: level, climbing-turn, doublets, elevator-doublet, aileron-doublet, rudder-doublet,
-figure-eight, flight-test (fixed-wing); ballistic (point-mass).
-Effects: wind, drag, density_altitude, gravity_model, earth_rotation, earth_curvature,
-prop_torque, ground_effect, actuator_lag, gyroscopic; and what the sensors read: nav_delay,
-gyro_bias, airspeed_scale, airspeed_bias, accel_bias, attitude_offset (see
-docs/flight-model.md). --hidden effects fly in the truth (the sensors' change what the file
-records) but nothing about them is written to the file.";
+figure-eight, flight-test (fixed-wing); ballistic (point-mass).";
+
+/// `simulate --help`'s closing text: the examples and manoeuvres, then the catalogue's effects.
+fn simulate_help() -> String {
+    format!("{SIMULATE_EXAMPLES}\n{}", simulate_effects_help())
+}
 
 /// `wireflight simulate` options.
 #[derive(Debug, Args)]
-#[command(after_help = SIMULATE_EXAMPLES)]
+#[command(after_help = simulate_help())]
 pub struct SimulateArgs {
     /// Vehicle family.
     #[arg(long, default_value = "fixed-wing", value_parser = parse_vehicle)]
