@@ -626,11 +626,51 @@ fn readme_setup_and_install_commands_are_what_ci_runs_and_builds() {
     }
 }
 
+/// `docs/notes/*.md`, the dated notebooks (measurement history, what was tried), as
+/// repository-relative paths.
+fn notes_pages() -> Vec<String> {
+    let mut pages: Vec<String> = fs::read_dir(repo().join("docs/notes"))
+        .map(|dir| {
+            dir.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .filter(|n| n.ends_with(".md"))
+                .map(|n| format!("docs/notes/{n}"))
+                .collect()
+        })
+        .unwrap_or_default();
+    pages.sort();
+    pages
+}
+
 /// The pages checked for links and wording.
 fn all_pages() -> Vec<String> {
     let mut pages = vec!["README.md".to_string(), "CHANGELOG.md".to_string()];
     pages.extend(docs_pages());
+    pages.extend(notes_pages());
     pages
+}
+
+/// The notebooks are history: no transcript there (none would be run), and the user pages
+/// do not send a reader to them before their second screen.
+#[test]
+fn notebooks_hold_no_transcripts_and_user_pages_open_without_them() {
+    let mut found = Vec::new();
+    for page in notes_pages() {
+        for fence in fences(&read(&page)) {
+            if fence.info == "console" {
+                found.push(format!("{page}: a `console` block, which no test runs"));
+            }
+        }
+    }
+    let mut user_pages = vec!["README.md".to_string()];
+    user_pages.extend(docs_pages());
+    for page in user_pages {
+        for (i, line) in read(&page).lines().take(40).enumerate() {
+            if line.contains("notes/") {
+                found.push(format!("{page}:{}: a notebook in the first screen", i + 1));
+            }
+        }
+    }
+    assert!(found.is_empty(), "{}", found.join("\n"));
 }
 
 #[test]

@@ -146,7 +146,10 @@ fn the_ci_script_runs_both_tiers() {
     let ci = fs::read_to_string(repo().join(".ci/run")).unwrap();
     let commands: Vec<&str> = ci.lines().map(str::trim).collect();
     assert!(commands.contains(&"cargo test --locked"), "{ci}");
-    assert!(commands.contains(&"cargo test --locked -- --ignored"), "{ci}");
+    assert!(
+        commands.contains(&"cargo test --locked -- --ignored"),
+        "{ci}"
+    );
 }
 
 #[test]
@@ -166,5 +169,8 @@ fn a_mark_elsewhere_or_misspelt_is_found() {
         module_of(&repo().join("tests/it/clip/agree.rs")),
         "clip::agree"
     );
-    assert_eq!(module_of(&repo().join("tests/it/hardening/mod.rs")), "hardening");
+    assert_eq!(
+        module_of(&repo().join("tests/it/hardening/mod.rs")),
+        "hardening"
+    );
 }
