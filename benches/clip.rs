@@ -17,9 +17,9 @@
 //! `copy` is a streaming copy of the same bytes (the eight coordinate arrays, 32 B per edge,
 //! into eight others): the bandwidth reference. `copy-blocks` copies them the way the batch
 //! writes: 64 edges at a time into nine vectors (the eight and the edge indices), 36 B out. `blinn-batch` is the structure-of-arrays
-//! path ([`wireflight::clip::batch::clip_soa`]: its AVX-512 build where the CPU has one, the
-//! portable build elsewhere, chosen at run time); every other line is the straightforward
-//! per-edge loop (clip, tally, push the segment). 2D algorithms run on 2D sets of the same
+//! path ([`wireflight::geometry::clip::batch::clip_soa`]: its AVX-512 build where the CPU has
+//! one, the portable build elsewhere, chosen at run time); every other line is the
+//! straightforward per-edge loop (clip, tally, push the segment). 2D algorithms run on 2D sets of the same
 //! kinds. `scene_1m` transforms, clips and projects a 1 M-edge mesh through
 //! [`EdgeProjector`] (rayon on all cores, and on one thread for comparison).
 //!
@@ -38,15 +38,15 @@ use std::time::{Duration, Instant};
 use criterion::{criterion_group, criterion_main, Bencher, BenchmarkGroup, Criterion, Throughput};
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
-use wireflight::camera::{Camera, Projection};
-use wireflight::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
-use wireflight::clip::{
+use wireflight::geometry::camera::{Camera, Projection};
+use wireflight::geometry::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
+use wireflight::geometry::clip::{
     cohen_sutherland, cyrus_beck, liang_barsky, nicholl_lee_nicholl, sutherland_hodgman,
     ClipOutcome, ClipStats, ClipVolume, Clipper, DepthRange, Window2,
 };
-use wireflight::mesh::world::{World, WorldSpec};
-use wireflight::mesh::{EdgeMesh, EdgeMeshBuilder};
-use wireflight::pipeline::{EdgeProjector, Viewport};
+use wireflight::geometry::mesh::world::{World, WorldSpec};
+use wireflight::geometry::mesh::{EdgeMesh, EdgeMeshBuilder};
+use wireflight::geometry::pipeline::{EdgeProjector, Viewport};
 
 /// xorshift64*: deterministic, no dependency.
 struct Rng(u64);
@@ -323,7 +323,7 @@ fn homogeneous(c: &mut Criterion) {
         };
         let mut tally = ClipStats::default();
         for &(a, b) in &edges {
-            tally.record(&wireflight::clip::clip_edge(a, b, DEPTH));
+            tally.record(&wireflight::geometry::clip::clip_edge(a, b, DEPTH));
         }
         eprintln!("{kind}: {tally}");
         homogeneous_group(c, &format!("clip/{kind}"), &edges, &Clipper::ALL);

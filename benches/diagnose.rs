@@ -8,11 +8,11 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use wireflight::analysis::compare::{compare_prepared, CompareConfig, Prepared};
 use wireflight::analysis::diagnose::{diagnose, DiagnoseConfig};
 use wireflight::analysis::identify::{free_keys, identify, IdentifyConfig};
+use wireflight::data::VehicleKind;
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelSpec};
-use wireflight::flight::VehicleKind;
 
 fn one_hour(c: &mut Criterion) {
     let base = ModelSpec::baseline(VehicleKind::FixedWing);

@@ -6,12 +6,12 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::DVec3;
 
+use wireflight::data::VehicleKind;
 use wireflight::flight::effects::{Origin, CATALOGUE};
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
 use wireflight::flight::spec::EffectSpec;
 use wireflight::flight::trim::trim_level;
-use wireflight::flight::VehicleKind;
 
 fn aerosonde(all_effects: bool) -> Model {
     let params = FixedWingParams::aerosonde();

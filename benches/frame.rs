@@ -10,14 +10,14 @@
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::Vec3;
 
-use wireflight::camera::{CameraPreset, Subject};
-use wireflight::euler::EulerZyx;
-use wireflight::mesh::{plane::builtin_plane, EdgeMesh, EdgeMeshBuilder};
-use wireflight::pipeline::{model_matrix, EdgeProjector, Viewport};
-use wireflight::render::gpu::GpuRenderer;
-use wireflight::render::{cpu, LineBatch, LineScene};
-use wireflight::scene::palette;
-use wireflight::scene::{frame, ViewSpec};
+use wireflight::draw::render::gpu::GpuRenderer;
+use wireflight::draw::render::{cpu, LineBatch, LineScene};
+use wireflight::draw::scene::palette;
+use wireflight::draw::scene::{frame, ViewSpec};
+use wireflight::geometry::camera::{CameraPreset, Subject};
+use wireflight::geometry::euler::EulerZyx;
+use wireflight::geometry::mesh::{plane::builtin_plane, EdgeMesh, EdgeMeshBuilder};
+use wireflight::geometry::pipeline::{model_matrix, EdgeProjector, Viewport};
 
 const VIEWPORT: Viewport = Viewport {
     width: 1280,

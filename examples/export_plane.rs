@@ -14,8 +14,8 @@
 use std::path::PathBuf;
 
 use serde_json::json;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::mesh::EdgeMesh;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::mesh::EdgeMesh;
 
 const AXES_NOTE: &str = "body axes: +X nose, +Y left wing, +Z up (metres); \
      not glTF's +Y-up convention";

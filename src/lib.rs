@@ -1,15 +1,16 @@
 //! wireflight: a wireframe flight viewer and flight-model workbench.
 //!
-//! The work is done by the library crates, one layer each, and this crate puts them under
-//! one roof (the paths below) with the command line and the window on top ([`app`]):
+//! The work is done by the library crates, one layer each, re-exported here under their own
+//! names, with the command line and the window on top ([`app`]):
 //!
-//! * `wireflight-geometry`: [`euler`], [`camera`], [`clip`], [`pipeline`], [`mesh`] (with the
-//!   loaders of `wireflight-draw`), [`lines`] — pure geometry.
-//! * `wireflight-fsio`: [`fsio`] — bounded reads, atomic writes.
-//! * `wireflight-flight`: [`flight`], [`numeric`] — the flight model and flight data.
-//! * `wireflight-analysis`: [`analysis`] — model vs measurements (with `plots` from the
-//!   drawing crate).
-//! * `wireflight-draw`: [`scene`], [`render`], [`output`], [`progress`] — pictures.
+//! * [`geometry`] (`wireflight-geometry`): Euler angles, camera, clipping, projection, meshes,
+//!   2D line scenes — pure geometry.
+//! * [`fsio`] (`wireflight-fsio`): bounded reads, atomic writes.
+//! * [`data`] (`wireflight-data`): flight data and the files it is read from and written to.
+//! * [`flight`] (`wireflight-flight`): the flight model, its effects, simulated flights.
+//! * [`analysis`] (`wireflight-analysis`): model vs measurements.
+//! * [`draw`] (`wireflight-draw`): mesh files, scenes, rasterizers, outputs, plots, the
+//!   fly-through state.
 //!
 //! See `ARCHITECTURE.md`.
 
@@ -17,24 +18,9 @@
 
 pub mod app;
 
-pub use wireflight_draw::{output, progress, render, scene};
-pub use wireflight_flight::numeric;
+pub use wireflight_analysis as analysis;
+pub use wireflight_data as data;
+pub use wireflight_draw as draw;
+pub use wireflight_flight as flight;
 pub use wireflight_fsio as fsio;
-pub use wireflight_geometry::{camera, clip, euler, lines, pipeline};
-
-/// The flight model and flight data (`wireflight-flight`).
-pub mod flight {
-    pub use wireflight_flight::*;
-}
-
-/// Wireframe models: the geometry crate's meshes and the drawing crate's file loaders.
-pub mod mesh {
-    pub use wireflight_draw::mesh_files::{gltf, load, load_named, obj, MeshError};
-    pub use wireflight_geometry::mesh::*;
-}
-
-/// Model vs measurements (`wireflight-analysis`) and its plots (`wireflight-draw`).
-pub mod analysis {
-    pub use wireflight_analysis::*;
-    pub use wireflight_draw::plots;
-}
+pub use wireflight_geometry as geometry;

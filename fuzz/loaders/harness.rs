@@ -3,15 +3,15 @@
 //!
 //! Shared by the fuzz targets (`fuzz_targets/*.rs`, whose library this file is) and the corpus
 //! replay test (`tests/it/fuzz_corpus.rs`, stable), which includes it by path. It names the
-//! library crates by their own names (`wireflight_flight`, `wireflight_draw`,
-//! `wireflight_geometry`) and `glam`: both the fuzz crate and the root package depend on them,
-//! so the same paths resolve in both.
+//! library crates by their own names (`wireflight_data`, `wireflight_flight`,
+//! `wireflight_draw`, `wireflight_geometry`) and `glam`: both the fuzz crate and the root
+//! package depend on them, so the same paths resolve in both.
 
 use std::path::Path;
 
+use wireflight_data::parse as parse_flight_data;
 use wireflight_draw::flythrough::script::parse as parse_script;
 use wireflight_draw::mesh_files::{gltf::parse as parse_gltf, obj::parse as parse_obj};
-use wireflight_flight::data::parse as parse_flight_data;
 use wireflight_flight::effects::Origin;
 use wireflight_flight::model::{Model, Vehicle};
 use wireflight_flight::params::FixedWingParams;
@@ -83,7 +83,7 @@ pub fn script(data: &[u8]) {
 /// loads validates, keeps the documented ranges (times ±1e9 s; positions ±1e8 m, or a
 /// flat-earth conversion of in-range latitudes, longitudes and altitudes), and reports.
 pub fn column_map(data: &[u8]) {
-    use wireflight_flight::data::mapped::{parse as parse_mapped, ColumnMap};
+    use wireflight_data::mapped::{parse as parse_mapped, ColumnMap};
     let (map, csv) = match data.iter().position(|&b| b == 0) {
         Some(i) => (&data[..i], &data[i + 1..]),
         None => (data, &[][..]),
@@ -110,8 +110,8 @@ pub fn column_map(data: &[u8]) {
 /// input (100 samples per position or attitude sample, each at least a 13-byte message, or
 /// 10 000), writes as CSV that reads back, and reports with no control characters.
 pub fn ulog(data: &[u8]) {
-    use wireflight_flight::data::px4::{self, UlogOptions};
-    use wireflight_flight::data::ulog::UlogFile;
+    use wireflight_data::px4::{self, UlogOptions};
+    use wireflight_data::ulog::UlogFile;
     let Ok(log) = UlogFile::parse(data, "fuzz.ulg", |t| px4::TOPICS.contains(&t)) else {
         return;
     };
@@ -130,7 +130,7 @@ pub fn ulog(data: &[u8]) {
     assert_within_ranges(&d);
     let _ = d.controls_at(d.duration() * 0.5);
     // `import --out` writes what was read: the CSV reader takes it back.
-    let csv = wireflight_flight::data::to_csv_string(&d);
+    let csv = wireflight_data::to_csv_string(&d);
     if let Err(e) = parse_flight_data(&csv, "fuzz.csv") {
         panic!("ULog data that would not read back: {e}");
     }
@@ -381,7 +381,7 @@ pub fn ulog_from_bytes(data: &[u8]) -> Vec<u8> {
 
 /// What every reader promises of the data it lets through: times within ±1e9 s, positions
 /// within ±2e8 m, commands within their ranges (throttle 0..1, surfaces ±90°).
-fn assert_within_ranges(d: &wireflight_flight::data::FlightData) {
+fn assert_within_ranges(d: &wireflight_data::FlightData) {
     assert!(d.time.iter().all(|t| t.abs() <= 1e9), "time out of range");
     assert!(
         d.pos_ned.iter().all(|p| p.abs().max_element() <= 2e8),

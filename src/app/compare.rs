@@ -16,14 +16,14 @@ use crate::analysis::report::{
     windows_json, Table,
 };
 use crate::app::cli::CompareArgs;
-use crate::clip::Clipper;
-use crate::flight::data::FlightData;
+use crate::data::FlightData;
+use crate::draw::output::{write_frames, FrameOut};
+use crate::draw::render::Rasterizer;
+use crate::draw::scene::replay::ReplayScene;
+use crate::draw::scene::track::ModelTrack;
 use crate::flight::model::Model;
-use crate::numeric::format::fixed;
-use crate::output::{write_frames, FrameOut};
-use crate::render::Rasterizer;
-use crate::scene::replay::ReplayScene;
-use crate::scene::track::ModelTrack;
+use crate::flight::numeric::format::fixed;
+use crate::geometry::clip::Clipper;
 
 /// Where and how one model fails: its comparison, the conditions its error follows and how
 /// the error grows inside a window.
@@ -100,7 +100,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let reference_floor = if references.is_empty() {
         None
     } else {
-        let named: Vec<(&str, &crate::flight::data::FlightData)> =
+        let named: Vec<(&str, &crate::data::FlightData)> =
             references.iter().map(|(n, d)| (n.as_str(), d)).collect();
         let f = crate::analysis::reference::model_floor(&base, &named, cfg)?;
         cfg.model_error = Some(f.model_error);
@@ -124,7 +124,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             cfg.window_s
         );
     }
-    let progress = crate::progress::Progress::spinner(
+    let progress = crate::draw::progress::Progress::spinner(
         &format!("comparing over {:.0} s of data", data.duration()),
         args.json,
     );
@@ -157,7 +157,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let method: Method = args.method.into();
     let unexplained = method == Method::Auto
         && !at_floor
-        && final_model.vehicle.kind() == crate::flight::VehicleKind::FixedWing
+        && final_model.vehicle.kind() == crate::data::VehicleKind::FixedWing
         && {
             let dcfg = DiagnoseConfig {
                 compare: cfg,
@@ -191,18 +191,18 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let series = quoted
             .conditions
             .first()
-            .map(|c| crate::analysis::plots::ConditionSeries {
+            .map(|c| crate::draw::plots::ConditionSeries {
                 name: c.name.to_string(),
                 unit: c.unit.to_string(),
                 per_window: c.per_window.clone(),
             });
-        let info = crate::analysis::plots::PlotInfo {
+        let info = crate::draw::plots::PlotInfo {
             data_name: Some(args.flight.display().to_string()),
             model_name: Some(model_label(&base)),
             noise_floor: Some(floor),
             window_s: Some(cfg.window_s),
         };
-        let files = crate::analysis::plots::write_plots_with(
+        let files = crate::draw::plots::write_plots_with(
             dir,
             &data,
             &before.comparison,
@@ -231,8 +231,8 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
             .zip(&b.index)
             .map(|(p, &i)| (*p - data.pos_ned[i]).length())
             .fold(track.strip_scale_m, f64::max);
-        let mesh = crate::mesh::plane::builtin_plane();
-        let viewport = crate::pipeline::Viewport {
+        let mesh = crate::geometry::mesh::plane::builtin_plane();
+        let viewport = crate::geometry::pipeline::Viewport {
             width: args.size.0,
             height: args.size.1,
         };
@@ -480,8 +480,9 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     for c in last.conditions.iter().take(4) {
         t.row([
             format!("{} ({})", c.name, c.unit),
-            c.correlation
-                .map_or("n/a".to_string(), |r| crate::numeric::format::signed(r, 2)),
+            c.correlation.map_or("n/a".to_string(), |r| {
+                crate::flight::numeric::format::signed(r, 2)
+            }),
             c.note.clone().unwrap_or_default(),
         ]);
     }

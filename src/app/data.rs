@@ -3,9 +3,9 @@
 use std::path::Path;
 
 use crate::app::cli::DataArgs;
-use crate::flight::data::{load, FlightData, Loaded};
+use crate::data::{load, FlightData, Loaded};
 
-/// Reads the flight at `path` as `args` say ([`crate::flight::data::load`]: the project's CSV,
+/// Reads the flight at `path` as `args` say ([`crate::data::load`]: the project's CSV,
 /// JSBSim's, a PX4 ULog, or any CSV through a column map). The ULog and column-map readers'
 /// report of what they found goes to stderr (so `--json` on stdout stays clean), unless
 /// `--quiet`.
@@ -14,7 +14,7 @@ use crate::flight::data::{load, FlightData, Loaded};
 /// The reader's error, naming the file and where in it.
 pub fn load_flight(path: &Path, args: &DataArgs) -> anyhow::Result<FlightData> {
     let Loaded { data, report } = load(path, &args.options())?;
-    if let Some(r) = report.filter(|_| !crate::progress::is_quiet()) {
+    if let Some(r) = report.filter(|_| !crate::draw::progress::is_quiet()) {
         eprint!("{}", crate::fsio::printable(&r.to_string()));
     }
     Ok(data)

@@ -54,7 +54,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     if args.discover {
         declared.extend(discovered_terms(&base, &data, &args.flight, &declared)?);
     }
-    let progress = crate::progress::Progress::spinner(
+    let progress = crate::draw::progress::Progress::spinner(
         &format!("diagnosing {:.0} s of data", data.duration()),
         args.json,
     );
@@ -62,7 +62,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         diagnose::diagnose(&base, &data, &declared, &cfg)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
     } else {
-        let named: Vec<(&str, &crate::flight::data::FlightData)> =
+        let named: Vec<(&str, &crate::data::FlightData)> =
             references.iter().map(|(n, d)| (n.as_str(), d)).collect();
         diagnose::reference::diagnose_against(&base, &data, &named, &declared, &cfg)
             .map_err(|e| anyhow::anyhow!("{}: {e}", args.flight.display()))?
@@ -70,7 +70,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     // (Against reference flights the diagnosis's noise is their floor, the model's own
     // error included: the filter weighs its innovations by it as output error does.)
     let compare = cfg.compare;
-    let named: Vec<(&str, &crate::flight::data::FlightData)> =
+    let named: Vec<(&str, &crate::data::FlightData)> =
         references.iter().map(|(n, d)| (n.as_str(), d)).collect();
     diagnose::turbulence::through_turbulence(
         &base,
@@ -111,8 +111,8 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     }
     if d.verdict == diagnose::Verdict::Unexplained && !args.discover {
         let what = match base.vehicle.kind() {
-            crate::flight::VehicleKind::FixedWing => "the force and moment",
-            crate::flight::VehicleKind::PointMass => "the force (along and across its path)",
+            crate::data::VehicleKind::FixedWing => "the force and moment",
+            crate::data::VehicleKind::PointMass => "the force (along and across its path)",
         };
         println!(
             "  next: `wireflight discover --flight {}` estimates {what} the model lacks and \
@@ -130,7 +130,7 @@ const DISCOVERED_CANDIDATES: usize = 5;
 /// (those not among `declared` already).
 fn discovered_terms(
     model: &crate::flight::model::Model,
-    data: &crate::flight::data::FlightData,
+    data: &crate::data::FlightData,
     flight: &std::path::Path,
     declared: &[Box<dyn crate::flight::effects::Effect>],
 ) -> anyhow::Result<Vec<Box<dyn crate::flight::effects::Effect>>> {
@@ -156,9 +156,9 @@ fn discovered_terms(
 pub(crate) fn load_references(
     paths: &[std::path::PathBuf],
     flight: &std::path::Path,
-    data: &crate::flight::data::FlightData,
+    data: &crate::data::FlightData,
     how: &crate::app::cli::DataArgs,
-) -> anyhow::Result<Vec<(String, crate::flight::data::FlightData)>> {
+) -> anyhow::Result<Vec<(String, crate::data::FlightData)>> {
     paths
         .iter()
         .map(|p| {
@@ -179,7 +179,7 @@ pub(crate) fn load_references(
 /// `--out` and `--report`: the model with the causes found, and the page that shows them.
 fn keep(
     args: &DiagnoseArgs,
-    data: &crate::flight::data::FlightData,
+    data: &crate::data::FlightData,
     base: &crate::flight::model::Model,
     d: &diagnose::Diagnosis,
     cfg: &DiagnoseConfig,
@@ -269,7 +269,7 @@ fn keep(
 fn aircraft_source(
     choice: &crate::flight::spec::ModelChoice,
     flight: &std::path::Path,
-    data: &crate::flight::data::FlightData,
+    data: &crate::data::FlightData,
 ) -> anyhow::Result<String> {
     use crate::flight::spec::ModelSpec;
     let source = if let Some(a) = &choice.aircraft {
@@ -277,7 +277,7 @@ fn aircraft_source(
     } else if let Some(m) = &choice.model_file {
         ModelSpec::load(m)?.aircraft_source()
     } else if let Some(a) = &data.meta.aircraft {
-        let mut s = ModelSpec::baseline(crate::flight::VehicleKind::FixedWing);
+        let mut s = ModelSpec::baseline(crate::data::VehicleKind::FixedWing);
         s.aircraft = a.clone();
         s.base_dir = flight.parent().map(std::path::Path::to_path_buf);
         s.aircraft_source()
@@ -317,7 +317,7 @@ pub(crate) fn check_forces_finite(
     extra: &[crate::flight::spec::EffectSpec],
     declared: &[Box<dyn crate::flight::effects::Effect>],
     flight: &std::path::Path,
-    data: &crate::flight::data::FlightData,
+    data: &crate::data::FlightData,
 ) -> anyhow::Result<()> {
     let mut probe = model.clone();
     let ctx = probe.effect_context();
@@ -349,7 +349,7 @@ pub(crate) fn model_toml(
     model: &crate::flight::model::Model,
     choice: &crate::flight::spec::ModelChoice,
     flight: &std::path::Path,
-    data: &crate::flight::data::FlightData,
+    data: &crate::data::FlightData,
     comment: &str,
 ) -> anyhow::Result<String> {
     use std::fmt::Write as _;
@@ -359,7 +359,7 @@ pub(crate) fn model_toml(
     }
     let _ = writeln!(out, "vehicle = \"{}\"", model.vehicle.kind());
     let mut effects: Vec<String> = Vec::new();
-    if model.vehicle.kind() == crate::flight::VehicleKind::FixedWing {
+    if model.vehicle.kind() == crate::data::VehicleKind::FixedWing {
         let source = aircraft_source(choice, flight, data)?;
         let set = crate::flight::params::FixedWingParams::load(&source)?;
         let _ = writeln!(out, "aircraft = {source:?}");

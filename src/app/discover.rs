@@ -36,7 +36,7 @@ pub fn run(args: &DiscoverArgs) -> anyhow::Result<()> {
     // The error the terms leave, as `compare --add` would report it: worth its fits only
     // where there are terms, and where the flight makes windows.
     if !found.terms.is_empty() && !prep.windows.is_empty() {
-        let progress = crate::progress::Progress::spinner(
+        let progress = crate::draw::progress::Progress::spinner(
             &format!("fitting the {} terms found", found.terms.len()),
             args.json,
         );

@@ -1,8 +1,8 @@
 //! `wireflight euler`: Euler angles in any of the 24 conventions ↔ matrix ↔ quaternion, as text
-//! or JSON, and the pictures of [`crate::scene::euler`] written into a directory as a whole.
+//! or JSON, and the pictures of [`crate::draw::scene::euler`] written into a directory as a whole.
 //!
-//! Thin: the numbers come from [`crate::euler`], the pictures from [`crate::scene::euler`],
-//! the files go through [`crate::fsio::write_dir_atomic`].
+//! Thin: the numbers come from [`crate::geometry::euler`], the pictures from
+//! [`crate::draw::scene::euler`], the files go through [`crate::fsio::write_dir_atomic`].
 
 use std::fmt::Write as _;
 
@@ -11,13 +11,13 @@ use glam::{DMat3, DQuat};
 use serde_json::{json, Value};
 
 use crate::app::cli::{EulerArgs, EulerTarget};
-use crate::euler::{Convention, EulerAngles, Lock, Solution};
-use crate::fsio::write_dir_atomic;
-use crate::pipeline::Viewport;
-use crate::render::Rasterizer;
-use crate::scene::euler::{
+use crate::draw::render::Rasterizer;
+use crate::draw::scene::euler::{
     angles_label, gimbal_lock_pictures, interpolation_pictures, steps_pictures, Picture,
 };
+use crate::fsio::write_dir_atomic;
+use crate::geometry::euler::{Convention, EulerAngles, Lock, Solution};
+use crate::geometry::pipeline::Viewport;
 
 /// How far from orthonormal a `--from-matrix` may be: max |RᵀR − I|. Nine numbers typed with
 /// six significant digits are within about 1e-6; 1e-4 lets four or five digits through.
@@ -106,7 +106,7 @@ pub fn run(args: &EulerArgs) -> anyhow::Result<()> {
                     bail!(
                         "--gimbal-lock: the middle angle {} is not at gimbal lock (±90° for \
                          Tait–Bryan {seq:#}, 0° or 180° for proper Euler); e.g. --angles {}",
-                        crate::scene::euler::degrees_label(e.angles[1]),
+                        crate::draw::scene::euler::degrees_label(e.angles[1]),
                         default_lock_degrees(convention)
                             .map(|a| a.to_string())
                             .join(","),
@@ -148,7 +148,7 @@ fn reduce_degrees(d: f64) -> f64 {
 /// The middle angle at its upper lock (Tait–Bryan +90°; proper Euler 0°, where the first and
 /// third rotation are about one axis from the start), the first angle 60°.
 fn default_lock_degrees(c: Convention) -> [f64; 3] {
-    let (first, third) = if c.frame == crate::euler::Frame::Intrinsic {
+    let (first, third) = if c.frame == crate::geometry::euler::Frame::Intrinsic {
         (0, 2)
     } else {
         (2, 0)
@@ -309,7 +309,7 @@ fn print_numbers(args: &EulerArgs, given: &Given, solution: Solution) -> anyhow:
             text,
             "note: gimbal lock: the middle angle is at {} ({} end of its range); the first and \
              third axes coincide, only one combination of those angles is determined",
-            crate::scene::euler::degrees_label(shown.angles[1]),
+            crate::draw::scene::euler::degrees_label(shown.angles[1]),
             lock_name(lock)
         )?;
     }
@@ -331,8 +331,8 @@ fn emit(text: &str) -> anyhow::Result<()> {
 fn describe(c: Convention) -> String {
     let [a, b, d] = c.sequence.axes().map(|x| x.name());
     let product = match c.frame {
-        crate::euler::Frame::Intrinsic => format!("R{a}(A)·R{b}(B)·R{d}(C)"),
-        crate::euler::Frame::Extrinsic => format!("R{d}(C)·R{b}(B)·R{a}(A)"),
+        crate::geometry::euler::Frame::Intrinsic => format!("R{a}(A)·R{b}(B)·R{d}(C)"),
+        crate::geometry::euler::Frame::Extrinsic => format!("R{d}(C)·R{b}(B)·R{a}(A)"),
     };
     let kind = if c.sequence.is_tait_bryan() {
         "Tait–Bryan"
@@ -403,18 +403,19 @@ fn write_pictures(args: &EulerArgs, pictures: &[Picture], notes: &[String]) -> a
 }
 
 fn steps(args: &EulerArgs, e: &EulerAngles) -> anyhow::Result<()> {
-    let mesh = crate::mesh::load_named(&args.mesh)?;
+    let mesh = crate::draw::mesh_files::load_named(&args.mesh)?;
     let pictures = steps_pictures(&mesh, e, viewport(args));
     let note = format!("{}: {}", describe(e.convention), angles_label(e));
     write_pictures(args, &pictures, &[note])
 }
 
 fn gimbal_lock(args: &EulerArgs, locked: &EulerAngles) -> anyhow::Result<()> {
-    let mesh = crate::mesh::load_named(&args.mesh)?;
+    let mesh = crate::draw::mesh_files::load_named(&args.mesh)?;
     let Some((pictures, twin)) = gimbal_lock_pictures(&mesh, locked, viewport(args)) else {
         bail!("--gimbal-lock: the angles are not at gimbal lock");
     };
-    let same = crate::euler::rotation_between(locked.to_quat(), twin.to_quat()).to_degrees();
+    let same =
+        crate::geometry::euler::rotation_between(locked.to_quat(), twin.to_quat()).to_degrees();
     let notes = [
         describe(locked.convention),
         format!(
@@ -427,7 +428,7 @@ fn gimbal_lock(args: &EulerArgs, locked: &EulerAngles) -> anyhow::Result<()> {
 }
 
 fn interpolate(args: &EulerArgs, a: &EulerAngles, b: &EulerAngles) -> anyhow::Result<()> {
-    let mesh = crate::mesh::load_named(&args.mesh)?;
+    let mesh = crate::draw::mesh_files::load_named(&args.mesh)?;
     let frames = usize::from(args.frames);
     let (pictures, c) = interpolation_pictures(&mesh, a, b, frames, viewport(args));
     let notes = [

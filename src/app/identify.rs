@@ -10,11 +10,11 @@ use crate::analysis::identify::{free_keys, identify, Identification, IdentifyCon
 use crate::analysis::report::{model_label, Table};
 use crate::app::cli::IdentifyArgs;
 use crate::app::diagnose::add_fitted_on;
-use crate::flight::data::FlightData;
+use crate::data::FlightData;
+use crate::data::VehicleKind;
 use crate::flight::model::{Model, Vehicle};
+use crate::flight::numeric::format::{fixed, fmt_number, signed};
 use crate::flight::params::keys;
-use crate::flight::VehicleKind;
-use crate::numeric::format::{fixed, fmt_number, signed};
 
 /// A held-out flight's error before and after, in noise units.
 struct Validation {
@@ -384,9 +384,9 @@ fn turbulence_text(
             out,
             "    {} {} ± {} (output error {})",
             e.key.name,
-            crate::numeric::format::fmt_number(e.value),
-            crate::numeric::format::fmt_number(e.sigma),
-            crate::numeric::format::fmt_number(*oe)
+            crate::flight::numeric::format::fmt_number(e.value),
+            crate::flight::numeric::format::fmt_number(e.sigma),
+            crate::flight::numeric::format::fmt_number(*oe)
         );
     }
     out

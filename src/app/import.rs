@@ -2,7 +2,7 @@
 //! the result as the project's CSV.
 
 use crate::app::cli::ImportArgs;
-use crate::flight::data::{load, Loaded};
+use crate::data::{load, Loaded};
 
 /// Run `wireflight import`.
 ///
@@ -11,7 +11,7 @@ use crate::flight::data::{load, Loaded};
 pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     let Loaded { data, report } = load(&args.flight, &args.data.options())?;
     if let Some(out) = &args.out {
-        crate::flight::data::write(out, &data)?;
+        crate::data::write(out, &data)?;
     }
     if args.json {
         let mut v = match &report {
@@ -30,7 +30,7 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     }
     // The report of what the file held goes where every command's does: stderr, unless
     // --quiet (as `compare`); text from the file has its control characters escaped.
-    if !crate::progress::is_quiet() {
+    if !crate::draw::progress::is_quiet() {
         let text = match &report {
             Some(r) => r.to_string(),
             None => format!(

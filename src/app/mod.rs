@@ -77,7 +77,7 @@ where
         max_file_bytes: cli.max_input_mb.saturating_mul(1 << 20),
         allow_external_uris: cli.allow_external_uris,
     });
-    crate::progress::set_quiet(cli.quiet);
+    crate::draw::progress::set_quiet(cli.quiet);
     quiet_mesa_device_select();
     match cli.command {
         Command::Render(args) => render::run(&args),

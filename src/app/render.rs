@@ -6,13 +6,13 @@ use std::path::Path;
 use anyhow::{bail, Context};
 
 use crate::app::cli::{ProjectionArg, RenderArgs};
-use crate::clip::{DepthRange, PlaneSet};
-use crate::output::{write_frames, write_still, FrameOut};
-use crate::pipeline::Viewport;
-use crate::render::{OutputFormat, Rasterizer};
-use crate::scene::replay::ReplayScene;
-use crate::scene::still::still;
-use crate::scene::{frame, ViewSpec};
+use crate::draw::output::{write_frames, write_still, FrameOut};
+use crate::draw::render::{OutputFormat, Rasterizer};
+use crate::draw::scene::replay::ReplayScene;
+use crate::draw::scene::still::still;
+use crate::draw::scene::{frame, ViewSpec};
+use crate::geometry::clip::{DepthRange, PlaneSet};
+use crate::geometry::pipeline::Viewport;
 use glam::Vec4;
 
 /// Run `wireflight render`.
@@ -21,7 +21,7 @@ use glam::Vec4;
 /// Bad mesh files, unknown output format, GPU failures with `--backend gpu`, write errors.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mesh_name = mesh_name(args)?;
-    let mesh = crate::mesh::load_named(&mesh_name)?;
+    let mesh = crate::draw::mesh_files::load_named(&mesh_name)?;
     let viewport = Viewport {
         width: args.size.0,
         height: args.size.1,
@@ -89,7 +89,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     let spec = ViewSpec {
-        attitude: crate::scene::attitude::from_aerospace_degrees(args.yaw, args.pitch, args.roll),
+        attitude: crate::draw::scene::attitude::from_aerospace_degrees(
+            args.yaw, args.pitch, args.roll,
+        ),
         camera: args.camera.into(),
         orthographic: args.projection == ProjectionArg::Ortho,
         fov_y_deg: args.fov,

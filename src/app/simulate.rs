@@ -3,13 +3,13 @@
 use anyhow::Context;
 
 use crate::app::cli::SimulateArgs;
+use crate::data;
+use crate::data::VehicleKind;
 use crate::flight::autopilot::Manoeuvre;
-use crate::flight::data;
 use crate::flight::effects::Origin;
 use crate::flight::simulate::{simulate_bounded, Noise, SimSpec};
 use crate::flight::spec::{EffectSpec, ModelSpec};
 use crate::flight::turbulence::Turbulence;
-use crate::flight::VehicleKind;
 
 /// Run `wireflight simulate`.
 ///
@@ -77,7 +77,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             seed: args.turbulence_seed,
         }),
     };
-    let progress = crate::progress::Progress::spinner(
+    let progress = crate::draw::progress::Progress::spinner(
         &format!("simulating {:.0} s of flight", args.duration),
         false,
     );

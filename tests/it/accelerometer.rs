@@ -5,53 +5,21 @@
 //! `identify` reading a column-mapped CSV and a ULog as `compare` does.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
 use glam::{DQuat, DVec3};
-use wireflight::flight::data::mapped::ColumnMap;
-use wireflight::flight::data::px4::{self, UlogOptions};
-use wireflight::flight::data::ulog::UlogFile;
-use wireflight::flight::data::{self, FlightData, Metadata, MAX_ACCEL_MPS2};
-use wireflight::flight::G0;
+use wireflight::data::mapped::ColumnMap;
+use wireflight::data::px4::{self, UlogOptions};
+use wireflight::data::ulog::UlogFile;
+use wireflight::data::{self, FlightData, Metadata, G0, MAX_ACCEL_MPS2};
 
+use crate::support::cli::{ok, ok_with_stderr, refused};
+use crate::support::flights::Flight;
 use crate::support::refsim::{self, Effects, FlightOptions, FwModel, Params, Schedule};
 use crate::support::ulog::UlogWriter;
 
-fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
-fn ok(o: &Output) -> String {
-    assert!(
-        o.status.success(),
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-fn err(o: &Output) -> String {
-    assert_eq!(
-        o.status.code(),
-        Some(2),
-        "{}",
-        String::from_utf8_lossy(&o.stdout)
-    );
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-/// `wireflight simulate ARGS --out DIR/NAME`, read back.
-fn simulate(dir: &Path, name: &str, args: &[&str]) -> FlightData {
-    let out = dir.join(name);
-    let mut all = vec!["simulate"];
-    all.extend_from_slice(args);
-    all.extend(["--out", out.to_str().unwrap()]);
-    ok(&wireflight(&all));
-    data::read(&out).expect("simulate's CSV reads")
+/// `flight` simulated into `dir/name`, read back.
+fn simulate(flight: &Flight, dir: &Path, name: &str) -> FlightData {
+    data::read(&flight.write(dir, name)).expect("simulate's CSV reads")
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -112,13 +80,7 @@ fn bad_accelerometer_columns_are_refused_naming_file_line_and_column() {
     };
     let import = |path: &str| {
         let out = dir.path().join("out.csv");
-        err(&wireflight(&[
-            "import",
-            "--flight",
-            path,
-            "--out",
-            out.to_str().unwrap(),
-        ]))
+        refused(&["import", "--flight", path, "--out", out.to_str().unwrap()])
     };
     let head = "# source: a logger\ntime_s,north_m,east_m,down_m,ax_mps2,ay_mps2,az_mps2\n";
     // Part of the set: the file, the header's line, the missing columns.
@@ -191,7 +153,7 @@ fn a_column_map_reads_the_accelerometer_in_g() {
     assert!(line.contains(" 3  10 Hz"), "{report}");
     // And through import, written in m/s².
     let out = dir.path().join("out.csv");
-    ok(&wireflight(&[
+    ok(&[
         "import",
         "--flight",
         csv.to_str().unwrap(),
@@ -199,7 +161,7 @@ fn a_column_map_reads_the_accelerometer_in_g() {
         map,
         "--out",
         out.to_str().unwrap(),
-    ]));
+    ]);
     let back = data::read(&out).unwrap();
     assert_eq!(back.accel_body.as_ref(), Some(a));
 }
@@ -328,28 +290,18 @@ fn ulog_accelerometer_beyond_fifty_g_names_topic_field_and_time() {
 #[test]
 fn simulate_noise_acc_is_gaussian_of_its_sigma_and_leaves_the_other_channels_alone() {
     let dir = tempfile::tempdir().unwrap();
-    let common = [
-        "--manoeuvre",
-        "climbing-turn",
-        "--duration",
-        "60",
-        "--seed",
-        "11",
-        "--noise-pos",
-        "0.1",
-        "--noise-att",
-        "0.1",
-        "--noise-vel",
-        "0.05",
-        "--noise-rate",
-        "0.2",
-    ];
+    let common = Flight::new()
+        .manoeuvre("climbing-turn")
+        .duration(60)
+        .seed(11)
+        .noise_pos(0.1)
+        .noise_att(0.1)
+        .noise_vel(0.05)
+        .noise_rate(0.2);
     // Without --noise-acc no accelerometer is recorded; with 0, an exact one.
-    let none = simulate(dir.path(), "none.csv", &common);
+    let none = simulate(&common, dir.path(), "none.csv");
     assert!(none.accel_body.is_none());
-    let mut exact = common.to_vec();
-    exact.extend(["--noise-acc", "0"]);
-    let quiet = simulate(dir.path(), "quiet.csv", &exact);
+    let quiet = simulate(&common.clone().noise_acc(0), dir.path(), "quiet.csv");
     assert_eq!(
         none,
         FlightData {
@@ -357,9 +309,7 @@ fn simulate_noise_acc_is_gaussian_of_its_sigma_and_leaves_the_other_channels_alo
             ..quiet.clone()
         }
     );
-    let mut args = common.to_vec();
-    args.extend(["--noise-acc", "0.05"]);
-    let noisy = simulate(dir.path(), "noisy.csv", &args);
+    let noisy = simulate(&common.noise_acc(0.05), dir.path(), "noisy.csv");
     // Every other channel is the same, bit for bit: the accelerometer's noise is drawn last.
     let strip = |d: &FlightData| FlightData {
         accel_body: None,
@@ -403,17 +353,17 @@ fn simulate_noise_acc_is_gaussian_of_its_sigma_and_leaves_the_other_channels_alo
     assert!(cross.abs() < 0.1 * 0.05 * 0.05, "{cross}");
     // A point mass has no accelerometer column; a bad σ is refused.
     let shot = simulate(
+        &Flight::new().vehicle("point-mass").duration(5),
         dir.path(),
         "shot.csv",
-        &["--vehicle", "point-mass", "--duration", "5"],
     );
     assert!(shot.accel_body.is_none());
-    let e = err(&wireflight(&[
+    let e = refused(&[
         "simulate",
         "--noise-acc=-1",
         "--out",
         dir.path().join("x.csv").to_str().unwrap(),
-    ]));
+    ]);
     assert!(
         e.contains("--noise-acc") && e.contains("must not be negative"),
         "{e}"
@@ -425,18 +375,8 @@ fn simulate_noise_acc_is_gaussian_of_its_sigma_and_leaves_the_other_channels_alo
 #[test]
 fn a_trimmed_level_flight_reads_g_along_its_own_vertical() {
     let dir = tempfile::tempdir().unwrap();
-    let d = simulate(
-        dir.path(),
-        "level.csv",
-        &[
-            "--manoeuvre",
-            "level",
-            "--duration",
-            "20",
-            "--noise-acc",
-            "0",
-        ],
-    );
+    let level = Flight::new().manoeuvre("level").duration(20).noise_acc(0);
+    let d = simulate(&level, dir.path(), "level.csv");
     let a = d.accel_body.as_ref().unwrap();
     let att = d.attitude.as_ref().unwrap();
     let mut worst = 0.0f64;
@@ -473,18 +413,11 @@ fn refsim_state(d: &FlightData, i: usize) -> refsim::FwState {
 
 /// A 40 s flight test by `simulate` with an exact accelerometer.
 fn flight_test_40s(dir: &Path) -> FlightData {
-    simulate(
-        dir,
-        "ft.csv",
-        &[
-            "--manoeuvre",
-            "flight-test",
-            "--duration",
-            "40",
-            "--noise-acc",
-            "0",
-        ],
-    )
+    let flight = Flight::new()
+        .manoeuvre("flight-test")
+        .duration(40)
+        .noise_acc(0);
+    simulate(&flight, dir, "ft.csv")
 }
 
 /// simulate's accelerometer on a manoeuvring flight is refsim's force over mass (its own
@@ -561,31 +494,17 @@ fn both_simulators_accelerometers_integrate_to_their_recorded_velocities() {
 
 /// A flight with a wrong c_m_alpha flown by simulate, with the noise of the command tests.
 fn flight_for_identify(dir: &Path) -> std::path::PathBuf {
-    let out = dir.join("a.csv");
-    ok(&wireflight(&[
-        "simulate",
-        "--manoeuvre",
-        "flight-test",
-        "--duration",
-        "30",
-        "--hidden",
-        "aircraft:c_m_alpha=-3.3",
-        "--noise-pos",
-        "0.05",
-        "--noise-att",
-        "0.05",
-        "--noise-vel",
-        "0.05",
-        "--noise-rate",
-        "0.2",
-        "--noise-acc",
-        "0.05",
-        "--seed",
-        "1",
-        "--out",
-        out.to_str().unwrap(),
-    ]));
-    out
+    Flight::new()
+        .manoeuvre("flight-test")
+        .duration(30)
+        .hidden("aircraft:c_m_alpha=-3.3")
+        .noise_pos(0.05)
+        .noise_att(0.05)
+        .noise_vel(0.05)
+        .noise_rate(0.2)
+        .noise_acc(0.05)
+        .seed(1)
+        .write(dir, "a.csv")
 }
 
 fn identified_c_m_alpha(stdout: &str) -> f64 {
@@ -656,14 +575,12 @@ fn identify_reads_a_column_mapped_csv() {
                vn=vn,ve=ve,vd=vd,p=P:deg/s,q=Q:deg/s,r=R:deg/s,airspeed=tas,ax=fx:g,ay=fy:g,\
                az=fz:g,throttle=thr,elevator=de:deg,aileron=da:deg,rudder=dr:deg";
     let args = ["--free", "c_m_alpha,c_m_0", "--json"];
-    let plain = ok(&wireflight(
-        &[
-            &["identify", "--flight", csv.to_str().unwrap()][..],
-            &args[..],
-        ]
-        .concat(),
-    ));
-    let o = wireflight(
+    let plain = ok(&[
+        &["identify", "--flight", csv.to_str().unwrap()][..],
+        &args[..],
+    ]
+    .concat());
+    let (mapped, report) = ok_with_stderr(
         &[
             &[
                 "identify",
@@ -676,8 +593,6 @@ fn identify_reads_a_column_mapped_csv() {
         ]
         .concat(),
     );
-    let mapped = ok(&o);
-    let report = String::from_utf8_lossy(&o.stderr);
     assert!(
         report.contains("CSV with a column map") && report.contains("accelerometer  fx [g]"),
         "{report}"
@@ -735,7 +650,7 @@ fn identify_reads_a_px4_ulog() {
     }
     let ulg = dir.path().join("flight.ulg");
     std::fs::write(&ulg, &w.bytes).unwrap();
-    let o = wireflight(&[
+    let (out, report) = ok_with_stderr(&[
         "identify",
         "--flight",
         ulg.to_str().unwrap(),
@@ -743,8 +658,6 @@ fn identify_reads_a_px4_ulog() {
         "c_m_alpha,c_m_0",
         "--json",
     ]);
-    let out = ok(&o);
-    let report = String::from_utf8_lossy(&o.stderr);
     assert!(
         report.contains("PX4 ULog") && report.contains("accelerometer  vehicle_acceleration"),
         "{report}"

@@ -1,28 +1,15 @@
 //! The `wireflight` binary end to end: outputs, printed counts, SVG contents, and errors.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::Image;
-use wireflight::scene::attitude::from_aerospace_degrees;
-use wireflight::scene::{frame, ViewSpec};
+use wireflight::draw::render::Image;
+use wireflight::draw::scene::attitude::from_aerospace_degrees;
+use wireflight::draw::scene::{frame, ViewSpec};
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
-pub(crate) fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
-pub(crate) fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
-
-pub(crate) fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::support::cli::{ok, refused, stderr, stdout, wireflight};
+use crate::support::flights::Flight;
 
 /// Files in `dir` other than the expected outputs (e.g. leftover temporaries).
 fn stray_files(dir: &Path, expected: &[&str]) -> Vec<String> {
@@ -37,7 +24,7 @@ fn stray_files(dir: &Path, expected: &[&str]) -> Vec<String> {
 fn render_png_on_cpu_writes_the_image_and_prints_counts() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("plane.png");
-    let o = wireflight(&[
+    let text = ok(&[
         "render",
         "--backend",
         "cpu",
@@ -46,8 +33,6 @@ fn render_png_on_cpu_writes_the_image_and_prints_counts() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = stdout(&o);
     assert!(
         text.contains("edges in") && text.contains("trivially accepted"),
         "{text}"
@@ -78,7 +63,7 @@ fn svg_lists_exactly_the_clipped_segments() {
     // A view that clips: half out of frame and banked.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("half.svg");
-    let o = wireflight(&[
+    let said = ok(&[
         "render",
         "--yaw",
         "20",
@@ -95,7 +80,6 @@ fn svg_lists_exactly_the_clipped_segments() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(&out).unwrap();
     let lines = svg_lines(&svg);
 
@@ -119,9 +103,8 @@ fn svg_lists_exactly_the_clipped_segments() {
     }
     // The printed count of drawn segments matches the file.
     assert!(
-        stdout(&o).contains(&format!("{} segments drawn", lines.len())),
-        "{}",
-        stdout(&o)
+        said.contains(&format!("{} segments drawn", lines.len())),
+        "{said}"
     );
 }
 
@@ -129,7 +112,7 @@ fn svg_lists_exactly_the_clipped_segments() {
 /// picture): the rightmost point drawn, in pixels from the SVG.
 fn side_view_nose(pitch: &str, dir: &Path) -> [f32; 2] {
     let out = dir.join(format!("side{pitch}.svg"));
-    let o = wireflight(&[
+    ok(&[
         "render",
         "--camera",
         "side",
@@ -142,7 +125,6 @@ fn side_view_nose(pitch: &str, dir: &Path) -> [f32; 2] {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(&out).unwrap();
     svg_lines(&svg)
         .iter()
@@ -274,9 +256,7 @@ fn global_options_have_their_heading_and_fps_one_default() {
 /// `wireflight keys` lists every aircraft key with its unit and range and the set's value.
 #[test]
 fn keys_lists_every_aircraft_key() {
-    let o = wireflight(&["keys"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = stdout(&o);
+    let text = ok(&["keys"]);
     for k in wireflight::flight::params::keys::KEYS {
         let line = text
             .lines()
@@ -291,8 +271,7 @@ fn keys_lists_every_aircraft_key() {
     let c172 = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/aircraft/c172p.toml");
     let o = wireflight(&["keys", "--aircraft", c172]);
     assert!(stdout(&o).contains("c172p"), "{}", stdout(&o));
-    let o = wireflight(&["keys", "--aircraft", "cesna"]);
-    assert_eq!(o.status.code(), Some(2));
+    refused(&["keys", "--aircraft", "cesna"]);
 }
 
 #[test]
@@ -313,21 +292,15 @@ fn bad_inputs_fail_cleanly_naming_the_problem() {
     let out = out.to_str().unwrap();
 
     let missing = dir.path().join("no-such-model.obj");
-    let o = wireflight(&["render", "--model", missing.to_str().unwrap(), "--out", out]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("no-such-model.obj"), "{}", stderr(&o));
+    let err = refused(&["render", "--model", missing.to_str().unwrap(), "--out", out]);
+    assert!(err.contains("no-such-model.obj"), "{err}");
 
-    let o = wireflight(&[
+    let err = refused(&[
         "render",
         "--out",
         dir.path().join("x.jpg").to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(
-        stderr(&o).contains("x.jpg") && stderr(&o).contains(".png"),
-        "{}",
-        stderr(&o)
-    );
+    assert!(err.contains("x.jpg") && err.contains(".png"), "{err}");
 
     let o = wireflight(&["render", "--pitch", "nan", "--out", out]);
     assert!(!o.status.success());
@@ -338,15 +311,14 @@ fn bad_inputs_fail_cleanly_naming_the_problem() {
     assert!(stderr(&o).contains("width"), "{}", stderr(&o));
 
     // Writing into a directory that does not exist: error names the path, nothing is left.
-    let o = wireflight(&[
+    let err = refused(&[
         "render",
         "--backend",
         "cpu",
         "--out",
         dir.path().join("nope/x.png").to_str().unwrap(),
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("nope"), "{}", stderr(&o));
+    assert!(err.contains("nope"), "{err}");
     assert!(stray_files(dir.path(), &["no-such-model.obj"]).is_empty());
 }
 
@@ -354,7 +326,7 @@ fn bad_inputs_fail_cleanly_naming_the_problem() {
 fn gimbal_lock_is_reported() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("g.svg");
-    let o = wireflight(&[
+    let said = ok(&[
         "render",
         "--pitch",
         "90",
@@ -363,42 +335,25 @@ fn gimbal_lock_is_reported() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("gimbal lock"), "{}", stdout(&o));
+    assert!(said.contains("gimbal lock"), "{said}");
 }
 
 #[test]
 fn simulate_then_replay_end_to_end() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("test.csv");
-    let args = |out: &Path, seed: &str| {
-        vec![
-            "simulate".to_string(),
-            "--manoeuvre".into(),
-            "flight-test".into(),
-            "--duration".into(),
-            "12".into(),
-            "--rate".into(),
-            "20".into(),
-            "--hidden".into(),
-            "wind:north_mps=4,east_mps=-2".into(),
-            "--noise-pos".into(),
-            "0.3".into(),
-            "--noise-att".into(),
-            "0.2".into(),
-            "--seed".into(),
-            seed.into(),
-            "--out".into(),
-            out.to_str().unwrap().into(),
-        ]
+    let flight = |seed: &str| {
+        Flight::new()
+            .manoeuvre("flight-test")
+            .duration(12)
+            .rate(20)
+            .hidden("wind:north_mps=4,east_mps=-2")
+            .noise_pos(0.3)
+            .noise_att(0.2)
+            .seed(seed)
     };
-    let run = |a: Vec<String>| {
-        let a: Vec<&str> = a.iter().map(String::as_str).collect();
-        wireflight(&a)
-    };
-    let o = run(args(&csv, "7"));
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stdout(&o).contains("1 hidden"), "{}", stdout(&o));
+    let said = ok(&flight("7").args(&csv));
+    assert!(said.contains("1 hidden"), "{said}");
     let text = std::fs::read_to_string(&csv).unwrap();
     assert!(
         !text.contains("wind"),
@@ -410,15 +365,13 @@ fn simulate_then_replay_end_to_end() {
     );
 
     // Deterministic for a seed, different for another.
-    let again = dir.path().join("again.csv");
-    assert!(run(args(&again, "7")).status.success());
+    let again = flight("7").write(dir.path(), "again.csv");
     assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
-    let other = dir.path().join("other.csv");
-    assert!(run(args(&other, "8")).status.success());
+    let other = flight("8").write(dir.path(), "other.csv");
     assert_ne!(std::fs::read(&other).unwrap(), text.as_bytes());
 
     let frames = dir.path().join("frames");
-    let o = wireflight(&[
+    ok(&[
         "render",
         "--flight",
         csv.to_str().unwrap(),
@@ -431,7 +384,6 @@ fn simulate_then_replay_end_to_end() {
         "--backend",
         "cpu",
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
     let mut names: Vec<String> = std::fs::read_dir(&frames)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
@@ -496,9 +448,8 @@ fn simulate_rejects_bad_requests_clearly() {
             "did you mean `drag`?",
         ),
     ] {
-        let o = wireflight(&args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert!(stderr(&o).contains(needle), "{args:?}: {}", stderr(&o));
+        let err = refused(&args);
+        assert!(err.contains(needle), "{args:?}: {err}");
     }
     assert!(stray_files(dir.path(), &[]).is_empty());
 }

@@ -14,13 +14,13 @@
 
 use wireflight::analysis::compare::CompareConfig;
 use wireflight::analysis::diagnose::{diagnose, Candidate, DiagnoseConfig, Diagnosis, Verdict};
+use wireflight::data::FlightData;
+use wireflight::data::VehicleKind;
 use wireflight::flight::autopilot::Manoeuvre;
-use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::model::Model;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelSpec};
-use wireflight::flight::VehicleKind;
 
 /// GPS-grade position, AHRS-grade attitude, air-data and gyro noise.
 const REALISTIC: Noise = Noise {

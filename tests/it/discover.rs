@@ -2,7 +2,7 @@
 //! term first, on its axis, with its coefficient; a clean flight gives none.
 
 use wireflight::analysis::discover::{discover, Discovery};
-use wireflight::flight::data::{self, FlightData};
+use wireflight::data::{self, FlightData};
 use wireflight::flight::spec::ModelChoice;
 
 use crate::support::refsim::{
@@ -98,7 +98,7 @@ fn a_clean_flight_gives_no_term() {
 #[test]
 #[ignore = "validation tier: cargo test -- --ignored"]
 fn diagnose_with_discover_finishes_the_ladder_on_a_term_no_catalogue_has() {
-    use crate::cli::{stdout, wireflight};
+    use crate::support::cli::{stdout, wireflight};
     let mut o = FlightOptions::new(Schedule::flight_test());
     o.effects = hidden(4, HiddenForm::Thrust, -0.04);
     o.noise = Noise::new(0.3, 0.2, 0.1, 0.3, 0.1);
@@ -140,10 +140,10 @@ fn diagnose_with_discover_finishes_the_ladder_on_a_term_no_catalogue_has() {
 /// before it, read several tenths of a N·m of rolling moment at every aileron step here.
 #[test]
 fn the_models_own_flight_lacks_nothing() {
+    use wireflight::data::VehicleKind;
     use wireflight::flight::autopilot::Manoeuvre;
     use wireflight::flight::simulate::{simulate, SimSpec};
     use wireflight::flight::spec::ModelSpec;
-    use wireflight::flight::VehicleKind;
     let model = ModelSpec::baseline(VehicleKind::FixedWing)
         .build(Default::default())
         .expect("model");

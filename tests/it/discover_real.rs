@@ -8,24 +8,12 @@
 
 use serde_json::Value;
 
+use crate::support::cli::{ok, refused};
 use crate::support::data_file;
-
-fn wireflight(args: &[&str]) -> String {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("wireflight runs");
-    assert!(
-        out.status.success(),
-        "wireflight {}: {}",
-        args.join(" "),
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("UTF-8")
-}
+use crate::support::flights::Flight;
 
 fn json(args: &[&str]) -> Value {
-    let text = wireflight(args);
+    let text = ok(args);
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{e}: {text}"))
 }
 
@@ -50,7 +38,7 @@ fn terms_on(d: &Value, axis: &str) -> Vec<Value> {
 
 /// The error × noise `compare` reports with the effects added (the last column's).
 fn compare_noise_units(args: &[&str]) -> f64 {
-    let text = wireflight(args);
+    let text = ok(args);
     let line = text
         .lines()
         .find(|l| l.trim_start().starts_with("× noise"))
@@ -61,20 +49,13 @@ fn compare_noise_units(args: &[&str]) -> f64 {
         .unwrap_or_else(|| panic!("{line}"))
 }
 
-/// `simulate` a point mass with drag (k = 1e-4 /m) and the options `more` to `out` (a flight
-/// of positions and velocities, no attitude).
-fn simulate_point_mass_with_drag(out: &str, more: &[&str]) {
-    let mut args = vec![
-        "-q",
-        "simulate",
-        "--vehicle",
-        "point-mass",
-        "--add",
-        "drag:k=0.0001",
-    ];
-    args.extend_from_slice(more);
-    args.extend(["--out", out]);
-    wireflight(&args);
+/// A point mass with drag (k = 1e-4 /m), simulated quietly: a flight of positions and
+/// velocities, no attitude.
+fn point_mass_with_drag() -> Flight {
+    Flight::new()
+        .quiet()
+        .vehicle("point-mass")
+        .add("drag:k=0.0001")
 }
 
 /// A point mass with a lift ∝ q̄ it does not model: `discover` names it on the normal axis
@@ -83,21 +64,13 @@ fn simulate_point_mass_with_drag(out: &str, more: &[&str]) {
 #[test]
 fn a_point_mass_lift_is_found_added_and_fitted() {
     let dir = tempfile::tempdir().unwrap();
-    let flight = dir.path().join("lifted.csv");
+    let flight = point_mass_with_drag()
+        .hidden("term(Z=k*qbar):k=-0.0002")
+        .noise_pos(0.5)
+        .noise_vel(0.1)
+        .seed(3)
+        .write(dir.path(), "lifted.csv");
     let flight = flight.to_str().unwrap();
-    simulate_point_mass_with_drag(
-        flight,
-        &[
-            "--hidden",
-            "term(Z=k*qbar):k=-0.0002",
-            "--noise-pos",
-            "0.5",
-            "--noise-vel",
-            "0.1",
-            "--seed",
-            "3",
-        ],
-    );
     let d = json(&[
         "-q", "discover", "--flight", flight, "--add", "drag", "--json",
     ]);
@@ -197,7 +170,7 @@ fn mk82_discover_finds_the_drag_the_side_force_and_the_one_sided_lift() {
 fn mk82_diagnose_keeps_the_lift_discover_finds() {
     let mk82 = data_file("jsbsim-mk82.csv");
     let mk82 = mk82.to_str().unwrap();
-    let text = wireflight(&["-q", "diagnose", "--flight", mk82, "--discover"]);
+    let text = ok(&["-q", "diagnose", "--flight", mk82, "--discover"]);
     let verdict = text
         .lines()
         .find(|l| l.trim_start().starts_with("verdict:"))
@@ -248,12 +221,12 @@ fn mk82_incidence_lift_reads_the_recorded_attitude() {
         "incidence_lift",
     ];
     let with = compare_noise_units(&args);
-    let k = fitted(&wireflight(&args), "incidence_lift", "k");
+    let k = fitted(&ok(&args), "incidence_lift", "k");
     eprintln!("Mk-82 compare: drag {drag:.2}, with incidence_lift {with:.2} × noise, k = {k:.3e}");
     assert!(drag > 75.0 && with < 70.0, "{drag} → {with}");
     assert!((5e-4..2e-3).contains(&k), "k = {k}");
 
-    let diagnosis = wireflight(&["-q", "diagnose", "--flight", mk82]);
+    let diagnosis = ok(&["-q", "diagnose", "--flight", mk82]);
     assert!(
         diagnosis
             .lines()
@@ -262,27 +235,21 @@ fn mk82_incidence_lift_reads_the_recorded_attitude() {
     );
 
     let dir = tempfile::tempdir().unwrap();
-    let blind = dir.path().join("no-attitude.csv");
+    let blind = point_mass_with_drag().write(dir.path(), "no-attitude.csv");
     let blind = blind.to_str().unwrap();
-    simulate_point_mass_with_drag(blind, &[]);
     // The effect, and a term reading the body's angle of attack, are refused there, each
     // naming itself and the attitude it lacks.
     for (add, named) in [
         ("incidence_lift", "incidence_lift"),
         ("term:Z=k*qbar*alpha", "term(Z=k*qbar*alpha)"),
     ] {
-        let out = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-            .args(["-q", "compare", "--flight", blind, "--add", add])
-            .output()
-            .expect("wireflight runs");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{err}");
+        let err = refused(&["-q", "compare", "--flight", blind, "--add", add]);
         assert!(
             err.contains(named) && err.contains("attitude (roll, pitch, yaw)"),
             "{err}"
         );
     }
-    let diagnosis = wireflight(&["-q", "diagnose", "--flight", blind]);
+    let diagnosis = ok(&["-q", "diagnose", "--flight", blind]);
     assert!(!diagnosis.contains("incidence_lift"), "{diagnosis}");
 }
 
@@ -303,7 +270,7 @@ fn c172p_terms_found_after_identify_do_not_worsen_the_held_out_flight() {
     let (ref1, ref2, held_out) = (flight("ref-1"), flight("ref-2"), flight("validation"));
     let identified = dir.path().join("identified.toml");
     let identified = identified.to_str().unwrap();
-    wireflight(&[
+    ok(&[
         "-q", "identify", "--flight", &ref1, "--flight", &ref2, "--out", identified,
     ]);
     let mut adds: Vec<String> = Vec::new();
@@ -412,9 +379,9 @@ fn a_hidden_incidence_law_along_a_recorded_attitude_is_found_again() {
 /// attitude as recorded; written to `path`.
 fn fly_the_mk82_attitude_with(hidden: &str, path: &std::path::Path) {
     use glam::DVec3;
+    use wireflight::data::Controls;
     use wireflight::flight::model::State;
     use wireflight::flight::spec::{EffectSpec, ModelChoice};
-    use wireflight::flight::Controls;
     let source = data_file("jsbsim-mk82.csv");
     let mut data = crate::support::mk82();
     let mut model = ModelChoice::default()
@@ -462,5 +429,5 @@ fn fly_the_mk82_attitude_with(hidden: &str, path: &std::path::Path) {
     }
     data.pos_ned = pos;
     data.vel_ned = Some(flown);
-    wireflight::flight::data::write(path, &data).unwrap();
+    wireflight::data::write(path, &data).unwrap();
 }

@@ -4,21 +4,19 @@
 //! and every key of the shipped parameter sets.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::{json, Value};
 use wireflight::flight::effects::CATALOGUE;
 use wireflight::flight::params::keys::KEYS;
 use wireflight::flight::spec::EffectSpec;
 
-use crate::cli::{stderr, stdout, wireflight};
+use crate::support::cli::{ok, refused, stderr, stdout, wireflight, wireflight_in};
 
 /// What a run of `wireflight ARGS` printed, read as JSON (it must succeed).
 fn json_of(args: &[&str]) -> Value {
-    let o = wireflight(args);
-    assert!(o.status.success(), "{args:?}: {}", stderr(&o));
-    serde_json::from_str(&stdout(&o))
-        .unwrap_or_else(|e| panic!("{args:?}: not JSON: {e}\n{}", stdout(&o)))
+    let text = ok(args);
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{args:?}: not JSON: {e}\n{text}"))
 }
 
 /// Run a command line as `effects` prints it (`wireflight ARGS`, words without quotes), with
@@ -33,20 +31,14 @@ fn run_printed(line: &str, extra: &[&str], dir: &Path) -> Output {
             p if w.contains('/') && p.exists() => p.display().to_string(),
             _ => w.to_string(),
         })
+        .chain(extra.iter().map(|a| a.to_string()))
         .collect();
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(&args)
-        .args(extra)
-        .current_dir(dir)
-        .output()
-        .expect("run wireflight")
+    wireflight_in(dir, &args)
 }
 
 #[test]
 fn every_effect_is_listed_with_its_parameters_and_units() {
-    let o = wireflight(&["effects"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let text = stdout(&o);
+    let text = ok(&["effects"]);
     let blocks: Vec<&str> = text.trim_end().split("\n\n").skip(1).collect();
     assert_eq!(blocks.len(), CATALOGUE.len(), "{text}");
     for (info, block) in CATALOGUE.iter().zip(&blocks) {
@@ -64,9 +56,8 @@ fn every_effect_is_listed_with_its_parameters_and_units() {
         }
         assert_eq!(block.contains("no parameters"), info.params.is_empty());
         // `effects NAME` prints the effect's block of the list.
-        let one = wireflight(&["effects", info.name]);
-        assert!(one.status.success(), "{}", stderr(&one));
-        assert_eq!(stdout(&one).trim_end(), *block);
+        let one = ok(&["effects", info.name]);
+        assert_eq!(one.trim_end(), *block);
     }
 }
 
@@ -175,9 +166,8 @@ fn an_unknown_effect_is_refused_with_the_nearest_name() {
         err.contains("attitude_offset") && stdout(&o).is_empty(),
         "{err}"
     );
-    let o = wireflight(&["effects", "aircraft", "--json"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(stderr(&o).contains("wireflight keys"), "{}", stderr(&o));
+    let err = refused(&["effects", "aircraft", "--json"]);
+    assert!(err.contains("wireflight keys"), "{err}");
 }
 
 #[test]

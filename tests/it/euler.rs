@@ -6,7 +6,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::support::{angle_distance, assert_close, wrap_angle, Rng};
 use glam::{DMat3, DVec3, EulerRot};
-use wireflight::euler::{
+use wireflight::geometry::euler::{
     ned_from_viewer, rot_x, rot_y, rot_z, viewer_from_ned, EulerZyx, Gimbal, GIMBAL_LOCK_COS,
 };
 

@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use crate::cli::{stderr, stdout, wireflight};
+use crate::support::cli::{stderr, stdout, wireflight};
 
 /// Run `wireflight euler ARGS --json` and parse the answer.
 fn euler_json(args: &[&str]) -> Value {

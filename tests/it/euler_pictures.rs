@@ -9,17 +9,17 @@
 
 use std::path::{Path, PathBuf};
 
-use wireflight::euler::{rotation_between, EulerAngles};
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, Image, LineScene};
-use wireflight::scene::euler::{
+use wireflight::draw::render::{cpu, Image, LineScene};
+use wireflight::draw::scene::euler::{
     attitude_panel, gimbal_lock_pictures, interpolation_pictures, steps_pictures, Picture,
 };
-use wireflight::scene::palette;
+use wireflight::draw::scene::palette;
+use wireflight::geometry::euler::{rotation_between, EulerAngles};
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
-use crate::cli::wireflight;
 use crate::golden::check_image;
+use crate::support::cli::wireflight;
 
 const VIEW: Viewport = Viewport {
     width: 320,
@@ -388,7 +388,7 @@ fn every_convention_pictures_its_steps_and_its_lock() {
         width: 160,
         height: 120,
     };
-    for c in wireflight::euler::Convention::ALL {
+    for c in wireflight::geometry::euler::Convention::ALL {
         let e = EulerAngles::from_degrees(c, [25.0, 40.0, -35.0]);
         let pictures = steps_pictures(&mesh, &e, small);
         assert_eq!(pictures.len(), 5, "{c}");

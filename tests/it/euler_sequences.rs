@@ -1,4 +1,4 @@
-//! All 24 Euler-angle conventions (`wireflight::euler::{Convention, EulerAngles}`): matrices
+//! All 24 Euler-angle conventions (`wireflight::geometry::euler::{Convention, EulerAngles}`): matrices
 //! against products of single-axis rotations and against glam, round trips on a 15° grid over
 //! the full ranges and on random angles, quaternions, conversions between every pair, gimbal
 //! lock, agreement with `EulerZyx`, bad input, and the seed lecture's statements.
@@ -7,7 +7,7 @@ use std::collections::HashSet;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use glam::{DMat3, DQuat, DVec3, EulerRot};
-use wireflight::euler::{
+use wireflight::geometry::euler::{
     Axis, Convention, EulerAngles, EulerZyx, Frame, Gimbal, Lock, NotRotation, Sequence,
     LOCK_TOLERANCE,
 };

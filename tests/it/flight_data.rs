@@ -3,12 +3,12 @@
 
 use glam::DVec3;
 use proptest::prelude::*;
-use wireflight::euler::EulerZyx;
-use wireflight::flight::data::{
+use wireflight::data::{
     self, DataError, DataErrorKind, FlightData, Metadata, DERIVED_RATES_BODY, DERIVED_VEL_BODY,
     DERIVED_VEL_NED,
 };
-use wireflight::flight::{Controls, VehicleKind};
+use wireflight::data::{Controls, VehicleKind};
+use wireflight::geometry::euler::EulerZyx;
 
 use crate::support::mk82;
 

@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-use wireflight::euler::EulerZyx;
+use wireflight::data::{Controls, VehicleKind, G0};
 use wireflight::flight::effects::{
     catalogue_effect, isa_density, ActuatorLag, DensityAltitude, Drag, EarthRotation,
     EffectContext, GravityModel, Origin, Wind, CATALOGUE,
@@ -10,7 +10,7 @@ use wireflight::flight::effects::{
 use wireflight::flight::model::{HeldCommands, Model, State, Vehicle};
 use wireflight::flight::params::FixedWingParams;
 use wireflight::flight::trim::trim_level;
-use wireflight::flight::{Controls, VehicleKind, G0};
+use wireflight::geometry::euler::EulerZyx;
 
 fn point_mass() -> Model {
     Model::new(Vehicle::PointMass, Origin::default())

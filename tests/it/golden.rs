@@ -7,14 +7,14 @@
 
 use std::path::PathBuf;
 
-use wireflight::camera::CameraPreset;
-use wireflight::clip::{ClipStats, DepthRange};
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, Image};
-use wireflight::scene::attitude::from_aerospace_degrees;
-use wireflight::scene::palette;
-use wireflight::scene::{frame, ViewSpec};
+use wireflight::draw::render::{cpu, Image};
+use wireflight::draw::scene::attitude::from_aerospace_degrees;
+use wireflight::draw::scene::palette;
+use wireflight::draw::scene::{frame, ViewSpec};
+use wireflight::geometry::camera::CameraPreset;
+use wireflight::geometry::clip::{ClipStats, DepthRange};
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
 /// A view of the built-in aircraft at aerospace yaw, pitch and roll (degrees).
 fn spec(yaw: f64, pitch: f64, roll: f64, camera: CameraPreset) -> ViewSpec {

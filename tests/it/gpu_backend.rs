@@ -12,14 +12,16 @@
 use std::sync::{Mutex, MutexGuard, OnceLock};
 
 use glam::Vec2;
-use wireflight::camera::CameraPreset;
-use wireflight::euler::EulerZyx;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::gpu::GpuRenderer;
-use wireflight::render::{cpu, Image, LineBatch, LineScene, Rgba, Segment2};
-use wireflight::scene::palette;
-use wireflight::scene::{frame, ViewSpec};
+use wireflight::draw::render::gpu::GpuRenderer;
+use wireflight::draw::render::{cpu, Image, LineBatch, LineScene, Rgba, Segment2};
+use wireflight::draw::scene::palette;
+use wireflight::draw::scene::{frame, ViewSpec};
+use wireflight::geometry::camera::CameraPreset;
+use wireflight::geometry::euler::EulerZyx;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
+
+use crate::support::cli::wireflight;
 
 /// Least fraction of lit pixels with a lit pixel of the other image within one pixel.
 const MIN_AGREEMENT: f64 = 0.97;
@@ -445,11 +447,15 @@ fn cli_renders_on_the_gpu_and_names_the_adapter() {
     };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");
-    let o = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(["render", "--backend", "gpu", "--size", "333x201", "--out"])
-        .arg(&out)
-        .output()
-        .expect("run wireflight");
+    let o = wireflight(&[
+        "render",
+        "--backend",
+        "gpu",
+        "--size",
+        "333x201",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     let stderr = String::from_utf8_lossy(&o.stderr);
     eprintln!("wireflight render --backend gpu: stderr: {stderr}");
     assert!(o.status.success(), "{stderr}");

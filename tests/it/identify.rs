@@ -4,11 +4,13 @@
 
 use wireflight::analysis::compare::{compare, CompareConfig};
 use wireflight::analysis::identify::{free_keys, identify, IdentifyConfig};
-use wireflight::flight::data::{self, FlightData};
+use wireflight::data::{self, FlightData};
 use wireflight::flight::model::Model;
 use wireflight::flight::params::keys;
 use wireflight::flight::spec::ModelChoice;
 
+use crate::support::cli::{ok, refused};
+use crate::support::flights::Flight;
 use crate::support::refsim::{self, Effects, FlightOptions, Noise, Params, Schedule};
 
 /// The true aircraft: five coefficients off the set by 10–30%.
@@ -165,44 +167,25 @@ fn unknown_free_patterns_are_refused_with_the_pattern_named() {
 // The command
 // ---------------------------------------------------------------------------------------------
 
-fn wireflight(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
 /// simulate with a wrong c_m_alpha → identify (JSON, TOML out) → compare with the identified
 /// set: the value comes back, and the TOML is a parameter set the other commands take.
 #[test]
 fn identify_command_writes_a_parameter_set_that_compare_takes() {
     let dir = tempfile::tempdir().unwrap();
     let path = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
-    for (name, seed) in [("a.csv", "1"), ("b.csv", "2")] {
-        let o = wireflight(&[
-            "simulate",
-            "--manoeuvre",
-            "flight-test",
-            "--duration",
-            "30",
-            "--hidden",
-            "aircraft:c_m_alpha=-3.3",
-            "--noise-pos",
-            "0.05",
-            "--noise-att",
-            "0.05",
-            "--noise-vel",
-            "0.05",
-            "--noise-rate",
-            "0.2",
-            "--seed",
-            seed,
-            "--out",
-            &path(name),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for (name, seed) in [("a.csv", 1), ("b.csv", 2)] {
+        Flight::new()
+            .manoeuvre("flight-test")
+            .duration(30)
+            .hidden("aircraft:c_m_alpha=-3.3")
+            .noise_pos(0.05)
+            .noise_att(0.05)
+            .noise_vel(0.05)
+            .noise_rate(0.2)
+            .seed(seed)
+            .write(dir.path(), name);
     }
-    let o = wireflight(&[
+    let said = ok(&[
         "identify",
         "--flight",
         &path("a.csv"),
@@ -214,8 +197,7 @@ fn identify_command_writes_a_parameter_set_that_compare_takes() {
         &path("id.toml"),
         "--json",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&said).unwrap();
     let est = &v["estimates"][1];
     assert_eq!(est["key"], "c_m_alpha");
     let fitted = est["value"].as_f64().unwrap();
@@ -229,7 +211,7 @@ fn identify_command_writes_a_parameter_set_that_compare_takes() {
         toml.starts_with("# Identified by `wireflight identify`"),
         "{toml}"
     );
-    let o = wireflight(&[
+    let said = ok(&[
         "compare",
         "--flight",
         &path("b.csv"),
@@ -237,8 +219,7 @@ fn identify_command_writes_a_parameter_set_that_compare_takes() {
         &path("id.toml"),
         "--json",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let c: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c: serde_json::Value = serde_json::from_str(&said).unwrap();
     let units = c["error"]["noise_units"].as_f64();
     assert!(units.is_some_and(|u| u < 1.5), "{c:#}");
     // Only the TOML (no temporaries) is left besides the data.
@@ -253,38 +234,25 @@ fn identify_command_writes_a_parameter_set_that_compare_takes() {
 #[test]
 fn identify_command_refuses_bad_requests_clearly() {
     let dir = tempfile::tempdir().unwrap();
-    let csv = dir.path().join("p.csv");
+    let csv = Flight::new()
+        .vehicle("point-mass")
+        .duration(20)
+        .write(dir.path(), "p.csv");
     let csv = csv.to_str().unwrap();
-    let o = wireflight(&[
-        "simulate",
-        "--vehicle",
-        "point-mass",
-        "--duration",
-        "20",
-        "--out",
-        csv,
-    ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = wireflight(&["identify", "--flight", csv]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = refused(&["identify", "--flight", csv]);
     assert!(err.contains("point mass"), "{err}");
-    let o = wireflight(&[
+    let err = refused(&[
         "identify",
         "--flight",
         "tests/data/jsbsim-c172p-doublets.csv",
         "--free",
         "c_zz_*",
     ]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
     assert!(
         err.contains("`c_zz_*` matches no aircraft parameter"),
         "{err}"
     );
-    let o = wireflight(&["identify", "--flight", "no-such.csv"]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("no-such.csv"));
+    assert!(refused(&["identify", "--flight", "no-such.csv"]).contains("no-such.csv"));
 }
 
 /// JSBSim's c172p (its own nonlinear tables, propeller and integrator): the set made from its

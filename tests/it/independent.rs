@@ -5,7 +5,7 @@
 
 use wireflight::analysis::compare::{compare, noise_floor, CompareConfig, Prepared};
 use wireflight::analysis::diagnose::{diagnose, Candidate, DiagnoseConfig, Diagnosis, Verdict};
-use wireflight::flight::data::{self, FlightData};
+use wireflight::data::{self, FlightData};
 use wireflight::flight::model::Model;
 use wireflight::flight::spec::ModelChoice;
 
@@ -301,7 +301,7 @@ fn a_borrowed_start_jacobian_reaches_the_fresh_fits_misfit() {
     let d = flight(&o);
     let base = baseline(&d);
     let mut spec =
-        wireflight::flight::spec::ModelSpec::baseline(wireflight::flight::VehicleKind::FixedWing);
+        wireflight::flight::spec::ModelSpec::baseline(wireflight::data::VehicleKind::FixedWing);
     spec.effects
         .push(EffectSpec::parse("gyroscopic:k_gyro=2.5").unwrap());
     let with_effect = spec.build(Origin::default()).unwrap();

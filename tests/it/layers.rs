@@ -17,11 +17,24 @@ const HEAVY: [&str; 6] = [
 ];
 
 /// The library crates that must build without any of [`HEAVY`].
-const LIGHT: [&str; 4] = [
+const LIGHT: [&str; 5] = [
     "wireflight-geometry",
     "wireflight-fsio",
+    "wireflight-data",
     "wireflight-flight",
     "wireflight-analysis",
+];
+
+/// The workspace crates each library crate may depend on (`wireflight-` left out): the layers
+/// below it only (`ARCHITECTURE.md`). Flight data sits below the flight model and reads files;
+/// the analysis is pure and reads none.
+const BELOW: [(&str, &[&str]); 6] = [
+    ("geometry", &[]),
+    ("fsio", &[]),
+    ("data", &["geometry", "fsio"]),
+    ("flight", &["geometry", "fsio", "data"]),
+    ("analysis", &["geometry", "data", "flight"]),
+    ("draw", &["geometry", "fsio", "data", "flight", "analysis"]),
 ];
 
 fn repo() -> PathBuf {
@@ -95,7 +108,24 @@ fn light_crates_have_no_gpu_window_or_plot_dependency() {
     }
 }
 
-/// A module of a crate: its path below the crate root (`["data", "px4"]`).
+#[test]
+fn each_crate_depends_only_on_the_layers_below_it() {
+    let crates = workspace_crates();
+    let short = |name: &str| name.strip_prefix("wireflight-").unwrap_or(name).to_string();
+    for (name, (_, deps)) in &crates {
+        let Some((_, below)) = BELOW.iter().find(|(n, _)| *n == short(name)) else {
+            panic!("{name} is not placed in the layers (BELOW in tests/it/layers.rs)");
+        };
+        for (dep, _) in deps {
+            assert!(
+                !crates.contains_key(dep) || below.contains(&short(dep).as_str()),
+                "{name} depends on {dep}, which is not below it"
+            );
+        }
+    }
+}
+
+/// A module of a crate: its path below the crate root (`["import", "ulog"]`).
 type ModPath = Vec<String>;
 
 /// Every `.rs` file of `src` as its module path.

@@ -5,37 +5,22 @@
 
 use std::f64::consts::PI;
 use std::path::Path;
-use std::process::{Command, Output};
 
-use wireflight::flight::data::mapped::ColumnMap;
-use wireflight::flight::data::px4::{self, UlogOptions};
-use wireflight::flight::data::ulog::UlogFile;
-use wireflight::flight::data::{load, LoadOptions, EARTH_RADIUS_M};
-use wireflight::flight::VehicleKind;
+use wireflight::data::mapped::ColumnMap;
+use wireflight::data::px4::{self, UlogOptions};
+use wireflight::data::ulog::UlogFile;
+use wireflight::data::{load, LoadOptions, VehicleKind, EARTH_RADIUS_M};
 
+use crate::support::cli::{ok_with_stderr, stderr, stdout, wireflight};
 use crate::support::data_file;
 use crate::support::ulog::UlogWriter;
 use crate::support::Rng;
-
-fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
-fn text(o: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
 
 fn ulog_bytes(name: &str) -> Vec<u8> {
     std::fs::read(data_file(name)).unwrap()
 }
 
-fn from_bytes(bytes: &[u8]) -> Result<wireflight::flight::data::FlightData, String> {
+fn from_bytes(bytes: &[u8]) -> Result<wireflight::data::FlightData, String> {
     let log =
         UlogFile::parse(bytes, "x.ulg", |t| px4::TOPICS.contains(&t)).map_err(|e| e.to_string())?;
     px4::from_ulog(&log, "x.ulg", &UlogOptions::default())
@@ -417,31 +402,29 @@ fn commands_read_ulog_and_mapped_csv() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("hop.csv");
     let hop = data_file("px4-sitl-hop.ulg");
-    let o = wireflight(&[
+    let (so, se) = ok_with_stderr(&[
         "import",
         "--flight",
         hop.to_str().unwrap(),
         "--out",
         out.to_str().unwrap(),
     ]);
-    let (so, se) = text(&o);
-    assert!(o.status.success(), "{se}");
     // The report of what the log held goes to stderr (as every command's); the result to
     // stdout.
     assert!(se.contains("621 samples at 20 Hz"), "{se}");
     assert!(so.starts_with("wrote"), "{so}");
-    let back = wireflight::flight::data::read(&out).unwrap();
+    let back = wireflight::data::read(&out).unwrap();
     assert_eq!(back.len(), 621);
 
     // compare and diagnose need a vehicle for a quadrotor log; the report goes to stderr.
     let o = wireflight(&["compare", "--flight", hop.to_str().unwrap(), "--json"]);
-    let (_, se) = text(&o);
+    let se = stderr(&o);
     assert!(!o.status.success());
     assert!(
         se.contains("no `# vehicle:` metadata; say which model with --vehicle"),
         "{se}"
     );
-    let o = wireflight(&[
+    let (so, se) = ok_with_stderr(&[
         "compare",
         "--flight",
         hop.to_str().unwrap(),
@@ -449,8 +432,6 @@ fn commands_read_ulog_and_mapped_csv() {
         "point-mass",
         "--json",
     ]);
-    let (so, se) = text(&o);
-    assert!(o.status.success(), "{se}");
     assert!(se.contains("PX4 ULog"), "{se}");
     let v: serde_json::Value = serde_json::from_str(&so).expect("stdout is JSON only");
     assert!(v["error"]["total"].as_f64().unwrap() > 0.0, "{v}");
@@ -467,7 +448,7 @@ fn commands_read_ulog_and_mapped_csv() {
         "0.2",
         "--json",
     ]);
-    let (so, se) = text(&o);
+    let (so, se) = (stdout(&o), stderr(&o));
     assert!(
         so.is_empty() || serde_json::from_str::<serde_json::Value>(&so).is_ok(),
         "{so}"
@@ -484,7 +465,7 @@ fn commands_read_ulog_and_mapped_csv() {
         "--columns",
         "time=stamp_us:furlongs,north=x_ft",
     ]);
-    let (_, se) = text(&o);
+    let se = stderr(&o);
     assert!(!o.status.success());
     assert!(
         se.contains("column map: entry `time=stamp_us:furlongs`: unknown unit `furlongs`"),

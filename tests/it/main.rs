@@ -3,7 +3,8 @@
 //!
 //! Run one topic with `cargo test --test it <module>::`, e.g. `cargo test --test it golden::`.
 //! Shared helpers (the approximate-equality macro, a seeded generator, the clipper's
-//! brute-force reference) live in [`support`]; data files a test needs live in `tests/data/`.
+//! brute-force reference, the binary's launcher and `simulate` command lines) live in
+//! [`support`]; data files a test needs live in `tests/data/`.
 
 mod support;
 

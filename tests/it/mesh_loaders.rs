@@ -3,12 +3,14 @@
 //! name the file and the problem (never a panic).
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use glam::Vec3;
 use serde_json::json;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::mesh::{self, EdgeMesh};
+use wireflight::draw::mesh_files;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::mesh::EdgeMesh;
+
+use crate::support::cli::{ok, wireflight};
 
 fn asset(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -55,7 +57,7 @@ fn write(dir: &Path, name: &str, contents: impl AsRef<[u8]>) -> PathBuf {
 
 /// Load, expect an error, and check it names the file and contains every hint.
 fn assert_load_error(path: &Path, hints: &[&str]) -> String {
-    let err = match mesh::load(path) {
+    let err = match mesh_files::load(path) {
         Ok(m) => panic!("{} loaded ({} edges)", path.display(), m.edges().len()),
         Err(e) => e.to_string(),
     };
@@ -174,13 +176,13 @@ fn one_node() -> serde_json::Value {
 
 #[test]
 fn plane_obj_is_the_builtin_plane() {
-    let m = mesh::load(&asset("plane.obj")).unwrap();
+    let m = mesh_files::load(&asset("plane.obj")).unwrap();
     assert_same_edges(&m, &builtin_plane(), 1e-6);
 }
 
 #[test]
 fn plane_gltf_is_the_builtin_plane() {
-    let m = mesh::load(&asset("plane.gltf")).unwrap();
+    let m = mesh_files::load(&asset("plane.gltf")).unwrap();
     assert_same_edges(&m, &builtin_plane(), 1e-6);
     // No transform and f32 data: bit-exact, so even the welded vertex count agrees.
     assert_eq!(m.positions().len(), builtin_plane().positions().len());
@@ -188,7 +190,7 @@ fn plane_gltf_is_the_builtin_plane() {
 
 #[test]
 fn load_named_dispatches_plane_and_files() {
-    use wireflight::mesh::load_named as load_model;
+    use wireflight::draw::mesh_files::load_named as load_model;
     assert_eq!(load_model("plane").unwrap(), builtin_plane());
     let m = load_model(asset("plane.obj").to_str().unwrap()).unwrap();
     assert_same_edges(&m, &builtin_plane(), 1e-6);
@@ -211,7 +213,7 @@ fn obj_quad_cube_has_twelve_edges() {
     text += "vn 0 0 1\nvt 0 0\n";
     text += "f 1 2 4 3\nf 5 7 8 6\nf 1/1/1 5/1/1 6/1/1 2/1/1\nf 3//1 4//1 8//1 7//1\n";
     text += "g second\nf -8 -6 -2 -4\nf 2 6 8 4\n"; // relative indices, a new group
-    let m = mesh::load(&write(dir.path(), "cube.obj", text)).unwrap();
+    let m = mesh_files::load(&write(dir.path(), "cube.obj", text)).unwrap();
     assert_eq!(m.edges().len(), 12, "no diagonals, shared edges once");
     assert_eq!(m.positions().len(), 8);
 }
@@ -220,11 +222,11 @@ fn obj_quad_cube_has_twelve_edges() {
 fn obj_lines_and_polylines_stay_open() {
     let dir = tempfile::tempdir().unwrap();
     let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nl 1 2 3 4\nl 4 1\np 1\nl 2\n";
-    let m = mesh::load(&write(dir.path(), "lines.obj", text)).unwrap();
+    let m = mesh_files::load(&write(dir.path(), "lines.obj", text)).unwrap();
     // 1-2, 2-3, 3-4 from the polyline (no closing 4-1 from it), 4-1 from the second line.
     assert_eq!(m.edges().len(), 4);
     let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nl 1 2 3\n";
-    let m = mesh::load(&write(dir.path(), "open.obj", text)).unwrap();
+    let m = mesh_files::load(&write(dir.path(), "open.obj", text)).unwrap();
     assert_eq!(m.edges().len(), 2, "a 3-point polyline is not a triangle");
 }
 
@@ -295,7 +297,7 @@ fn gltf_triangle_cube_external_buffer() {
         one_node(),
         json!([{ "nodes": [0] }]),
     );
-    let m = mesh::load(&write(dir.path(), "cube.gltf", doc.to_string())).unwrap();
+    let m = mesh_files::load(&write(dir.path(), "cube.gltf", doc.to_string())).unwrap();
     // 12 cube edges + one diagonal per face.
     assert_eq!(m.edges().len(), 18);
 }
@@ -330,7 +332,7 @@ fn gltf_primitive_modes_and_non_indexed() {
         if want == 0 {
             assert_load_error(&path, &["no edges"]);
         } else {
-            let m = mesh::load(&path).unwrap();
+            let m = mesh_files::load(&path).unwrap();
             assert_eq!(m.edges().len(), want, "mode {mode} indices {idx:?}");
         }
     }
@@ -350,7 +352,7 @@ fn gltf_node_transforms_compose() {
     ]);
     let scenes = json!([{ "nodes": [0] }, { "nodes": [2] }]);
     let doc = gltf_json(&seg, &[], 1, Some("seg.bin"), nodes.clone(), scenes);
-    let m = mesh::load(&write(dir.path(), "nodes.gltf", doc.to_string())).unwrap();
+    let m = mesh_files::load(&write(dir.path(), "nodes.gltf", doc.to_string())).unwrap();
     let want = [
         [Vec3::new(10.0, 0.0, 0.0), Vec3::new(11.0, 0.0, 0.0)],
         [Vec3::new(10.0, 5.0, 0.0), Vec3::new(12.0, 5.0, 0.0)],
@@ -369,7 +371,7 @@ fn gltf_node_transforms_compose() {
     ]);
     // No scenes: root nodes are drawn.
     let doc = gltf_json(&seg, &[], 1, Some("seg.bin"), nodes, json!(null));
-    let m = mesh::load(&write(dir.path(), "matrix.gltf", doc.to_string())).unwrap();
+    let m = mesh_files::load(&write(dir.path(), "matrix.gltf", doc.to_string())).unwrap();
     let s = segments(&m);
     let want = [Vec3::new(0.0, 0.0, 3.0), Vec3::new(0.0, 1.0, 3.0)];
     assert!(s.len() == 1 && same_segment(&s[0], &want, 1e-6), "{s:?}");
@@ -381,7 +383,7 @@ fn glb_loads() {
     let (pos, tri) = cube();
     let doc = gltf_json(&pos, &tri, 4, None, one_node(), json!([{ "nodes": [0] }]));
     let path = write(dir.path(), "cube.glb", glb(&doc, &le_bytes(&pos, &tri)));
-    assert_eq!(mesh::load(&path).unwrap().edges().len(), 18);
+    assert_eq!(mesh_files::load(&path).unwrap().edges().len(), 18);
 
     // The plane asset, repacked as GLB, is still the plane.
     let mut doc: serde_json::Value =
@@ -390,7 +392,7 @@ fn glb_loads() {
     let bin = decode_base64(uri.split_once(',').unwrap().1);
     doc["buffers"][0].as_object_mut().unwrap().remove("uri");
     let path = write(dir.path(), "plane.glb", glb(&doc, &bin));
-    assert_same_edges(&mesh::load(&path).unwrap(), &builtin_plane(), 1e-6);
+    assert_same_edges(&mesh_files::load(&path).unwrap(), &builtin_plane(), 1e-6);
 }
 
 fn decode_base64(s: &str) -> Vec<u8> {
@@ -494,7 +496,7 @@ fn gltf_errors_name_the_file_and_problem() {
     doc["extensionsUsed"] = json!(["KHR_texture_transform"]);
     doc["extensionsRequired"] = json!(["KHR_texture_transform"]);
     let path = write(d, "texture_ext.gltf", doc.to_string());
-    assert_eq!(mesh::load(&path).unwrap().edges().len(), 18);
+    assert_eq!(mesh_files::load(&path).unwrap().edges().len(), 18);
     // A node with two parents.
     let nodes = json!([{ "children": [2] }, { "children": [2] }, { "mesh": 0 }]);
     let doc = gltf_json(
@@ -528,34 +530,28 @@ fn gltf_errors_name_the_file_and_problem() {
 
 #[test]
 fn cli_renders_obj_and_rejects_garbage() {
-    let exe = env!("CARGO_BIN_EXE_wireflight");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("plane.svg");
-    let run = Command::new(exe)
-        .arg("render")
-        .arg("--model")
-        .arg(asset("plane.obj"))
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(
-        run.status.success(),
-        "{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
+    let plane = asset("plane.obj");
+    ok(&[
+        "render",
+        "--model",
+        plane.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
     let svg = std::fs::read_to_string(&out).unwrap();
     assert!(svg.contains("<svg"), "{svg}");
 
     let garbage = write(dir.path(), "garbage.gltf", "not a model at all");
-    let run = Command::new(exe)
-        .arg("render")
-        .arg("--model")
-        .arg(&garbage)
-        .arg("--out")
-        .arg(dir.path().join("never.svg"))
-        .output()
-        .unwrap();
+    let never = dir.path().join("never.svg");
+    let run = wireflight(&[
+        "render",
+        "--model",
+        garbage.to_str().unwrap(),
+        "--out",
+        never.to_str().unwrap(),
+    ]);
     assert!(!run.status.success());
     assert_ne!(run.status.code(), Some(0));
     let stderr = String::from_utf8_lossy(&run.stderr);

@@ -3,16 +3,16 @@
 //!
 //! The file is `tests/data/jsbsim-mk82.csv` (source in `tests/data/README.md`).
 
-use wireflight::clip::Clipper;
-use wireflight::flight::data::FlightData;
+use wireflight::data::FlightData;
+use wireflight::data::{Controls, VehicleKind};
+use wireflight::draw::render::cpu;
+use wireflight::draw::scene::palette;
+use wireflight::draw::scene::replay::ReplayScene;
 use wireflight::flight::effects::{DensityAltitude, Drag, Origin};
 use wireflight::flight::model::{Model, State, Vehicle};
-use wireflight::flight::{Controls, VehicleKind};
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::cpu;
-use wireflight::scene::palette;
-use wireflight::scene::replay::ReplayScene;
+use wireflight::geometry::clip::Clipper;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
 use crate::support::mk82;
 

@@ -5,18 +5,18 @@
 use glam::Vec2;
 
 use wireflight::analysis::compare::{compare, CompareConfig};
-use wireflight::clip::Clipper;
+use wireflight::data::VehicleKind;
+use wireflight::draw::render::{cpu, Image, Rgba};
+use wireflight::draw::scene::palette::{self, ERROR_STRIP, MODEL_AIRCRAFT, TRAIL};
+use wireflight::draw::scene::replay::ReplayScene;
+use wireflight::draw::scene::track::ModelTrack;
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelSpec};
-use wireflight::flight::VehicleKind;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, Image, Rgba};
-use wireflight::scene::palette::{self, ERROR_STRIP, MODEL_AIRCRAFT, TRAIL};
-use wireflight::scene::replay::ReplayScene;
-use wireflight::scene::track::ModelTrack;
+use wireflight::geometry::clip::Clipper;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
 const VIEW: Viewport = Viewport {
     width: 480,

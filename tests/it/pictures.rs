@@ -4,17 +4,18 @@
 //! intended change: `WIREFLIGHT_BLESS=1 cargo test --test it pictures::`, then look at them.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-use wireflight::camera::CameraPreset;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::cpu;
-use wireflight::scene::attitude::from_aerospace_degrees;
-use wireflight::scene::still::{still, StillWorld};
-use wireflight::scene::ViewSpec;
+use wireflight::draw::render::cpu;
+use wireflight::draw::scene::attitude::from_aerospace_degrees;
+use wireflight::draw::scene::still::{still, StillWorld};
+use wireflight::draw::scene::ViewSpec;
+use wireflight::geometry::camera::CameraPreset;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
+use crate::support::cli::{ok, ok_with_stderr, stderr, wireflight};
 use crate::support::data_file;
+use crate::support::flights::Flight;
 
 fn golden_path(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -44,19 +45,6 @@ fn check_golden_bytes(name: &str, bytes: &[u8]) {
             out.display()
         );
     }
-}
-
-fn wireflight(args: &[&str]) -> Output {
-    let o = Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight");
-    assert!(
-        o.status.success(),
-        "wireflight {args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    o
 }
 
 fn gif_frames(path: &Path) -> (usize, u16, (u16, u16)) {
@@ -97,7 +85,7 @@ fn px4_log_replayed_to_a_gif() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("hop.gif");
     let log = data_file("px4-sitl-hop.ulg");
-    let o = wireflight(&[
+    let (stdout, stderr) = ok_with_stderr(&[
         "render",
         "--flight",
         log.to_str().unwrap(),
@@ -110,15 +98,13 @@ fn px4_log_replayed_to_a_gif() {
         "--backend",
         "cpu",
     ]);
-    let stdout = String::from_utf8_lossy(&o.stdout);
-    let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(stdout.contains("wrote 63 GIF frames"), "{stdout}");
     assert!(!stderr.contains("frames ["), "progress on a pipe: {stderr}");
     assert!(stderr.contains("PX4 ULog"), "the report: {stderr}");
     assert_eq!(gif_frames(&out), (63, 50, (256, 192)));
     check_golden_bytes("px4_hop_replay.gif", &std::fs::read(&out).unwrap());
     // --quiet leaves only the result.
-    let o = wireflight(&[
+    let (_, stderr) = ok_with_stderr(&[
         "render",
         "--flight",
         log.to_str().unwrap(),
@@ -132,37 +118,23 @@ fn px4_log_replayed_to_a_gif() {
         "cpu",
         "--quiet",
     ]);
-    assert!(
-        o.stderr.is_empty(),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert!(stderr.is_empty(), "{stderr}");
 }
 
 /// `compare --out FILE.gif`: both aircraft, the trail, the labelled error strip, the time.
 #[test]
 fn comparison_gif() {
     let dir = tempfile::tempdir().unwrap();
-    let csv = dir.path().join("windy.csv");
+    let csv = Flight::new()
+        .manoeuvre("climbing-turn")
+        .duration(24)
+        .hidden("wind:north_mps=4,east_mps=-3")
+        .noise_pos(0.5)
+        .noise_att(0.3)
+        .seed(7)
+        .write(dir.path(), "windy.csv");
     let out = dir.path().join("compare.gif");
-    wireflight(&[
-        "simulate",
-        "--manoeuvre",
-        "climbing-turn",
-        "--duration",
-        "24",
-        "--hidden",
-        "wind:north_mps=4,east_mps=-3",
-        "--noise-pos",
-        "0.5",
-        "--noise-att",
-        "0.3",
-        "--seed",
-        "7",
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    let o = wireflight(&[
+    let said = ok(&[
         "compare",
         "--flight",
         csv.to_str().unwrap(),
@@ -175,23 +147,20 @@ fn comparison_gif() {
         "--json",
     ]);
     // JSON alone on stdout.
-    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("JSON");
+    let v: serde_json::Value = serde_json::from_str(&said).expect("JSON");
     assert!(v["error"]["total"].as_f64().unwrap() > 0.0);
     assert_eq!(gif_frames(&out), (49, 50, (400, 300)));
     check_golden_bytes("windy_compare.gif", &std::fs::read(&out).unwrap());
-    let o = Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args([
-            "compare",
-            "--flight",
-            csv.to_str().unwrap(),
-            "--out",
-            "x.png",
-        ])
-        .output()
-        .unwrap();
+    let o = wireflight(&[
+        "compare",
+        "--flight",
+        csv.to_str().unwrap(),
+        "--out",
+        "x.png",
+    ]);
     assert!(
-        String::from_utf8_lossy(&o.stderr).contains("x.png: --out writes an animated GIF"),
+        stderr(&o).contains("x.png: --out writes an animated GIF"),
         "{}",
-        String::from_utf8_lossy(&o.stderr)
+        stderr(&o)
     );
 }

@@ -11,18 +11,21 @@ use wireflight::analysis::compare::{
     compare_prepared, noise_floor, CompareConfig, Comparison, Prepared,
 };
 use wireflight::analysis::conditions::conditions;
-use wireflight::analysis::plots::{
+use wireflight::data::FlightData;
+use wireflight::data::VehicleKind;
+use wireflight::draw::plots::{
     write_plots, write_plots_with, ConditionSeries, PlotInfo, ERROR_VS_CONDITION,
     ERROR_VS_CONDITION_SIZE, MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, RESIDUALS,
     RESIDUALS_PER_AXIS, RESIDUALS_PER_AXIS_ROW, RESIDUALS_PER_AXIS_WIDTH, RESIDUALS_SIZE,
 };
 use wireflight::flight::autopilot::Manoeuvre;
-use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::model::Model;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelSpec};
-use wireflight::flight::VehicleKind;
+
+use crate::support::cli::ok_in;
+use crate::support::flights::Flight;
 
 fn model(vehicle: VehicleKind, effects: &[&str]) -> Model {
     let mut spec = ModelSpec::baseline(vehicle);
@@ -269,49 +272,31 @@ fn png_text(path: &Path) -> String {
 fn the_text_and_the_plots_name_the_same_condition_and_windows() {
     let tmp = tempfile::tempdir().unwrap();
     let csv = tmp.path().join("a.csv");
-    let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-            .args(args)
-            .current_dir(tmp.path())
-            .output()
-            .unwrap();
-        let text = String::from_utf8_lossy(&o.stdout).into_owned();
-        assert!(
-            o.status.success(),
-            "{args:?}: {text}{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
-        text
-    };
-    run(&[
-        "simulate",
-        "--manoeuvre",
-        "flight-test",
-        "--duration",
-        "40",
-        "--hidden",
-        "aircraft:c_m_alpha=-3.3",
-        "--noise-pos",
-        "0.05",
-        "--noise-att",
-        "0.05",
-        "--noise-vel",
-        "0.05",
-        "--noise-rate",
-        "0.2",
-        "--out",
-        csv.to_str().unwrap(),
-    ]);
-    let plain = run(&["compare", "--flight", "a.csv", "--plots", "p1"]);
-    let with = run(&[
-        "compare",
-        "--flight",
-        "a.csv",
-        "--add",
-        "aircraft:c_m_alpha",
-        "--plots",
-        "p2",
-    ]);
+    let flight = Flight::new()
+        .manoeuvre("flight-test")
+        .duration(40)
+        .hidden("aircraft:c_m_alpha=-3.3")
+        .noise_pos(0.05)
+        .noise_att(0.05)
+        .noise_vel(0.05)
+        .noise_rate(0.2);
+    ok_in(tmp.path(), &flight.args(&csv));
+    let plain = ok_in(
+        tmp.path(),
+        &["compare", "--flight", "a.csv", "--plots", "p1"],
+    );
+    let with = ok_in(
+        tmp.path(),
+        &[
+            "compare",
+            "--flight",
+            "a.csv",
+            "--add",
+            "aircraft:c_m_alpha",
+            "--plots",
+            "p2",
+        ],
+    );
     // The first condition of "error correlates with" and its r, as the text prints them.
     let first = plain
         .lines()

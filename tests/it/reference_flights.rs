@@ -10,14 +10,8 @@ use std::sync::OnceLock;
 
 use serde_json::Value;
 
+use crate::support::cli::{ok, refused};
 use crate::support::data_file;
-
-fn wireflight(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("wireflight runs")
-}
 
 fn flight(name: &str) -> String {
     data_file(&format!("jsbsim-c172p-{name}.csv"))
@@ -31,7 +25,7 @@ fn identified() -> &'static Path {
     let (_, path) = SET.get_or_init(|| {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("identified.toml");
-        let out = wireflight(&[
+        ok(&[
             "-q",
             "identify",
             "--flight",
@@ -41,11 +35,6 @@ fn identified() -> &'static Path {
             "--out",
             path.to_str().unwrap(),
         ]);
-        assert!(
-            out.status.success(),
-            "identify: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
         (dir, path)
     });
     path
@@ -80,13 +69,7 @@ fn against_references_output(command: &str, name: &str, extra: &[&str]) -> Strin
         &ref_2,
     ];
     args.extend_from_slice(extra);
-    let out = wireflight(&args);
-    assert!(
-        out.status.success(),
-        "{command} {name}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("UTF-8")
+    ok(&args)
 }
 
 /// The verdict names exactly `key` (an aircraft number), and its change from the reference
@@ -161,7 +144,7 @@ fn an_unchanged_aircraft_gives_none_against_the_references() {
 /// determined and changed by more than 3σ.
 #[test]
 fn identify_on_an_unchanged_aircraft_claims_no_change() {
-    let out = wireflight(&[
+    let said = ok(&[
         "-q",
         "identify",
         "--flight",
@@ -170,12 +153,7 @@ fn identify_on_an_unchanged_aircraft_claims_no_change() {
         identified().to_str().unwrap(),
         "--json",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v: Value = serde_json::from_str(&said).unwrap();
     for e in v["estimates"].as_array().unwrap() {
         let (value, start, sigma) = (
             e["value"].as_f64().unwrap(),
@@ -192,16 +170,14 @@ fn identify_on_an_unchanged_aircraft_claims_no_change() {
 #[test]
 fn a_flight_that_cannot_be_a_reference_is_refused() {
     let run = |reference: &str| {
-        let out = wireflight(&[
+        refused(&[
             "-q",
             "diagnose",
             "--flight",
             &flight("control"),
             "--reference",
             reference,
-        ]);
-        assert_eq!(out.status.code(), Some(2));
-        String::from_utf8_lossy(&out.stderr).to_string()
+        ])
     };
     let mk82 = data_file("jsbsim-mk82.csv").display().to_string();
     assert!(run(&mk82).contains("is another vehicle"), "{}", run(&mk82));
@@ -335,13 +311,7 @@ fn a_calm_unexplained_flight_is_not_turbulence() {
 fn a_wrong_model_is_not_turbulence() {
     let path = flight("validation");
     let run = |command: &str| -> Value {
-        let out = wireflight(&[command, "--flight", &path, "--json"]);
-        assert!(
-            out.status.success(),
-            "{command}: {}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        serde_json::from_str(&ok(&[command, "--flight", &path, "--json"])).unwrap()
     };
     let d = run("diagnose");
     let verdict = d["verdict"].as_str().unwrap();

@@ -11,20 +11,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn wireflight(dir: &Path, args: &[&str]) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("run wireflight");
-    let text = String::from_utf8_lossy(&o.stdout).into_owned();
-    assert!(
-        o.status.success(),
-        "wireflight {args:?}: {text}{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    text
-}
+use crate::support::cli::{ok_in, refused_in};
+use crate::support::flights::Flight;
 
 /// The browser: `chromium` (or `chromium-browser`) on PATH.
 fn chromium() -> Option<PathBuf> {
@@ -83,29 +71,16 @@ fn decode(path: &Path) -> (u32, u32, Vec<[u8; 3]>) {
 fn diagnose_writes_a_self_contained_report_a_browser_renders_and_a_model_that_fits() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    wireflight(
-        dir,
-        &[
-            "simulate",
-            "--manoeuvre",
-            "flight-test",
-            "--duration",
-            "24",
-            "--hidden",
-            "aircraft:c_m_q=-20",
-            "--noise-pos",
-            "0.05",
-            "--noise-att",
-            "0.05",
-            "--noise-vel",
-            "0.05",
-            "--noise-rate",
-            "0.2",
-            "--out",
-            "a.csv",
-        ],
-    );
-    let out = wireflight(
+    let flight = Flight::new()
+        .manoeuvre("flight-test")
+        .duration(24)
+        .hidden("aircraft:c_m_q=-20")
+        .noise_pos(0.05)
+        .noise_att(0.05)
+        .noise_vel(0.05)
+        .noise_rate(0.2);
+    ok_in(dir, &flight.args("a.csv"));
+    let out = ok_in(
         dir,
         &[
             "diagnose",
@@ -147,7 +122,7 @@ fn diagnose_writes_a_self_contained_report_a_browser_renders_and_a_model_that_fi
     // The model kept: compare with it is at the noise.
     let model = std::fs::read_to_string(dir.join("model.toml")).unwrap();
     assert!(model.contains("aircraft:c_m_q="), "{model}");
-    let cmp = wireflight(
+    let cmp = ok_in(
         dir,
         &["compare", "--flight", "a.csv", "--model", "model.toml"],
     );
@@ -228,25 +203,14 @@ fn diagnose_writes_a_self_contained_report_a_browser_renders_and_a_model_that_fi
 fn compare_keeps_the_added_effects_and_refuses_other_out_names() {
     let tmp = tempfile::tempdir().unwrap();
     let dir = tmp.path();
-    wireflight(
-        dir,
-        &[
-            "simulate",
-            "--manoeuvre",
-            "climbing-turn",
-            "--duration",
-            "16",
-            "--hidden",
-            "wind:north_mps=4,east_mps=-3",
-            "--noise-pos",
-            "0.5",
-            "--noise-att",
-            "0.3",
-            "--out",
-            "w.csv",
-        ],
-    );
-    let out = wireflight(
+    let windy = Flight::new()
+        .manoeuvre("climbing-turn")
+        .duration(16)
+        .hidden("wind:north_mps=4,east_mps=-3")
+        .noise_pos(0.5)
+        .noise_att(0.3);
+    ok_in(dir, &windy.args("w.csv"));
+    let out = ok_in(
         dir,
         &[
             "compare", "--flight", "w.csv", "--add", "wind", "--out", "m.toml", "--report",
@@ -263,7 +227,7 @@ fn compare_keeps_the_added_effects_and_refuses_other_out_names() {
     assert!(!html.contains("http://") && !html.contains("https://"));
     assert!(html.contains("data:image/gif;base64,"));
     // The kept model is the fitted one: at the noise, with no --add.
-    let cmp = wireflight(dir, &["compare", "--flight", "w.csv", "--model", "m.toml"]);
+    let cmp = ok_in(dir, &["compare", "--flight", "w.csv", "--model", "m.toml"]);
     let units: f64 = cmp
         .lines()
         .find(|l| l.trim_start().starts_with("× noise"))
@@ -273,23 +237,11 @@ fn compare_keeps_the_added_effects_and_refuses_other_out_names() {
     assert!(units < 1.25, "{cmp}");
 
     // Any other --out name is refused before any work, naming the file and both kinds.
-    let o = Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(["compare", "--flight", "w.csv", "--out", "x.png"])
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let err = refused_in(dir, &["compare", "--flight", "w.csv", "--out", "x.png"]);
     assert!(
         err.contains("x.png") && err.contains(".gif") && err.contains(".toml"),
         "{err}"
     );
-    let o = Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(["diagnose", "--flight", "w.csv", "--report", "r.pdf"])
-        .current_dir(dir)
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(2), "{err}");
+    let err = refused_in(dir, &["diagnose", "--flight", "w.csv", "--report", "r.pdf"]);
     assert!(err.contains("r.pdf") && err.contains(".html"), "{err}");
 }

@@ -7,7 +7,7 @@
 use glam::DVec3;
 
 use wireflight::analysis::diagnose::{diagnose, Candidate, DiagnoseConfig, Diagnosis, Verdict};
-use wireflight::flight::data::{self, FlightData};
+use wireflight::data::{self, FlightData};
 use wireflight::flight::model::Model;
 use wireflight::flight::spec::ModelChoice;
 
@@ -223,7 +223,7 @@ fn with_accelerometer(hidden: &[&str], seed: u64) -> FlightData {
     use wireflight::flight::effects::Origin;
     use wireflight::flight::simulate::{simulate, Noise as SimNoise, SimSpec};
     use wireflight::flight::spec::{EffectSpec, ModelSpec};
-    let mut spec = ModelSpec::baseline(wireflight::flight::VehicleKind::FixedWing);
+    let mut spec = ModelSpec::baseline(wireflight::data::VehicleKind::FixedWing);
     for h in hidden {
         spec.effects.push(EffectSpec::parse(h).unwrap());
     }

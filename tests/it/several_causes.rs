@@ -6,7 +6,7 @@
 //! default (the table in docs/workbench.md was taken with 40).
 
 use wireflight::analysis::diagnose::{diagnose, Candidate, DiagnoseConfig, Diagnosis, Verdict};
-use wireflight::flight::data::{self, FlightData};
+use wireflight::data::{self, FlightData};
 use wireflight::flight::model::Model;
 use wireflight::flight::spec::ModelChoice;
 

@@ -6,38 +6,27 @@
 use std::path::Path;
 use std::sync::Arc;
 
-use wireflight::flight::data;
+use wireflight::data;
 use wireflight::flight::effects::term::term_of;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::spec::ModelSpec;
 
-use crate::cli::{stderr, stdout, wireflight};
+use crate::support::cli::{ok, stderr, stdout, wireflight};
+use crate::support::flights::Flight;
 
 /// The hidden truth: a pitching moment of 0.05 N·m per newton of thrust.
 const TRUE_K: f64 = 0.05;
 
 /// A noisy climbing turn of the Aerosonde with the pitching term hidden in its truth.
 fn flight_with_hidden_term(dir: &Path) -> std::path::PathBuf {
-    let out = dir.join("a.csv");
-    let o = wireflight(&[
-        "simulate",
-        "--manoeuvre",
-        "climbing-turn",
-        "--duration",
-        "40",
-        "--hidden",
-        &format!("term(m=k*thrust):k={TRUE_K}"),
-        "--noise-pos",
-        "0.3",
-        "--noise-att",
-        "0.2",
-        "--seed",
-        "3",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    out
+    Flight::new()
+        .manoeuvre("climbing-turn")
+        .duration(40)
+        .hidden(&format!("term(m=k*thrust):k={TRUE_K}"))
+        .noise_pos(0.3)
+        .noise_att(0.2)
+        .seed(3)
+        .write(dir, "a.csv")
 }
 
 /// The coefficient `k` of the term `m = k*thrust` in a model file.
@@ -60,7 +49,7 @@ fn a_hidden_term_added_on_the_command_line_is_fitted_and_the_error_falls_to_the_
     let dir = tempfile::tempdir().unwrap();
     let flight = flight_with_hidden_term(dir.path());
     let out = dir.path().join("m.toml");
-    let o = wireflight(&[
+    let text = ok(&[
         "diagnose",
         "--flight",
         flight.to_str().unwrap(),
@@ -69,8 +58,6 @@ fn a_hidden_term_added_on_the_command_line_is_fitted_and_the_error_falls_to_the_
         "--out",
         out.to_str().unwrap(),
     ]);
-    let text = stdout(&o);
-    assert!(o.status.success(), "{}", stderr(&o));
     assert!(
         text.contains("model fixed-wing + term(m=k*thrust)"),
         "{text}"
@@ -96,7 +83,7 @@ fn a_term_declared_in_a_model_file_is_a_candidate_found_with_its_coefficient() {
     )
     .unwrap();
     let out = dir.path().join("fit.toml");
-    let o = wireflight(&[
+    let text = ok(&[
         "diagnose",
         "--flight",
         flight.to_str().unwrap(),
@@ -105,8 +92,6 @@ fn a_term_declared_in_a_model_file_is_a_candidate_found_with_its_coefficient() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    let text = stdout(&o);
-    assert!(o.status.success(), "{}", stderr(&o));
     assert!(text.contains("model fixed-wing baseline"), "{text}");
     let row = text
         .lines()
@@ -120,18 +105,16 @@ fn a_term_declared_in_a_model_file_is_a_candidate_found_with_its_coefficient() {
     let k = fitted_k(&out);
     assert!((k - TRUE_K).abs() < 0.03 * TRUE_K, "k = {k}");
     // The written model, with its term's value, is the model compare takes.
-    let o = wireflight(&[
+    let said = ok(&[
         "compare",
         "--flight",
         flight.to_str().unwrap(),
         "--model",
         out.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", stderr(&o));
     assert!(
-        stdout(&o).contains("model: fixed-wing + term(m=k*thrust)"),
-        "{}",
-        stdout(&o)
+        said.contains("model: fixed-wing + term(m=k*thrust)"),
+        "{said}"
     );
 }
 

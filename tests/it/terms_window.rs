@@ -12,14 +12,14 @@ use wireflight::app::view::compare::Compare;
 use wireflight::app::view::compare_panel_texts;
 use wireflight::app::view::discovery::Discovering;
 use wireflight::app::view::session::Session;
+use wireflight::data::FlightData;
+use wireflight::data::VehicleKind;
 use wireflight::flight::autopilot::Manoeuvre;
-use wireflight::flight::data::FlightData;
 use wireflight::flight::effects::term::term_of;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelChoice, ModelSpec};
-use wireflight::flight::VehicleKind;
-use wireflight::mesh::plane::builtin_plane;
+use wireflight::geometry::mesh::plane::builtin_plane;
 
 /// The truth's coefficient: N·m of pitching moment per N of thrust.
 const TRUE_K: f64 = -0.04;
@@ -56,8 +56,8 @@ fn thrust_line_flight() -> FlightData {
     let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("thrust-line.csv");
-    wireflight::flight::data::write(&path, &data).unwrap();
-    wireflight::flight::data::read(&path).unwrap()
+    wireflight::data::write(&path, &data).unwrap();
+    wireflight::data::read(&path).unwrap()
 }
 
 #[test]

@@ -2,8 +2,8 @@
 //! and refsim's independent gust model, cross-checked statistically; refsim's fixed wing
 //! flying through its own gusts, the turbulent flights made outside the product.
 
+use wireflight::data::{self, FlightData};
 use wireflight::flight::autopilot::Manoeuvre;
-use wireflight::flight::data::{self, FlightData};
 use wireflight::flight::effects::Origin;
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
@@ -12,8 +12,9 @@ use wireflight::flight::turbulence::{
     dryden_series, DrydenIntensity, GustTruth, Turbulence, TurbulenceLevel, TRUTH_KEY,
 };
 
-use crate::cli::wireflight;
 use crate::support::assert_close;
+use crate::support::cli::{ok, wireflight};
+use crate::support::flights::Flight;
 use crate::support::refsim::{
     self, DrydenForm, DrydenGusts, FlightOptions, FwModel, FwState, GustLevel, GustTable, Noise,
     RefGusts, Schedule, Stepper,
@@ -82,21 +83,12 @@ fn cli_writes_the_truth_into_the_file_and_is_deterministic() {
     let dir = tempfile::tempdir().unwrap();
     let run = |name: &str, seed: &str| {
         let out = dir.path().join(name);
-        let o = wireflight(&[
-            "simulate",
-            "--manoeuvre",
-            "doublets",
-            "--duration",
-            "20",
-            "--turbulence",
-            "moderate",
-            "--turbulence-seed",
-            seed,
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        assert!(String::from_utf8_lossy(&o.stdout).contains("moderate turbulence (seed "));
+        let flight = Flight::new()
+            .manoeuvre("doublets")
+            .duration(20)
+            .turbulence("moderate")
+            .turbulence_seed(seed);
+        assert!(ok(&flight.args(&out)).contains("moderate turbulence (seed "));
         std::fs::read_to_string(out).unwrap()
     };
     let (a, b, c) = (run("a.csv", "4"), run("b.csv", "4"), run("c.csv", "5"));
@@ -117,7 +109,7 @@ fn cli_writes_the_truth_into_the_file_and_is_deterministic() {
     assert!((truth.intensity.sigma_mps[0] - su).abs() < 1e-3);
     assert!((truth.intensity.length_m[2] - 200.0).abs() < 0.01);
     // Read back through the flight-data reader too.
-    let read = wireflight::flight::data::read(&dir.path().join("a.csv")).unwrap();
+    let read = wireflight::data::read(&dir.path().join("a.csv")).unwrap();
     assert_eq!(truth_of(&read).turbulence.seed, 4);
 }
 
@@ -282,7 +274,7 @@ fn intensities_rise_with_the_level_and_meet_the_table_above_2000_ft() {
 fn jsbsim_turbulent_flights_carry_their_gust_truth() {
     for name in ["turb-light-1", "turb-light-2", "turb-cmalpha085"] {
         let path = crate::support::data_file(&format!("jsbsim-c172p-{name}.csv"));
-        let flight = wireflight::flight::data::read(&path).unwrap();
+        let flight = wireflight::data::read(&path).unwrap();
         assert_eq!(flight.len(), 1251, "{name}");
         let header = |key: &str| -> Vec<f64> {
             let line = meta_line(&flight, key).unwrap_or_else(|| panic!("{name}: a {key} line"));

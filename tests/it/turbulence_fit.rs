@@ -13,13 +13,14 @@ use serde_json::Value;
 
 use wireflight::analysis::compare::{estimate_noise, CompareConfig};
 use wireflight::analysis::filter_error::flight::{FlightFilter, GustEstimate};
-use wireflight::flight::data::{self, FlightData};
+use wireflight::data::{self, FlightData};
 use wireflight::flight::effects::Origin;
 use wireflight::flight::model::{Model, Vehicle};
 use wireflight::flight::params::FixedWingParams;
 use wireflight::flight::turbulence::{dryden_series, GustTruth, TRUTH_KEY};
 
-use crate::cli::wireflight;
+use crate::support::cli::ok;
+use crate::support::flights::Flight;
 use crate::support::refsim::{self, FlightOptions, GustLevel, Noise, Schedule};
 
 fn aerosonde() -> Model {
@@ -93,13 +94,7 @@ fn calm_refsim_flight_is_not_turbulence() {
 fn command_json(command: &str, path: &std::path::Path, extra: &[&str]) -> Value {
     let mut args = vec!["-q", command, "--flight", path.to_str().unwrap(), "--json"];
     args.extend_from_slice(extra);
-    let out = wireflight(&args);
-    assert!(
-        out.status.success(),
-        "{command}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("JSON")
+    serde_json::from_str(&ok(&args)).expect("JSON")
 }
 
 /// `diagnose --json` of a flight file.
@@ -119,37 +114,19 @@ fn simulate_gusty(
     level: &str,
     extra: &[&str],
 ) -> (std::path::PathBuf, [f64; 3]) {
-    let path = dir.join(format!("{level}.csv"));
-    let mut args = vec![
-        "-q",
-        "simulate",
-        "--manoeuvre",
-        "flight-test",
-        "--duration",
-        "60",
-        "--noise-pos",
-        "0.5",
-        "--noise-att",
-        "0.2",
-        "--noise-vel",
-        "0.1",
-        "--noise-rate",
-        "0.2",
-        "--turbulence-seed",
-        "3",
-        "--out",
-        path.to_str().unwrap(),
-    ];
+    let mut flight = Flight::new()
+        .quiet()
+        .manoeuvre("flight-test")
+        .duration(60)
+        .noise_pos(0.5)
+        .noise_att(0.2)
+        .noise_vel(0.1)
+        .noise_rate(0.2)
+        .turbulence_seed(3);
     if level != "calm" {
-        args.extend_from_slice(&["--turbulence", level]);
+        flight = flight.turbulence(level);
     }
-    args.extend_from_slice(extra);
-    let out = wireflight(&args);
-    assert!(
-        out.status.success(),
-        "simulate: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let path = flight.extra(extra).write(dir, &format!("{level}.csv"));
     let d = data::read(&path).unwrap();
     let sigma = match d.meta.other.iter().find(|(k, _)| k == TRUTH_KEY) {
         Some((_, record)) => GustTruth::parse(record).unwrap().intensity.sigma_mps,
@@ -438,7 +415,7 @@ fn identify_refits_through_turbulence() {
         &["--hidden", "aircraft:c_ell_p=-0.357"],
     );
     let run = |method: &str| -> Value {
-        let out = wireflight(&[
+        let said = ok(&[
             "-q",
             "identify",
             "--flight",
@@ -449,12 +426,7 @@ fn identify_refits_through_turbulence() {
             method,
             "--json",
         ]);
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        serde_json::from_str(&said).unwrap()
     };
     let fe = run("auto");
     let (value, sigma) = (

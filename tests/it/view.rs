@@ -7,8 +7,7 @@
 //! the window draws from) directly, or check errors that come before any window opens.
 
 use std::path::Path;
-use std::process::{Command, Output, Stdio};
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use std::sync::Arc;
 
@@ -17,13 +16,15 @@ use wireflight::app::view::compare::{Compare, Fit};
 use wireflight::app::view::flight::Start;
 use wireflight::app::view::script;
 use wireflight::app::view::session::{Held, Session};
-use wireflight::euler::Gimbal;
+use wireflight::draw::render::{Image, Rgba};
+use wireflight::draw::scene::builder::Part;
+use wireflight::draw::scene::palette::{self, MODEL_AIRCRAFT, MODEL_TRAIL};
 use wireflight::flight::spec::ModelChoice;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::{Image, Rgba};
-use wireflight::scene::builder::Part;
-use wireflight::scene::palette::{self, MODEL_AIRCRAFT, MODEL_TRAIL};
+use wireflight::geometry::euler::Gimbal;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
+
+use crate::support::cli::wireflight_timed;
 
 pub(crate) const WINDOW_TIMEOUT: Duration = Duration::from_secs(300);
 
@@ -43,36 +44,8 @@ pub(crate) fn display() -> Option<String> {
     }
 }
 
-/// Run `wireflight` with a time limit.
-pub(crate) fn run_with_timeout(args: &[&str], limit: Duration) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("start wireflight");
-    let start = Instant::now();
-    loop {
-        if child.try_wait().expect("wait for wireflight").is_some() {
-            return child.wait_with_output().expect("collect output");
-        }
-        if start.elapsed() > limit {
-            child.kill().ok();
-            let out = child.wait_with_output().expect("collect output");
-            panic!(
-                "wireflight {args:?} ran over {limit:?}\nstdout:\n{}\nstderr:\n{}",
-                String::from_utf8_lossy(&out.stdout),
-                String::from_utf8_lossy(&out.stderr)
-            );
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    }
-}
-
-fn wireflight(args: &[&str]) -> Output {
-    run_with_timeout(args, Duration::from_secs(60))
-}
+/// The longest a run that ends before any window opens may take.
+const NO_WINDOW_TIMEOUT: Duration = Duration::from_secs(60);
 
 fn count(image: &Image, x0: u32, y0: u32, x1: u32, y1: u32, color: Rgba) -> usize {
     let mut n = 0;
@@ -96,7 +69,7 @@ fn scripted_screenshot(dir: &Path, name: &str) -> (Image, String) {
     let script = dir.join("turn.txt");
     std::fs::write(&script, SCRIPT).unwrap();
     let shot = dir.join(name);
-    let out = run_with_timeout(
+    let out = wireflight_timed(
         &[
             "view",
             "--script",
@@ -179,13 +152,16 @@ fn a_bad_script_line_names_the_file_and_line_before_any_window_opens() {
     let dir = tempfile::tempdir().unwrap();
     let script = dir.path().join("bad.txt");
     std::fs::write(&script, "0 throttle=0.5\n# fine so far\n1.0 elevator=3\n").unwrap();
-    let out = wireflight(&[
-        "view",
-        "--script",
-        script.to_str().unwrap(),
-        "--frames",
-        "5",
-    ]);
+    let out = wireflight_timed(
+        &[
+            "view",
+            "--script",
+            script.to_str().unwrap(),
+            "--frames",
+            "5",
+        ],
+        NO_WINDOW_TIMEOUT,
+    );
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -194,17 +170,23 @@ fn a_bad_script_line_names_the_file_and_line_before_any_window_opens() {
     );
 
     let missing = dir.path().join("missing.txt");
-    let out = wireflight(&["view", "--script", missing.to_str().unwrap()]);
+    let out = wireflight_timed(
+        &["view", "--script", missing.to_str().unwrap()],
+        NO_WINDOW_TIMEOUT,
+    );
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing.txt: cannot read script"));
 }
 
 #[test]
 fn screenshot_needs_frames_and_a_png_name() {
-    let out = wireflight(&["view", "--screenshot", "x.png"]);
+    let out = wireflight_timed(&["view", "--screenshot", "x.png"], NO_WINDOW_TIMEOUT);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--frames"));
-    let out = wireflight(&["view", "--frames", "3", "--screenshot", "x.svg"]);
+    let out = wireflight_timed(
+        &["view", "--frames", "3", "--screenshot", "x.svg"],
+        NO_WINDOW_TIMEOUT,
+    );
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("PNG"));
 }
@@ -270,11 +252,11 @@ fn looping_through_the_vertical_clips_every_frame_and_reports_gimbal_lock() {
 
 /// A windy climbing turn (the wind hidden: not in the file), written as CSV.
 fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
+    use wireflight::data::VehicleKind;
     use wireflight::flight::autopilot::Manoeuvre;
     use wireflight::flight::effects::Origin;
     use wireflight::flight::simulate::{simulate, Noise, SimSpec};
     use wireflight::flight::spec::{EffectSpec, ModelSpec};
-    use wireflight::flight::VehicleKind;
     let mut truth = ModelSpec::baseline(VehicleKind::FixedWing);
     truth
         .effects
@@ -301,7 +283,7 @@ fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
     };
     let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
     let path = dir.join("windy.csv");
-    wireflight::flight::data::write(&path, &data).unwrap();
+    wireflight::data::write(&path, &data).unwrap();
     path
 }
 
@@ -311,7 +293,7 @@ fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
 fn compare_mode_ticking_the_fitted_wind_makes_the_error_fall() {
     let dir = tempfile::tempdir().unwrap();
     let path = windy_flight(dir.path(), 40.0);
-    let data = wireflight::flight::data::read(&path).unwrap();
+    let data = wireflight::data::read(&path).unwrap();
     let base = ModelChoice::default().build(&path, &data).unwrap();
     let data = Arc::new(data);
     let compare = Compare::new(Arc::clone(&data), base, &[]).unwrap();
@@ -400,20 +382,23 @@ fn compare_mode_ticking_the_fitted_wind_makes_the_error_fall() {
 fn compare_rejects_an_add_that_does_not_apply() {
     let dir = tempfile::tempdir().unwrap();
     let path = windy_flight(dir.path(), 12.0);
-    let out = wireflight(&[
-        "view",
-        "--flight",
-        path.to_str().unwrap(),
-        "--compare",
-        "--add",
-        "drag",
-        "--frames",
-        "1",
-    ]);
+    let out = wireflight_timed(
+        &[
+            "view",
+            "--flight",
+            path.to_str().unwrap(),
+            "--compare",
+            "--add",
+            "drag",
+            "--frames",
+            "1",
+        ],
+        NO_WINDOW_TIMEOUT,
+    );
     assert_eq!(out.status.code(), Some(2), "{out:?}");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("`drag` does not apply"), "{err}");
-    let out = wireflight(&["view", "--compare", "--frames", "1"]);
+    let out = wireflight_timed(&["view", "--compare", "--frames", "1"], NO_WINDOW_TIMEOUT);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--flight"));
 }
@@ -427,7 +412,7 @@ fn compare_window_run_shows_both_aircraft() {
     let dir = tempfile::tempdir().unwrap();
     let path = windy_flight(dir.path(), 40.0);
     let shot = dir.path().join("compare.png");
-    let out = run_with_timeout(
+    let out = wireflight_timed(
         &[
             "view",
             "--flight",

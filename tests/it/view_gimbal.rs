@@ -11,14 +11,15 @@ use wireflight::app::view::cameras::CameraMode;
 use wireflight::app::view::flight::Start;
 use wireflight::app::view::gimbal::EulerPanel;
 use wireflight::app::view::session::{Held, Session};
-use wireflight::euler::{Convention, EulerAngles, Gimbal, Lock};
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::Viewport;
-use wireflight::render::{cpu, Image, Rgba};
-use wireflight::scene::attitude::{aerospace_degrees, viewer_from_aerospace};
-use wireflight::scene::palette::{EULER_FIRST, EULER_SECOND, EULER_THIRD};
+use wireflight::draw::render::{cpu, Image, Rgba};
+use wireflight::draw::scene::attitude::{aerospace_degrees, viewer_from_aerospace};
+use wireflight::draw::scene::palette::{EULER_FIRST, EULER_SECOND, EULER_THIRD};
+use wireflight::geometry::euler::{Convention, EulerAngles, Gimbal, Lock};
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::Viewport;
 
-use crate::view::{display, run_with_timeout, WINDOW_TIMEOUT};
+use crate::support::cli::wireflight_timed;
+use crate::view::{display, WINDOW_TIMEOUT};
 
 const VIEW: Viewport = Viewport {
     width: 640,
@@ -187,7 +188,7 @@ fn window_with_the_gimbal_panel_shows_the_rings() {
             path.to_str().unwrap(),
         ];
         args.extend_from_slice(extra);
-        let out = run_with_timeout(&args, WINDOW_TIMEOUT);
+        let out = wireflight_timed(&args, WINDOW_TIMEOUT);
         assert!(
             out.status.success(),
             "{args:?}: {}",
@@ -213,7 +214,7 @@ fn bad_gimbal_options_fail_before_the_window() {
         &["view", "--gimbal-angles", "1,2,3"][..],
         &["view", "--gimbal", "--gimbal-angles", "1,2"][..],
     ] {
-        let out = run_with_timeout(args, Duration::from_secs(60));
+        let out = wireflight_timed(args, Duration::from_secs(60));
         assert_eq!(out.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains("--gimbal"), "{args:?}: {err}");

@@ -8,7 +8,7 @@
 //! do not grow are noise.
 
 use crate::compare::Comparison;
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 
 /// A condition averaged over each window.
 #[derive(Clone, Debug, PartialEq)]

@@ -1,7 +1,7 @@
 //! Model vs measurements: compare a model with flight data, find where it fails, diagnose
 //! which physical effect is missing, identify an aircraft's numbers from flights.
 //!
-//! Pure: flight data come in as [`wireflight_flight::data::FlightData`], results leave as
+//! Pure: flight data come in as [`wireflight_data::FlightData`], results leave as
 //! values and as text or JSON ([`report`]); nothing here reads or writes a file.
 
 #![warn(missing_docs)]

@@ -172,9 +172,9 @@ impl Lm {
 mod tests {
     use super::*;
     use crate::free::{aircraft_free, values};
+    use wireflight_data::VehicleKind;
     use wireflight_flight::effects::Origin;
     use wireflight_flight::spec::ModelSpec;
-    use wireflight_flight::VehicleKind;
 
     /// On a quadratic objective in one number the first step lands near its minimum; a
     /// minimum beyond the range is stopped at the bound, where the next step gives up.

@@ -416,7 +416,7 @@ mod tests {
             params: np,
         };
         let model =
-            wireflight_flight::spec::ModelSpec::baseline(wireflight_flight::VehicleKind::PointMass)
+            wireflight_flight::spec::ModelSpec::baseline(wireflight_data::VehicleKind::PointMass)
                 .build(wireflight_flight::effects::Origin::default())
                 .unwrap();
         let lin = Linearised::of(&model, &fit);

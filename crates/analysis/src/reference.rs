@@ -23,7 +23,7 @@
 //! (airspeed, height). Anything else is refused with the reason ([`ReferenceError`]).
 
 use crate::compare::{compare_prepared, CompareConfig, NoiseEstimate, Prepared};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::model::Model;
 
 /// The model's own error per axis, measured on reference flights (standard deviations, in

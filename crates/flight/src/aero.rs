@@ -6,8 +6,8 @@
 use glam::DVec3;
 
 use super::params::{FixedWingParams, Propulsion};
-use super::Controls;
 use crate::numeric::small_atan2;
+use wireflight_data::Controls;
 
 /// Aerodynamic angles and airspeed of a fixed-wing state.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -18,7 +18,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use super::model::AirData;
-use super::Controls;
+use wireflight_data::Controls;
 use wireflight_geometry::euler::EulerZyx;
 
 /// Flight manoeuvres `simulate` can fly.

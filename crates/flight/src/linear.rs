@@ -27,8 +27,8 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::model::{Model, State, Vehicle};
-use super::{Controls, G0};
 use crate::numeric::{mul12, Mat12};
+use wireflight_data::{Controls, G0};
 
 /// Largest error-state dimension (a fixed wing).
 pub const ERROR_MAX: usize = 12;

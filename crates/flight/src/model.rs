@@ -24,7 +24,7 @@ use super::effects::{
 };
 use super::params::keys::AircraftKeyError;
 use super::params::{FixedWingParams, Gammas};
-use super::{Controls, VehicleKind, G0};
+use wireflight_data::{Controls, VehicleKind, G0};
 use wireflight_geometry::euler::EulerZyx;
 
 pub use super::aero::{aero_force_moment, air_angles, stall_blend, AirData};
@@ -799,7 +799,7 @@ impl Model {
     /// checks before it flies, so that a term which cannot be evaluated on the flight stops
     /// it with the time and the values instead of leaving NaN in its tables. `None` for a
     /// point mass, data without attitude, or where every force is finite.
-    pub fn explain_on_data(&self, d: &super::data::FlightData) -> Option<(f64, String)> {
+    pub fn explain_on_data(&self, d: &wireflight_data::FlightData) -> Option<(f64, String)> {
         if !matches!(self.vehicle, Vehicle::FixedWing(_))
             || !self.effects.iter().any(|e| !e.is_measurement())
         {

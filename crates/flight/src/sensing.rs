@@ -10,9 +10,9 @@
 
 use glam::{DMat3, DQuat, DVec3};
 
-use crate::data::FlightData;
 use crate::effects::Reading;
 use crate::model::Model;
+use wireflight_data::FlightData;
 use wireflight_geometry::euler::EulerZyx;
 
 /// Turn the noise-free `truth` into what the model's measurement effects read of it. A model
@@ -96,7 +96,7 @@ mod tests {
     use super::*;
     use crate::effects::Origin;
     use crate::spec::{EffectSpec, ModelSpec};
-    use crate::VehicleKind;
+    use wireflight_data::VehicleKind;
 
     fn model(effects: &[&str]) -> Model {
         let mut spec = ModelSpec::baseline(VehicleKind::FixedWing);

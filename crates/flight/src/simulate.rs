@@ -10,11 +10,10 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
 use super::autopilot::{Autopilot, Manoeuvre};
-use super::data::{FlightData, Metadata};
 use super::model::{Model, State, Vehicle};
 use super::trim::{trim_level, TrimError};
 use super::turbulence::{GustField, GustTruth, Turbulence, TurbulenceError};
-use super::{Controls, VehicleKind};
+use wireflight_data::{Controls, FlightData, Metadata, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
 /// Standard deviations of the Gaussian measurement noise per channel (the accelerometer's is

@@ -19,15 +19,14 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use super::data::FlightData;
 use super::effects::term::TermError;
 use super::effects::{
-    catalogue_names, find, Effect, EffectContext, Origin, OriginError, ParamError, RecordedAttitude,
+    catalogue_names, find, Effect, EffectContext, Origin, ParamError, RecordedAttitude,
 };
 use super::expr::Term;
 use super::model::{Model, ModelError, Vehicle};
 use super::params::{FixedWingParams, ParamSetError};
-use super::{UnknownVehicle, VehicleKind};
+use wireflight_data::{FlightData, OriginError, UnknownVehicle, VehicleKind};
 
 /// An effect spec, model file or model choice that cannot be used, naming the file, the field
 /// or the spec, and the problem.

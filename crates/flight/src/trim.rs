@@ -9,7 +9,7 @@
 use glam::DVec3;
 
 use super::model::{Model, State, Vehicle};
-use super::Controls;
+use wireflight_data::Controls;
 use wireflight_geometry::euler::EulerZyx;
 
 /// A trimmed flight condition.
@@ -271,12 +271,12 @@ mod tests {
         let m = aerosonde();
         let t = trim_level(&m, 25.0, 0.3, DVec3::new(0.0, 0.0, -100.0)).unwrap();
         let f = m.specific_force(0.0, &t.state, &t.controls);
-        let expected = t.state.rot().transpose() * DVec3::new(0.0, 0.0, -crate::G0);
+        let expected = t.state.rot().transpose() * DVec3::new(0.0, 0.0, -wireflight_data::G0);
         let tol = 1e-6 + 2.0 * t.residual;
         assert!((f - expected).length() < tol, "{f} vs {expected}");
         let theta = t.state.attitude().pitch;
         assert!(
-            theta > 0.0 && (f.x - crate::G0 * theta.sin()).abs() < tol,
+            theta > 0.0 && (f.x - wireflight_data::G0 * theta.sin()).abs() < tol,
             "{f}"
         );
     }

@@ -62,13 +62,13 @@ pub struct CompareArgs {
     #[arg(long, value_enum, default_value_t = FitMethod::Auto)]
     pub method: FitMethod,
     /// Frames per second of flight time for --frames-dir and --out (25, as `render`'s).
-    #[arg(long, default_value_t = crate::output::DEFAULT_FPS, value_parser = positive)]
+    #[arg(long, default_value_t = crate::draw::output::DEFAULT_FPS, value_parser = positive)]
     pub fps: f64,
     /// Frame size for --frames-dir and --out, WIDTHxHEIGHT.
     #[arg(long, default_value = "800x600", value_parser = parse_size)]
     pub size: (u32, u32),
     /// Most frames --frames-dir writes (a flight with a long time gap would need more).
-    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+    #[arg(long, value_name = "N", default_value_t = crate::draw::output::DEFAULT_MAX_FRAMES,
           value_parser = clap::value_parser!(u64).range(1..))]
     pub max_frames: u64,
     /// Machine-readable output (JSON) on stdout.

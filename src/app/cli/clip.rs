@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use clap::{Args, ValueEnum};
 
-use crate::clip::Window2;
+use crate::geometry::clip::Window2;
 
 /// Default limit on the size of `clip`'s input file, bytes (256 MiB).
 pub const DEFAULT_MAX_BYTES: u64 = 256 << 20;

@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::{finite_f64, positive};
-use crate::flight::data::mapped::ColumnMap;
-use crate::flight::data::px4::UlogOptions;
-use crate::flight::data::LoadOptions;
+use crate::data::mapped::ColumnMap;
+use crate::data::px4::UlogOptions;
+use crate::data::LoadOptions;
 
 /// How a flight-data file is read (shared by every command that reads one): the project's
 /// CSV and JSBSim's as they are, a PX4 ULog (`.ulg`) resampled, anything else through a

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use clap::{ArgGroup, Args};
 
 use super::finite_f64;
-use crate::euler::{Convention, Sequence};
+use crate::geometry::euler::{Convention, Sequence};
 
 pub(super) fn parse_convention(s: &str) -> Result<Convention, String> {
     s.parse().map_err(|e| format!("{e}"))

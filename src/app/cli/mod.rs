@@ -11,10 +11,10 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::analysis::compare::CompareConfig;
-use crate::clip::Clipper;
-use crate::euler::Convention;
+use crate::data::VehicleKind;
 use crate::flight::spec::{EffectSpec, ModelChoice};
-use crate::flight::VehicleKind;
+use crate::geometry::clip::Clipper;
+use crate::geometry::euler::Convention;
 
 pub use analysis::*;
 pub use clip::*;
@@ -168,7 +168,7 @@ impl WindowArgs {
     pub fn check_fits(
         &self,
         path: &std::path::Path,
-        data: &crate::flight::data::FlightData,
+        data: &crate::data::FlightData,
         cfg: &CompareConfig,
     ) -> anyhow::Result<()> {
         let duration = data.duration();
@@ -177,7 +177,7 @@ impl WindowArgs {
                 "{}: --window-offset {} s leaves no {} s window in the flight's {:.2} s (give \
                  an offset of at most {:.2} s)",
                 crate::app::shown(path),
-                crate::numeric::format::fmt_number(self.window_offset),
+                crate::flight::numeric::format::fmt_number(self.window_offset),
                 cfg.window_s,
                 duration,
                 (duration - cfg.window_s).max(0.0)
@@ -298,10 +298,10 @@ pub struct RenderArgs {
     pub frames_dir: Option<PathBuf>,
     /// Frames per second of flight time for the replay (25, as `compare`'s; a GIF rounds the
     /// frame time to whole hundredths of a second).
-    #[arg(long, default_value_t = crate::output::DEFAULT_FPS, value_parser = finite_f64)]
+    #[arg(long, default_value_t = crate::draw::output::DEFAULT_FPS, value_parser = finite_f64)]
     pub fps: f64,
     /// Most frames the replay writes (a flight with a long time gap would need more).
-    #[arg(long, value_name = "N", default_value_t = crate::output::DEFAULT_MAX_FRAMES,
+    #[arg(long, value_name = "N", default_value_t = crate::draw::output::DEFAULT_MAX_FRAMES,
           value_parser = clap::value_parser!(u64).range(1..))]
     pub max_frames: u64,
     /// The line clipper: blinn, cohen-sutherland, liang-barsky, cyrus-beck or
@@ -325,7 +325,7 @@ pub struct RenderArgs {
     pub world: WorldArg,
 }
 
-/// What surrounds the model in a still (see [`crate::scene::still::StillWorld`]).
+/// What surrounds the model in a still (see [`crate::draw::scene::still::StillWorld`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum WorldArg {
     /// The model alone.
@@ -350,7 +350,7 @@ impl ViewArgs {
     }
 }
 
-impl From<WorldArg> for crate::scene::still::StillWorld {
+impl From<WorldArg> for crate::draw::scene::still::StillWorld {
     fn from(w: WorldArg) -> Self {
         match w {
             WorldArg::None => Self::None,

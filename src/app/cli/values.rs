@@ -3,9 +3,9 @@
 
 use clap::ValueEnum;
 
-use crate::camera::CameraPreset;
-use crate::flight::VehicleKind;
-use crate::render::Backend;
+use crate::data::VehicleKind;
+use crate::draw::render::Backend;
+use crate::geometry::camera::CameraPreset;
 
 pub(super) fn time_step(s: &str) -> Result<f64, String> {
     let v = finite_f64(s)?;
@@ -18,7 +18,7 @@ pub(super) fn time_step(s: &str) -> Result<f64, String> {
 
 pub(super) fn parse_vehicle(s: &str) -> Result<VehicleKind, String> {
     s.parse()
-        .map_err(|e: crate::flight::UnknownVehicle| e.to_string())
+        .map_err(|e: crate::data::UnknownVehicle| e.to_string())
 }
 
 /// Largest noise `simulate` adds, in the option's unit (m, deg, m/s, deg/s, m/s²): beyond it the

@@ -1,5 +1,5 @@
 //! CSV files of edges for `wireflight clip` (the clipping lab). Not pure: it reads files; the
-//! clippers themselves live in [`crate::clip`].
+//! clippers themselves live in [`crate::geometry::clip`].
 //!
 //! One edge per line, comma-separated: `x0,y0,z0,w0,x1,y1,z1,w1` (homogeneous clip space) or
 //! `x0,y0,x1,y1` (2D). A byte-order mark is skipped. Blank lines and lines starting with `#`

@@ -13,8 +13,8 @@ use clap::ValueEnum;
 use glam::{Vec2, Vec4};
 
 use super::cli::{Algo, ClipArgs, DepthArg};
-use crate::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
-use crate::clip::{
+use crate::geometry::clip::batch::{clip_soa, EdgesSoa, SegmentsSoa};
+use crate::geometry::clip::{
     blinn, cohen_sutherland, cyrus_beck, liang_barsky, nicholl_lee_nicholl, sutherland_hodgman,
     ClipOutcome, ClipStats, ClipVolume, DepthRange, Window2,
 };

@@ -1,5 +1,5 @@
 //! `wireflight clip --algo weiler-atherton`: polygons against a polygon
-//! ([`crate::clip::weiler_atherton`]). Not pure: it reads and writes files.
+//! ([`crate::geometry::clip::weiler_atherton`]). Not pure: it reads and writes files.
 //!
 //! A polygon file has one `x,y` vertex a line and a blank line between polygons; `#` lines are
 //! comments (they do not separate polygons), a byte-order mark is skipped, and a closing copy of
@@ -20,8 +20,8 @@ use glam::{DVec2, Vec2};
 
 use super::io;
 use crate::app::cli::{ClipArgs, PolygonOp};
-use crate::clip::weiler_atherton::{self, Piece, PolygonError, Which};
-use crate::render::{LineBatch, LineScene, Rgba, Segment2};
+use crate::draw::render::{LineBatch, LineScene, Rgba, Segment2};
+use crate::geometry::clip::weiler_atherton::{self, Piece, PolygonError, Which};
 
 /// A problem with a polygon file: the file and the line (none: the file as a whole).
 #[derive(Debug, thiserror::Error)]
@@ -323,7 +323,7 @@ fn picture(subjects: &[&[DVec2]], clip: &[DVec2], result: &[&[DVec2]]) -> LineSc
     LineScene {
         width: w,
         height: h,
-        background: crate::scene::palette::BACKGROUND,
+        background: crate::draw::scene::palette::BACKGROUND,
         batches: vec![
             fit.outlines(subjects.iter().copied(), SUBJECT),
             fit.outlines(std::iter::once(clip), CLIP),
@@ -397,7 +397,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             let subject_rings: Vec<&[DVec2]> =
                 subjects.iter().map(|s| s.vertices.as_slice()).collect();
             let scene = picture(&subject_rings, &clip.vertices, &rings);
-            let image = crate::render::cpu::render(&scene);
+            let image = crate::draw::render::cpu::render(&scene);
             Some(image.encode_png().context("encoding the picture")?)
         }
         None => None,

@@ -4,9 +4,9 @@
 use serde_json::{json, Value};
 
 use crate::app::cli::KeysArgs;
+use crate::flight::numeric::format::fmt_number;
 use crate::flight::params::keys::KEYS;
 use crate::flight::params::FixedWingParams;
-use crate::numeric::format::fmt_number;
 
 /// Run `wireflight keys`.
 ///

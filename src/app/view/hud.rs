@@ -10,8 +10,8 @@ use super::compare::{Compare, Fit};
 use super::gimbal::EulerPanel;
 use super::session::{self, Session};
 use super::KEY_HELP;
-use crate::clip::ClipStats;
-use crate::euler::{Convention, Frame, Gimbal, Sequence};
+use crate::geometry::clip::ClipStats;
+use crate::geometry::euler::{Convention, Frame, Gimbal, Sequence};
 
 /// Frame timing and clipper counts for the HUD and the closing report.
 #[derive(Default)]
@@ -104,7 +104,7 @@ pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
     use egui::{Color32, RichText};
     let r = hud.session.readout();
     // `+ 0.0` shows −0.0 as 0.00.
-    let [yaw, pitch, roll] = crate::scene::attitude::aerospace_degrees(r.angles);
+    let [yaw, pitch, roll] = crate::draw::scene::attitude::aerospace_degrees(r.angles);
     let frame = egui::Frame::NONE
         .fill(Color32::from_black_alpha(170))
         .inner_margin(8.0)
@@ -259,7 +259,7 @@ fn swatch(ui: &mut egui::Ui, color: egui::Color32) {
     ui.painter().rect_filled(rect, 1.0, color);
 }
 
-fn rgba(c: crate::render::Rgba) -> egui::Color32 {
+fn rgba(c: crate::draw::render::Rgba) -> egui::Color32 {
     egui::Color32::from_rgba_unmultiplied(c[0], c[1], c[2], c[3])
 }
 
@@ -300,9 +300,9 @@ pub(super) fn draw_compare(
             ui.horizontal(|ui| {
                 ui.spacing_mut().item_spacing.x = 0.0;
                 ui.monospace("measured ");
-                swatch(ui, rgba(crate::scene::palette::AIRCRAFT));
+                swatch(ui, rgba(crate::draw::scene::palette::AIRCRAFT));
                 ui.monospace("   model ");
-                swatch(ui, rgba(crate::scene::palette::MODEL_AIRCRAFT));
+                swatch(ui, rgba(crate::draw::scene::palette::MODEL_AIRCRAFT));
                 ui.monospace("   ");
                 let verdict = RichText::new(c.verdict_line()).monospace();
                 ui.label(if fitting {
@@ -474,7 +474,7 @@ fn error_plot(ui: &mut egui::Ui, c: &Compare, t: Option<f64>) {
     line(&c.before.error_bins, Color32::from_gray(150));
     line(
         &c.now.error_bins,
-        rgba(crate::scene::palette::MODEL_AIRCRAFT),
+        rgba(crate::draw::scene::palette::MODEL_AIRCRAFT),
     );
     let track = &c.now.track;
     if let (Some(t), Some(&t0), Some(&t1)) = (t, track.time.first(), track.time.last()) {
@@ -577,11 +577,11 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
             let mut moved = false;
             for (k, (lo, hi)) in panel.ranges().into_iter().enumerate() {
                 ui.horizontal(|ui| {
-                    swatch(ui, rgba(crate::scene::euler::slot_color(k)));
+                    swatch(ui, rgba(crate::draw::scene::euler::slot_color(k)));
                     ui.monospace(format!(
                         "{} {:<3}",
                         ["A", "B", "C"][k],
-                        crate::scene::euler::axis_label(&euler, k)
+                        crate::draw::scene::euler::axis_label(&euler, k)
                     ));
                     let slider = egui::Slider::new(&mut degrees[k], lo..=hi)
                         .suffix("°")
@@ -618,10 +618,10 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
 /// The scene of a screenshot: the window's line scene with what the HUD and the compare panel
 /// say written over it in the stroke font (egui's panels are drawn by the GPU and are not in
 /// the line scene the CPU rasterizer draws).
-pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
-    use crate::pipeline::Viewport;
-    use crate::scene::font::draw_label;
-    use crate::scene::overlay::text_height;
+pub(super) fn screenshot_scene(session: &Session) -> crate::draw::render::LineScene {
+    use crate::draw::scene::font::draw_label;
+    use crate::draw::scene::overlay::text_height;
+    use crate::geometry::pipeline::Viewport;
     let mut scene = session.scene().clone();
     let viewport = Viewport {
         width: scene.width,
@@ -629,7 +629,7 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
     };
     let h = text_height(viewport);
     let r = session.readout();
-    let aero = crate::scene::attitude::aerospace_degrees(r.angles);
+    let aero = crate::draw::scene::attitude::aerospace_degrees(r.angles);
     let state = match (r.replay, session.paused) {
         (Some(_), true) => "replay paused",
         (Some(_), false) => "replay",
@@ -678,8 +678,8 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::render::LineScene {
         let y = h + k as f32 * 1.6 * h;
         draw_label(line, glam::Vec2::new(h, y), h, &mut segments);
     }
-    scene.batches.push(crate::render::LineBatch {
-        color: crate::scene::palette::TEXT,
+    scene.batches.push(crate::draw::render::LineBatch {
+        color: crate::draw::scene::palette::TEXT,
         segments,
     });
     scene

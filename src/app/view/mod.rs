@@ -25,10 +25,10 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::app::cli::{ViewArgs, ViewCameraArg};
+use crate::draw::render::LineScene;
+use crate::draw::render::{OutputFormat, Rasterizer};
 use crate::flight::spec::ModelChoice;
-use crate::pipeline::Viewport;
-use crate::render::LineScene;
-use crate::render::{OutputFormat, Rasterizer};
+use crate::geometry::pipeline::Viewport;
 use cameras::CameraMode;
 use compare::Compare;
 use flight::Start;
@@ -88,7 +88,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let mesh = crate::mesh::load_named(&args.mesh)?;
+    let mesh = crate::draw::mesh_files::load_named(&args.mesh)?;
     let fov_y = (args.fov as f32).to_radians();
     let camera = CameraMode::from(args.camera);
     let mut session = match &args.flight {
@@ -516,7 +516,7 @@ impl App {
 /// # Errors
 /// Encoding or write errors, naming the file.
 pub fn write_screenshot(scene: &LineScene, path: &Path) -> anyhow::Result<()> {
-    crate::output::write_still(path, scene, &mut Rasterizer::Cpu)?;
+    crate::draw::output::write_still(path, scene, &mut Rasterizer::Cpu)?;
     Ok(())
 }
 

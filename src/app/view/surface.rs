@@ -12,8 +12,8 @@ use std::sync::Arc;
 use anyhow::{anyhow, Context};
 use winit::window::Window;
 
-use crate::render::gpu::LineDrawer;
-use crate::render::LineScene;
+use crate::draw::render::gpu::LineDrawer;
+use crate::draw::render::LineScene;
 
 /// What became of a frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

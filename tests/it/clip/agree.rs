@@ -12,7 +12,7 @@
 use super::check::{check_homogeneous, check_planar, Tally, HOMOGENEOUS, PLANAR};
 use crate::support::Rng;
 use glam::{Vec2, Vec4};
-use wireflight::clip::{ClipVolume, DepthRange, PlaneSet, Window2};
+use wireflight::geometry::clip::{ClipVolume, DepthRange, PlaneSet, Window2};
 
 fn cases(default: usize) -> usize {
     std::env::var("WIREFLIGHT_CLIP_CASES")

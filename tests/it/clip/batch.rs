@@ -6,11 +6,11 @@
 use super::check::check_batch;
 use crate::support::Rng;
 use glam::{Mat4, Vec3, Vec4};
-use wireflight::camera::{Camera, Projection};
-use wireflight::clip::{ClipStats, Clipper, DepthRange};
-use wireflight::mesh::world::{World, WorldSpec};
-use wireflight::mesh::EdgeMesh;
-use wireflight::pipeline::{EdgeProjector, Viewport, PARALLEL_MIN_EDGES};
+use wireflight::geometry::camera::{Camera, Projection};
+use wireflight::geometry::clip::{ClipStats, Clipper, DepthRange};
+use wireflight::geometry::mesh::world::{World, WorldSpec};
+use wireflight::geometry::mesh::EdgeMesh;
+use wireflight::geometry::pipeline::{EdgeProjector, Viewport, PARALLEL_MIN_EDGES};
 
 fn random_edges(rng: &mut Rng, n: usize) -> Vec<(Vec4, Vec4)> {
     let specials = [
@@ -213,7 +213,7 @@ fn projector_fast_path_matches_edge_by_edge() {
 /// A mesh large enough for the parallel path: the grid repeated with offsets, 1 M edges.
 pub(super) fn big_mesh(copies: usize) -> EdgeMesh {
     let world = World::new(&WorldSpec::default());
-    let mut b = wireflight::mesh::EdgeMeshBuilder::new();
+    let mut b = wireflight::geometry::mesh::EdgeMeshBuilder::new();
     let grid = &world.grid;
     for k in 0..copies {
         let off = Vec3::new(0.0, 0.0, 3.0 * k as f32);

@@ -6,11 +6,11 @@ use crate::support::{
     assert_close, distance_from_line, edge_scale, inside_margin, recover_t, to_f64, Rng, DEPTHS,
 };
 use glam::{Vec2, Vec3, Vec4};
-use wireflight::camera::{Camera, Projection};
-use wireflight::clip::{
+use wireflight::geometry::camera::{Camera, Projection};
+use wireflight::geometry::clip::{
     boundary_coords, clip_edge, is_inside, outcode, plane, ClipOutcome, ClipStats, DepthRange,
 };
-use wireflight::pipeline::perspective_divide;
+use wireflight::geometry::pipeline::perspective_divide;
 
 /// Relative tolerance of the geometric checks (relative to the edge's largest coordinate).
 pub(super) const REL_TOL: f64 = 1e-5;

@@ -7,14 +7,14 @@ use crate::support::{
     distance_from_line, edge_scale, inside_margin, recover_t, reference_ranges, to_f64, Rng, DEPTHS,
 };
 use glam::{Mat4, Vec3, Vec4};
-use wireflight::camera::{CameraPreset, Subject};
-use wireflight::clip::{
+use wireflight::geometry::camera::{CameraPreset, Subject};
+use wireflight::geometry::clip::{
     boundary_coords, clip_edge, is_inside, outcode, ClipOutcome, ClipStats, Clipper, DepthRange,
     PLANE_COUNT,
 };
-use wireflight::euler::EulerZyx;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::pipeline::{model_matrix, perspective_divide, EdgeProjector, Viewport};
+use wireflight::geometry::euler::EulerZyx;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::pipeline::{model_matrix, perspective_divide, EdgeProjector, Viewport};
 
 // ---------------------------------------------------------------------------------------------
 // The property test against the brute-force reference
@@ -424,7 +424,7 @@ fn project_plane(
     pan: [f32; 2],
     depth: DepthRange,
     viewport: Viewport,
-) -> (Vec<wireflight::render::Segment2>, ClipStats, usize) {
+) -> (Vec<wireflight::draw::render::Segment2>, ClipStats, usize) {
     let mesh = builtin_plane();
     let (centre, radius) = mesh.bounding_sphere();
     let subject = Subject {

@@ -3,18 +3,9 @@
 //! partial output); plus `render --clip-plane` and `--hidden-line`.
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 
-pub(super) fn wireflight(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-        .args(args)
-        .output()
-        .expect("run wireflight")
-}
-
-pub(super) fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
+use crate::support::cli::{stderr, stdout, wireflight};
 
 fn clip(dir: &Path, input: &str, extra: &[&str]) -> (Output, String) {
     let (inp, out) = (dir.join("in.csv"), dir.join("out.csv"));
@@ -49,12 +40,12 @@ fn planar_seed_examples_through_the_csv_interface() {
             input,
             &["--algo", algo, "--rect", "2,2,4,4", "--stats"],
         );
-        assert!(o.status.success(), "{algo}: {}", text(&o.stderr));
+        assert!(o.status.success(), "{algo}: {}", stderr(&o));
         assert_eq!(
             out, "x0,y0,x1,y1\n\n3,3,4,2.5\n2,2.75,4,2.25\n2.5,2.5,3.5,3.5\n",
             "{algo}"
         );
-        let s = text(&o.stdout);
+        let s = stdout(&o);
         assert!(
             s.contains("accepted 1,") && s.contains("ns per edge"),
             "{algo}: {s}"
@@ -84,12 +75,12 @@ fn old_spellings_of_out_and_rect_work_with_a_note() {
         "--window",
         "2,2,4,4",
     ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(
         std::fs::read_to_string(&out).unwrap(),
         "x0,y0,x1,y1\n2,2.75,4,2.25\n"
     );
-    let e = text(&o.stderr);
+    let e = stderr(&o);
     assert!(e.contains("--output is an old spelling of --out"), "{e}");
     assert!(e.contains("--window is an old spelling of --rect"), "{e}");
 }
@@ -108,15 +99,15 @@ fn homogeneous_edges_every_algorithm_and_the_batch() {
         "sutherland-hodgman",
     ] {
         let (o, out) = clip(dir.path(), input, &["--algo", algo, "--stats"]);
-        assert!(o.status.success(), "{algo}: {}", text(&o.stderr));
+        assert!(o.status.success(), "{algo}: {}", stderr(&o));
         assert_eq!(
             out, "0,0,0.5,1,0.5,0.5,0.5,1\n\n0,0,0.5,1,1,0,0.5,1\n\n\n",
             "{algo}"
         );
         assert!(
-            text(&o.stdout).contains("non-finite 1"),
+            stdout(&o).contains("non-finite 1"),
             "{algo}: {}",
-            text(&o.stdout)
+            stdout(&o)
         );
     }
     // −w ≤ z ≤ w keeps z = −0.5w, which 0 ≤ z ≤ w drops.
@@ -172,8 +163,8 @@ fn bad_input_names_the_line_and_exits_2() {
     ];
     for (input, args, want) in cases {
         let (o, out) = clip(dir.path(), input, args);
-        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", text(&o.stderr));
-        let err = text(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        let err = stderr(&o);
         assert!(
             err.contains(want) && !err.contains("panicked"),
             "{args:?}: {err}"
@@ -188,9 +179,9 @@ fn bad_input_names_the_line_and_exits_2() {
     );
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        text(&o.stderr).contains("more than the limit of 8"),
+        stderr(&o).contains("more than the limit of 8"),
         "{}",
-        text(&o.stderr)
+        stderr(&o)
     );
     // Not UTF-8; a missing file; a bad window.
     std::fs::write(dir.path().join("bin.csv"), b"0,0,0,1\n\xff\xfe\n").unwrap();
@@ -205,9 +196,9 @@ fn bad_input_names_the_line_and_exits_2() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        text(&o.stderr).contains("bin.csv:2: not UTF-8"),
+        stderr(&o).contains("bin.csv:2: not UTF-8"),
         "{}",
-        text(&o.stderr)
+        stderr(&o)
     );
     let (o, _) = clip(dir.path(), "", &["--algo", "blinn", "--rect", "4,0,1,1"]);
     assert_eq!(o.status.code(), Some(2));
@@ -230,7 +221,7 @@ fn render_with_clip_plane_and_hidden_line() {
         "--out",
         png.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     let o = wireflight(&[
         "render",
         "--clip-plane",
@@ -243,9 +234,9 @@ fn render_with_clip_plane_and_hidden_line() {
     let o = wireflight(&["render", "--hidden-line", "--out", png.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        text(&o.stderr).contains("needs a mesh with faces"),
+        stderr(&o).contains("needs a mesh with faces"),
         "{}",
-        text(&o.stderr)
+        stderr(&o)
     );
     let obj = dir.path().join("cube.obj");
     std::fs::write(
@@ -268,8 +259,8 @@ fn render_with_clip_plane_and_hidden_line() {
         "--out",
         png.to_str().unwrap(),
     ]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let s = text(&o.stdout);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s = stdout(&o);
     assert!(
         s.contains("back-facing 3") && s.contains("9 segments drawn"),
         "{s}"

@@ -3,16 +3,16 @@
 //! the faces the loaders now record), and Sutherland-Hodgman's polygons.
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
-use wireflight::camera::{Camera, CameraPreset, Projection};
-use wireflight::clip::{
+use wireflight::draw::scene::{frame, ViewSpec};
+use wireflight::geometry::camera::{Camera, CameraPreset, Projection};
+use wireflight::geometry::clip::{
     cull, sutherland_hodgman, ClipOutcome, ClipStats, ClipVolume, Clipper, DepthRange, PlaneSet,
     Window2,
 };
-use wireflight::euler::EulerZyx;
-use wireflight::mesh::plane::builtin_plane;
-use wireflight::mesh::{EdgeMesh, EdgeMeshBuilder, MANY_FACES, NO_FACE};
-use wireflight::pipeline::{EdgeProjector, Viewport};
-use wireflight::scene::{frame, ViewSpec};
+use wireflight::geometry::euler::EulerZyx;
+use wireflight::geometry::mesh::plane::builtin_plane;
+use wireflight::geometry::mesh::{EdgeMesh, EdgeMeshBuilder, MANY_FACES, NO_FACE};
+use wireflight::geometry::pipeline::{EdgeProjector, Viewport};
 
 fn planes(list: &[[f32; 4]]) -> PlaneSet {
     let mut p = PlaneSet::default();
@@ -58,9 +58,12 @@ fn model_space_plane_cuts_the_model_at_any_attitude() {
             let mut b = EdgeMeshBuilder::new();
             for &[i, j] in mesh.edges() {
                 let (p, q) = (mesh.positions()[i as usize], mesh.positions()[j as usize]);
-                if let Some((p, q)) =
-                    wireflight::clip::cyrus_beck::clip_polyhedron(p, q, &[Vec4::from_array(plane)])
-                        .segment()
+                if let Some((p, q)) = wireflight::geometry::clip::cyrus_beck::clip_polyhedron(
+                    p,
+                    q,
+                    &[Vec4::from_array(plane)],
+                )
+                .segment()
                 {
                     if p != q {
                         b.edge_between(p, q).unwrap();
@@ -92,9 +95,9 @@ fn project_like_frame(
     whole: &EdgeMesh,
     part: &EdgeMesh,
     spec: &ViewSpec,
-) -> Vec<wireflight::render::Segment2> {
+) -> Vec<wireflight::draw::render::Segment2> {
     let (centre, radius) = whole.bounding_sphere();
-    let subject = wireflight::camera::Subject {
+    let subject = wireflight::geometry::camera::Subject {
         position: Vec3::ZERO,
         attitude: spec.attitude,
         centre,
@@ -104,7 +107,7 @@ fn project_like_frame(
         .camera
         .camera(&subject, (spec.fov_y_deg as f32).to_radians());
     let m = camera.clip_from_world(spec.viewport.aspect(), spec.depth)
-        * wireflight::pipeline::model_matrix(Vec3::ZERO, spec.attitude);
+        * wireflight::geometry::pipeline::model_matrix(Vec3::ZERO, spec.attitude);
     let mut out = Vec::new();
     EdgeProjector::new(Clipper::Blinn, spec.depth).project(part, m, spec.viewport, &mut out);
     out
@@ -115,7 +118,7 @@ fn plane_set_limits_and_transform() {
     let mut p = PlaneSet::default();
     assert!(p.push(Vec4::new(0.0, 0.0, 0.0, 1.0)).is_err());
     assert!(p.push(Vec4::new(f32::NAN, 0.0, 1.0, 0.0)).is_err());
-    for _ in 0..wireflight::clip::MAX_USER_PLANES {
+    for _ in 0..wireflight::geometry::clip::MAX_USER_PLANES {
         p.push(Vec4::X).unwrap();
     }
     assert!(p.push(Vec4::X).is_err());
@@ -210,7 +213,7 @@ fn bounding_sphere_rejects_whole_objects_and_counts_them() {
                 let mut out = Vec::new();
                 let (c, r) = mesh.bounding_sphere();
                 let _ = (c, r);
-                let subject = wireflight::camera::Subject {
+                let subject = wireflight::geometry::camera::Subject {
                     position: Vec3::ZERO,
                     attitude: s.attitude,
                     centre: c,
@@ -220,7 +223,7 @@ fn bounding_sphere_rejects_whole_objects_and_counts_them() {
                     .camera(&subject, 50f32.to_radians())
                     .panned(s.pan[0] * r, s.pan[1] * r);
                 let m = camera.clip_from_world(s.viewport.aspect(), s.depth)
-                    * wireflight::pipeline::model_matrix(Vec3::ZERO, s.attitude);
+                    * wireflight::geometry::pipeline::model_matrix(Vec3::ZERO, s.attitude);
                 let st = EdgeProjector::new(Clipper::Blinn, s.depth)
                     .project(&mesh, m, s.viewport, &mut out);
                 assert_eq!(st.drawn(), 0, "culled at pan {pan} pitch {pitch}, but {st}");

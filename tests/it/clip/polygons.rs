@@ -9,7 +9,7 @@ pub(crate) mod fuzz_check;
 use std::path::Path;
 use std::process::Output;
 
-use super::command::{text, wireflight};
+use crate::support::cli::{stderr, stdout, wireflight};
 
 const U: &str = "0,0\n3,0\n3,3\n2,3\n2,1\n1,1\n1,3\n0,3\n";
 const BAR: &str = "-1,2\n4,2\n4,2.5\n-1,2.5\n";
@@ -63,12 +63,12 @@ fn area(p: &[(f64, f64)]) -> f64 {
 fn intersection_and_difference_of_a_u_and_a_bar() {
     let dir = tempfile::tempdir().unwrap();
     let (o, out) = clip(dir.path(), U, BAR, &[]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     let out = out.expect("output written");
     let p = polygons(&out);
     assert_eq!(p.len(), 2, "{out}");
     assert!(p.iter().all(|r| (area(r) - 0.5).abs() < 1e-12), "{out}");
-    let s = text(&o.stdout);
+    let s = stdout(&o);
     assert!(
         s.contains("intersection of 1 subject polygon")
             && s.contains("2 pieces")
@@ -77,7 +77,7 @@ fn intersection_and_difference_of_a_u_and_a_bar() {
     );
     // Difference: the U's base and the tops of its arms; 7 − 1 = 6.
     let (o, out) = clip(dir.path(), U, BAR, &["--op", "difference"]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     let p = polygons(&out.unwrap());
     assert_eq!(p.len(), 3);
     let total: f64 = p.iter().map(|r| area(r)).sum();
@@ -97,13 +97,13 @@ fn several_subjects_holes_and_json() {
         clip_file,
         &["--op", "difference", "--json"],
     );
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     let p = polygons(&out.unwrap());
     assert_eq!(p.len(), 3, "outline, hole, second square");
     assert_eq!(area(&p[0]), 16.0);
     assert_eq!(area(&p[1]), -4.0, "the hole is clockwise");
     assert_eq!(area(&p[2]), 4.0);
-    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).expect("JSON");
+    let json: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
     assert_eq!(json["area"], 16.0);
     assert_eq!(json["polygons"].as_array().unwrap().len(), 3);
     assert_eq!(json["polygons"][1].as_array().unwrap().len(), 4);
@@ -113,7 +113,7 @@ fn several_subjects_holes_and_json() {
     // The intersection: the clip square, once; nothing of the far square.
     let (o, out) = clip(dir.path(), subjects, clip_file, &["--json"]);
     assert!(o.status.success());
-    let json: serde_json::Value = serde_json::from_str(&text(&o.stdout)).unwrap();
+    let json: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     assert_eq!(json["area"], 4.0);
     assert_eq!(polygons(&out.unwrap()).len(), 1);
     // No overlap at all: an empty output file and area 0.
@@ -126,7 +126,7 @@ fn several_subjects_holes_and_json() {
     assert!(o.status.success());
     assert_eq!(out.as_deref(), Some(""));
     assert_eq!(
-        text(&o.stdout).trim(),
+        stdout(&o).trim(),
         r#"{"polygons": [], "pieces": [], "area": 0}"#
     );
 }
@@ -136,9 +136,9 @@ fn picture_is_written_and_not_blank() {
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("p.png");
     let (o, out) = clip(dir.path(), U, BAR, &["--picture", png.to_str().unwrap()]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     assert!(out.is_some());
-    let image = wireflight::render::Image::decode_png(&std::fs::read(&png).unwrap()).unwrap();
+    let image = wireflight::draw::render::Image::decode_png(&std::fs::read(&png).unwrap()).unwrap();
     let background = image.pixel(0, 0);
     let mut colours = std::collections::HashSet::new();
     for y in 0..image.height {
@@ -186,7 +186,7 @@ fn bad_files_name_the_line_and_write_nothing() {
             clip_text,
             &["--picture", png.to_str().unwrap()],
         );
-        let err = text(&o.stderr);
+        let err = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{want}: {err}");
         assert!(
             err.contains(want) && !err.contains("panicked"),
@@ -197,7 +197,7 @@ fn bad_files_name_the_line_and_write_nothing() {
     }
     // Non-finite values; a missing file.
     let (o, _) = clip(dir.path(), U, "0,0\ninf,0\n1,1\n", &[]);
-    assert!(text(&o.stderr).contains("c.txt:2: column 1 (x): `inf` is not a finite number"));
+    assert!(stderr(&o).contains("c.txt:2: column 1 (x): `inf` is not a finite number"));
     let o = wireflight(&[
         "clip",
         "--algo",
@@ -254,11 +254,7 @@ fn options_belong_to_their_algorithms() {
         a.extend_from_slice(args);
         let o = wireflight(&a);
         assert_eq!(o.status.code(), Some(2), "{args:?}");
-        assert!(
-            text(&o.stderr).contains(want),
-            "{args:?}: {}",
-            text(&o.stderr)
-        );
+        assert!(stderr(&o).contains(want), "{args:?}: {}", stderr(&o));
         assert!(!Path::new(out).exists());
     }
 }
@@ -291,8 +287,8 @@ fn demo_writes_every_picture_in_its_colours() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("wa");
     let o = demo(&out, &[]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
-    let said = text(&o.stdout);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let said = stdout(&o);
     assert!(
         said.starts_with("wrote 6 pictures (concave-pieces.png, difference.png")
             && said.contains("and wireflight-clip-demo.txt to"),
@@ -319,7 +315,8 @@ fn demo_writes_every_picture_in_its_colours() {
     ];
     for name in DEMO {
         let image =
-            wireflight::render::Image::decode_png(&std::fs::read(out.join(name)).unwrap()).unwrap();
+            wireflight::draw::render::Image::decode_png(&std::fs::read(out.join(name)).unwrap())
+                .unwrap();
         assert_eq!((image.width, image.height), (640, 480), "{name}");
         let mut count = std::collections::HashMap::new();
         for y in 0..image.height {
@@ -336,7 +333,7 @@ fn demo_writes_every_picture_in_its_colours() {
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), DEMO.len() + 1);
     // Run again into the same directory: replaced as a whole.
     let o = demo(&out, &[]);
-    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(o.status.success(), "{}", stderr(&o));
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), DEMO.len() + 1);
 }
 
@@ -354,7 +351,7 @@ fn demo_refuses_what_it_would_overwrite_and_foreign_options() {
         (&theirs, "was not written by this command"),
     ] {
         let o = demo(out, &[]);
-        let err = text(&o.stderr);
+        let err = stderr(&o);
         assert_eq!(o.status.code(), Some(2), "{err}");
         assert!(
             err.contains(want) && err.contains("--out") && !err.contains("panicked"),
@@ -376,7 +373,7 @@ fn demo_refuses_what_it_would_overwrite_and_foreign_options() {
     ] {
         let o = demo(&out, extra);
         assert_eq!(o.status.code(), Some(2), "{extra:?}");
-        assert!(text(&o.stderr).contains(want), "{}", text(&o.stderr));
+        assert!(stderr(&o).contains(want), "{}", stderr(&o));
     }
     let o = wireflight(&[
         "clip",
@@ -388,9 +385,9 @@ fn demo_refuses_what_it_would_overwrite_and_foreign_options() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     assert!(
-        text(&o.stderr).contains("--algo blinn clips edges: give --input"),
+        stderr(&o).contains("--algo blinn clips edges: give --input"),
         "{}",
-        text(&o.stderr)
+        stderr(&o)
     );
     assert!(!out.exists());
     // Nothing was left beside them (no staging directory).

@@ -8,8 +8,8 @@
 
 use crate::support::Rng;
 use glam::{DMat4, DVec3, DVec4, Mat4, Vec3};
-use wireflight::camera::Projection;
-use wireflight::clip::{clip_edge, DepthRange};
+use wireflight::geometry::camera::Projection;
+use wireflight::geometry::clip::{clip_edge, DepthRange};
 
 fn frustum_interval(
     a: DVec3,

@@ -4,7 +4,9 @@
 
 use super::check::{check_homogeneous, check_planar, Tally, HOMOGENEOUS, PLANAR};
 use glam::{Vec2, Vec4};
-use wireflight::clip::{clip_edge, cyrus_beck, ClipOutcome, ClipVolume, DepthRange, Window2};
+use wireflight::geometry::clip::{
+    clip_edge, cyrus_beck, ClipOutcome, ClipVolume, DepthRange, Window2,
+};
 
 /// Cyrus-Beck computed the rate `d₁ = D·n` as a dot product with the rounded `D`, so an end
 /// inside the volume (on the planes y = w and z = w) got `t₁ = 1 − 3·10⁻⁷` and moved:

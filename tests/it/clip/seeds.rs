@@ -13,7 +13,7 @@
 
 use super::check::{clip_homogeneous, clip_planar, HOMOGENEOUS, PLANAR};
 use glam::{Vec2, Vec4};
-use wireflight::clip::{
+use wireflight::geometry::clip::{
     cohen_sutherland, nicholl_lee_nicholl, plane, ClipOutcome, ClipVolume, DepthRange, Window2,
 };
 

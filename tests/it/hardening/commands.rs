@@ -9,7 +9,8 @@ use super::*;
 #[test]
 fn simulate_refuses_what_the_machine_cannot_hold_before_allocating() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run_for(
+    let o = wireflight_in_timed(
+        dir.path(),
         &[
             "simulate",
             "--max-samples",
@@ -19,7 +20,6 @@ fn simulate_refuses_what_the_machine_cannot_hold_before_allocating() {
             "--out",
             "a.csv",
         ],
-        dir.path(),
         Duration::from_secs(20),
     );
     assert_refused(
@@ -36,7 +36,7 @@ fn simulate_bounded_refuses_beyond_its_memory_bound() {
         simulate_bounded, SimSpec, SimulateError, BYTES_PER_SAMPLE,
     };
     let model =
-        wireflight::flight::spec::ModelSpec::baseline(wireflight::flight::VehicleKind::FixedWing)
+        wireflight::flight::spec::ModelSpec::baseline(wireflight::data::VehicleKind::FixedWing)
             .build(wireflight::flight::effects::Origin {
                 latitude_deg: 0.0,
                 longitude_deg: 0.0,
@@ -183,18 +183,8 @@ fn clip_loses_no_first_edge_to_a_mistaken_header() {
 /// A fixed-wing flight `f.csv` and a point-mass flight `p.csv` in `dir`.
 fn two_vehicles(dir: &Path) {
     flight(dir, "f.csv", &["--manoeuvre", "flight-test"]);
-    assert_ok(&run(
-        &[
-            "simulate",
-            "--vehicle",
-            "point-mass",
-            "--duration",
-            "20",
-            "--out",
-            "p.csv",
-        ],
-        dir,
-    ));
+    let point_mass = Flight::new().vehicle("point-mass").duration(20);
+    assert_ok(&run(&point_mass.args("p.csv"), dir));
 }
 
 #[test]

@@ -8,7 +8,7 @@ use proptest::sample::select;
 /// Exit 0 or 2 (never a panic, abort or signal) within `limit`; the status.
 fn status_of(args: &[String], dir: &Path, limit: Duration) -> i32 {
     let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let o = run_for(&args, dir, limit);
+    let o = wireflight_in_timed(dir, &args, limit);
     let code = o.status.code();
     assert!(
         matches!(code, Some(0 | 2)),

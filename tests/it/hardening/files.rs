@@ -28,12 +28,9 @@ fn temporaries_of_a_killed_run_are_removed_by_the_next() {
 fn sigterm_and_sigint_remove_the_temporaries() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    assert_ok(&run(
-        &["simulate", "--duration", "600", "--out", "a.csv"],
-        d,
-    ));
+    assert_ok(&run(&Flight::new().duration(600).args("a.csv"), d));
     for (signal, status) in [(libc::SIGTERM, 143), (libc::SIGINT, 130)] {
-        let child = bin()
+        let child = command()
             .args([
                 "render",
                 "--flight",
@@ -62,7 +59,7 @@ fn sigterm_and_sigint_remove_the_temporaries() {
         }
         // SAFETY: sending a signal to our own child.
         unsafe { libc::kill(child.id() as i32, signal) };
-        let o = wait_for(child, Duration::from_secs(30), &["render"]);
+        let o = wait_timed(child, &["render"], Duration::from_secs(30));
         assert_eq!(
             o.status.code(),
             Some(status),

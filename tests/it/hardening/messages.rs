@@ -71,9 +71,9 @@ fn read_handle_is_not_left_open_on_a_fifo() {
     let c = std::ffi::CString::new(fifo.to_str().unwrap()).unwrap();
     // SAFETY: a valid C string; mkfifo only creates the file.
     assert_eq!(unsafe { libc::mkfifo(c.as_ptr(), 0o600) }, 0);
-    let o = run_for(
-        &["compare", "--flight", "f.csv"],
+    let o = wireflight_in_timed(
         dir.path(),
+        &["compare", "--flight", "f.csv"],
         Duration::from_secs(10),
     );
     assert_refused(&o, &["f.csv", "not a regular file"]);

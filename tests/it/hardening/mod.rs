@@ -2,9 +2,13 @@
 //! (exit 2) naming the input and the limit, or work; never a panic (101), an abort (134), a
 //! hang, unbounded memory, or a silently wrong result.
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
+
+use crate::support::cli::{command, stderr, wait_timed, wireflight_in_timed};
+use crate::support::flights::Flight;
 
 mod commands;
 mod extremes;
@@ -15,47 +19,12 @@ mod ranges;
 mod ulog;
 mod wrong_output;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_wireflight"))
-}
+/// The longest any of these runs may take: past it, the test fails as a hang.
+const HANG: Duration = Duration::from_secs(120);
 
-/// Run with a time limit; panics (failing the test) if the command is still running then.
-fn run_for(args: &[&str], dir: &Path, limit: Duration) -> Output {
-    let child = bin()
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("run wireflight");
-    wait_for(child, limit, args)
-}
-
-fn wait_for(mut child: Child, limit: Duration, what: &[&str]) -> Output {
-    let start = Instant::now();
-    loop {
-        if child.try_wait().expect("wait").is_some() {
-            return child.wait_with_output().expect("output");
-        }
-        if start.elapsed() > limit {
-            let _ = child.kill();
-            let o = child.wait_with_output().expect("output");
-            panic!(
-                "`wireflight {}` ran longer than {limit:?}\nstderr: {}",
-                what.join(" "),
-                String::from_utf8_lossy(&o.stderr)
-            );
-        }
-        std::thread::sleep(Duration::from_millis(20));
-    }
-}
-
-fn run(args: &[&str], dir: &Path) -> Output {
-    run_for(args, dir, Duration::from_secs(120))
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+/// `wireflight ARGS` in `dir`, failing the test as a hang past [`HANG`].
+fn run<S: AsRef<OsStr>>(args: &[S], dir: &Path) -> Output {
+    wireflight_in_timed(dir, args, HANG)
 }
 
 /// Exit 2 with a message on stderr that contains every one of `words`.
@@ -86,17 +55,9 @@ fn assert_ok(o: &Output) {
 
 /// A short simulated fixed-wing flight, `name` in `dir`.
 fn flight(dir: &Path, name: &str, extra: &[&str]) -> PathBuf {
-    let mut args = vec![
-        "simulate",
-        "--duration",
-        "12",
-        "--noise-pos",
-        "0.2",
-        "--out",
-        name,
-    ];
-    args.extend_from_slice(extra);
-    assert_ok(&run(&args, dir));
+    let mut args = Flight::new().duration(12).noise_pos(0.2).args(name);
+    args.extend(extra.iter().map(|a| a.to_string()));
+    assert_ok(&wireflight_in_timed(dir, &args, HANG));
     dir.join(name)
 }
 
@@ -193,7 +154,7 @@ fn a_closed_stdout_ends_the_program_quietly() {
         &["compare", "--flight", "a.csv", "--json"][..],
         &["diagnose", "--flight", "a.csv"][..],
     ] {
-        let mut child = bin()
+        let mut child = command()
             .args(args)
             .current_dir(dir.path())
             .stdout(Stdio::piped())
@@ -202,7 +163,7 @@ fn a_closed_stdout_ends_the_program_quietly() {
             .unwrap();
         // `| head -0`: the reader is gone before anything is written.
         drop(child.stdout.take());
-        let o = wait_for(child, Duration::from_secs(120), args);
+        let o = wait_timed(child, args, HANG);
         let err = stderr(&o);
         assert!(
             err.is_empty(),
@@ -222,20 +183,21 @@ fn simulate_sample_count_is_bounded_by_an_option() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let limit = Duration::from_secs(10);
-    let o = run_for(
-        &["simulate", "--duration", "1e9", "--out", "x.csv"],
+    let o = wireflight_in_timed(
         d,
+        &["simulate", "--duration", "1e9", "--out", "x.csv"],
         limit,
     );
     assert_refused(&o, &["50000000001 samples", "--max-samples 2000000"]);
-    let o = run_for(
-        &["simulate", "--duration", "1e5", "--out", "x.csv"],
+    let o = wireflight_in_timed(
         d,
+        &["simulate", "--duration", "1e5", "--out", "x.csv"],
         limit,
     );
     assert_refused(&o, &["--max-samples"]);
     // The option raises (and lowers) the limit.
-    let o = run_for(
+    let o = wireflight_in_timed(
+        d,
         &[
             "simulate",
             "--duration",
@@ -245,11 +207,11 @@ fn simulate_sample_count_is_bounded_by_an_option() {
             "--out",
             "x.csv",
         ],
-        d,
         limit,
     );
     assert_refused(&o, &["501 samples", "--max-samples 100"]);
-    let o = run_for(
+    let o = wireflight_in_timed(
+        d,
         &[
             "simulate",
             "--duration",
@@ -259,7 +221,6 @@ fn simulate_sample_count_is_bounded_by_an_option() {
             "--out",
             "x.csv",
         ],
-        d,
         limit,
     );
     assert_ok(&o);
@@ -268,7 +229,8 @@ fn simulate_sample_count_is_bounded_by_an_option() {
 #[test]
 fn a_tiny_rate_is_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
-    let o = run_for(
+    let o = wireflight_in_timed(
+        dir.path(),
         &[
             "simulate",
             "--duration",
@@ -278,12 +240,12 @@ fn a_tiny_rate_is_refused_at_once() {
             "--out",
             "x.csv",
         ],
-        dir.path(),
         Duration::from_secs(10),
     );
     assert_refused(&o, &["single sample", "1/duration"]);
     // Low but sensible rates integrate in bounded steps.
-    let o = run_for(
+    let o = wireflight_in_timed(
+        dir.path(),
         &[
             "simulate",
             "--duration",
@@ -293,7 +255,6 @@ fn a_tiny_rate_is_refused_at_once() {
             "--out",
             "x.csv",
         ],
-        dir.path(),
         Duration::from_secs(10),
     );
     assert_refused(&o, &["integration steps", "--max-samples"]);
@@ -314,9 +275,9 @@ fn a_time_gap_cannot_make_endless_frames() {
     let shifted = format!("100000000,{rest}");
     lines.push(&shifted);
     std::fs::write(dir.path().join("gap.csv"), lines.join("\n") + "\n").unwrap();
-    let o = run_for(
-        &["render", "--flight", "gap.csv", "--frames-dir", "frames"],
+    let o = wireflight_in_timed(
         dir.path(),
+        &["render", "--flight", "gap.csv", "--frames-dir", "frames"],
         Duration::from_secs(60),
     );
     assert_refused(&o, &["frames", "--max-frames 100000"]);
@@ -338,20 +299,21 @@ fn devices_directories_and_huge_files_are_not_read() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     let limit = Duration::from_secs(10);
-    let o = run_for(&["compare", "--data", "/dev/zero"], d, limit);
+    let o = wireflight_in_timed(d, &["compare", "--data", "/dev/zero"], limit);
     assert_refused(&o, &["/dev/zero", "not a regular file"]);
-    let o = run_for(
-        &["render", "--mesh", "/dev/zero", "--out", "x.svg"],
+    let o = wireflight_in_timed(
         d,
+        &["render", "--mesh", "/dev/zero", "--out", "x.svg"],
         limit,
     );
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     std::fs::create_dir(d.join("dir.csv")).unwrap();
-    let o = run_for(&["compare", "--flight", "dir.csv"], d, limit);
+    let o = wireflight_in_timed(d, &["compare", "--flight", "dir.csv"], limit);
     assert_refused(&o, &["dir.csv", "is a directory"]);
     // Over the size limit, naming the option that raises it.
     std::fs::write(d.join("big.obj"), vec![b'#'; 3 << 20]).unwrap();
-    let o = run_for(
+    let o = wireflight_in_timed(
+        d,
         &[
             "render",
             "--max-input-mb",
@@ -361,13 +323,13 @@ fn devices_directories_and_huge_files_are_not_read() {
             "--out",
             "x.svg",
         ],
-        d,
         limit,
     );
     assert_refused(&o, &["big.obj", "3145728 bytes", "--max-input-mb"]);
     // Every reader takes the same limit: a column-mapped CSV and a ULog too.
     std::fs::write(d.join("big.csv"), vec![b'#'; 3 << 20]).unwrap();
-    let o = run_for(
+    let o = wireflight_in_timed(
+        d,
         &[
             "import",
             "--max-input-mb",
@@ -377,14 +339,13 @@ fn devices_directories_and_huge_files_are_not_read() {
             "--columns",
             "time=t,north=n,east=e,down=d",
         ],
-        d,
         limit,
     );
     assert_refused(&o, &["big.csv", "3145728 bytes", "--max-input-mb"]);
     std::fs::write(d.join("big.ulg"), vec![0u8; 3 << 20]).unwrap();
-    let o = run_for(
-        &["import", "--max-input-mb", "2", "--flight", "big.ulg"],
+    let o = wireflight_in_timed(
         d,
+        &["import", "--max-input-mb", "2", "--flight", "big.ulg"],
         limit,
     );
     assert_refused(&o, &["big.ulg", "--max-input-mb"]);
@@ -493,7 +454,7 @@ fn gltf_buffers_stay_in_the_models_directory() {
     ];
     assert_ok(&run(&args, dir.path()));
     std::fs::write(models.join("m.gltf"), gltf_with_buffer("/dev/zero", 36)).unwrap();
-    let o = run_for(&args, dir.path(), Duration::from_secs(10));
+    let o = wireflight_in_timed(dir.path(), &args, Duration::from_secs(10));
     assert_refused(&o, &["/dev/zero", "not a regular file"]);
 }
 

@@ -10,9 +10,9 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use std::path::Path;
 
 use proptest::prelude::*;
-use wireflight::flight::data::mapped::ColumnMap;
-use wireflight::flight::data::px4::UlogOptions;
-use wireflight::flight::data::{load, FlightData, LoadOptions};
+use wireflight::data::mapped::ColumnMap;
+use wireflight::data::px4::UlogOptions;
+use wireflight::data::{load, FlightData, LoadOptions};
 
 use super::{assert_ok, assert_refused, flight, run};
 use crate::support::ulog::UlogWriter;

@@ -5,7 +5,7 @@
 use std::path::Path;
 use std::time::Duration;
 
-use super::{assert_ok, assert_refused, run, run_for, stderr};
+use super::{assert_ok, assert_refused, run, stderr, wireflight_in_timed};
 use crate::support::ulog::UlogWriter;
 
 const LOCAL: &str = "vehicle_local_position:uint64_t timestamp;float x;float y;float z;";
@@ -174,9 +174,9 @@ fn empty_formats_in_arrays_are_refused_at_once() {
     w.subscribe("vehicle_local_position");
     assert!(w.bytes.len() < 128, "{}", w.bytes.len());
     write(d, "empty.ulg", &w);
-    let o = run_for(
-        &["import", "--flight", "empty.ulg"],
+    let o = wireflight_in_timed(
         d,
+        &["import", "--flight", "empty.ulg"],
         Duration::from_secs(10),
     );
     assert_refused(&o, &["empty.ulg", "format `e`, which has no bytes"]);
@@ -187,9 +187,9 @@ fn empty_formats_in_arrays_are_refused_at_once() {
     w.format("other_topic:f[65535] b;");
     w.subscribe("other_topic");
     write(d, "other.ulg", &w);
-    let o = run_for(
-        &["import", "--flight", "other.ulg"],
+    let o = wireflight_in_timed(
         d,
+        &["import", "--flight", "other.ulg"],
         Duration::from_secs(10),
     );
     assert_refused(&o, &["other.ulg"]);
@@ -204,9 +204,9 @@ fn a_time_stamp_moved_far_cannot_make_millions_of_samples() {
         _ => us,
     };
     write(d, "moved.ulg", &log_with(moved, north, level));
-    let o = run_for(
-        &["import", "--flight", "moved.ulg", "--out", "x.csv"],
+    let o = wireflight_in_timed(
         d,
+        &["import", "--flight", "moved.ulg", "--out", "x.csv"],
         Duration::from_secs(20),
     );
     assert_refused(

@@ -8,8 +8,8 @@ fn an_obj_with_a_byte_order_mark_loses_no_vertex() {
     let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nl 3 4\n";
     std::fs::write(dir.path().join("plain.obj"), text).unwrap();
     std::fs::write(dir.path().join("bom.obj"), format!("\u{feff}{text}")).unwrap();
-    let plain = wireflight::mesh::load(&dir.path().join("plain.obj")).unwrap();
-    let bom = wireflight::mesh::load(&dir.path().join("bom.obj")).unwrap();
+    let plain = wireflight::draw::mesh_files::load(&dir.path().join("plain.obj")).unwrap();
+    let bom = wireflight::draw::mesh_files::load(&dir.path().join("bom.obj")).unwrap();
     assert_eq!(plain.positions(), bom.positions());
     assert_eq!(plain.edges(), bom.edges());
     assert_eq!(bom.edges().len(), 4);
@@ -195,19 +195,8 @@ fn an_add_the_flight_cannot_carry_is_refused_naming_the_flight() {
     // mass whose flight has no attitude. The refusal names the flight and the option.
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let o = run(
-        &[
-            "simulate",
-            "--vehicle",
-            "point-mass",
-            "--duration",
-            "5",
-            "--out",
-            "pm.csv",
-        ],
-        d,
-    );
-    assert_ok(&o);
+    let point_mass = Flight::new().vehicle("point-mass").duration(5);
+    assert_ok(&run(&point_mass.args("pm.csv"), d));
     for cmd in ["compare", "diagnose", "discover"] {
         let o = run(
             &[cmd, "--flight", "pm.csv", "--add", "term:Z=k*qbar*alpha"],

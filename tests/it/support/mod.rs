@@ -1,6 +1,7 @@
 //! Helpers shared by the integration tests: one approximate-equality assertion that prints
 //! both values, the tolerance and the difference; a seeded random generator; angle wrapping;
-//! and an independent brute-force reference for the clipper.
+//! an independent brute-force reference for the clipper; the binary's launcher ([`cli`]) and
+//! `simulate` command lines ([`flights`]).
 //!
 //! Each test crate uses a different subset, hence `dead_code` is allowed here.
 
@@ -10,7 +11,7 @@ use std::fmt;
 use std::path::PathBuf;
 
 use glam::{DMat3, DVec3, Vec2, Vec3, Vec4};
-use wireflight::clip::DepthRange;
+use wireflight::geometry::clip::DepthRange;
 
 /// Largest absolute component-wise difference between two values of the same shape.
 pub trait MaxAbsDiff {
@@ -312,9 +313,11 @@ pub fn data_file(name: &str) -> PathBuf {
 }
 
 /// JSBSim's Mk-82 flight (`tests/data/jsbsim-mk82.csv`): data no one here made.
-pub fn mk82() -> wireflight::flight::data::FlightData {
+pub fn mk82() -> wireflight::data::FlightData {
     let path = data_file("jsbsim-mk82.csv");
-    wireflight::flight::data::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    wireflight::data::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
+pub mod cli;
+pub mod flights;
 pub mod refsim;
 pub mod ulog;

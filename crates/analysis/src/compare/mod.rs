@@ -46,7 +46,7 @@ pub use predict::{controls_at, surfaces_at, Predicted, SurfaceTracker};
 use score::{assemble, assemble_as};
 use start::{Scratch, StartFit};
 
-use wireflight_flight::data::{unwrap_angles, FlightData};
+use wireflight_data::{unwrap_angles, FlightData};
 use wireflight_flight::effects::Channel;
 use wireflight_flight::model::{AirData, Model, State, Vehicle};
 use wireflight_geometry::euler::EulerZyx;
@@ -86,10 +86,10 @@ impl CompareConfig {
     /// run away. A point mass: 60 s (in practice, the whole flight): it has no unstable mode,
     /// and slow effects (drag on a long fall, the Earth's rotation and curvature) need tens of
     /// seconds to show.
-    pub fn default_window_s(vehicle: wireflight_flight::VehicleKind) -> f64 {
+    pub fn default_window_s(vehicle: wireflight_data::VehicleKind) -> f64 {
         match vehicle {
-            wireflight_flight::VehicleKind::FixedWing => 8.0,
-            wireflight_flight::VehicleKind::PointMass => 60.0,
+            wireflight_data::VehicleKind::FixedWing => 8.0,
+            wireflight_data::VehicleKind::PointMass => 60.0,
         }
     }
 }
@@ -773,11 +773,11 @@ pub fn noise_floor(model: &Model, prep: &Prepared) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wireflight_data::VehicleKind;
     use wireflight_flight::autopilot::Manoeuvre;
     use wireflight_flight::effects::Origin;
     use wireflight_flight::simulate::{simulate, Noise, SimSpec};
     use wireflight_flight::spec::ModelSpec;
-    use wireflight_flight::VehicleKind;
 
     /// The screening subset taken from prepared data is the data prepared with that many
     /// windows: the same windows, noise and weights, without estimating the noise again.

@@ -16,7 +16,7 @@
 
 use glam::DVec3;
 
-use wireflight_flight::data::{unwrap_angles, FlightData};
+use wireflight_data::{unwrap_angles, FlightData};
 
 /// Normalising constant of fourth-order differences of white noise: Σ binomial(4, k)² = 70.
 const DIFF4_VARIANCE: f64 = 70.0;

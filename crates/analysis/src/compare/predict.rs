@@ -7,10 +7,9 @@
 use glam::{DMat3, DQuat, DVec3};
 
 use super::sensors::delay_weights;
-use wireflight_flight::data::FlightData;
+use wireflight_data::{Controls, FlightData};
 use wireflight_flight::effects::Reading;
 use wireflight_flight::model::{air_angles, AirData, HeldCommands, Model, State, Vehicle};
-use wireflight_flight::Controls;
 use wireflight_geometry::euler::EulerZyx;
 
 /// What the model predicts at one sample, in the data's frames (NED, aerospace angles).

@@ -16,9 +16,9 @@ use super::predict::{controls_at, sample_steps};
 use super::sensors::{airspeed_gain, attitude_read, delay_weights};
 use super::start::{param_count, state_of, step_of};
 use super::Prepared;
+use wireflight_data::Controls;
 use wireflight_flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
 use wireflight_flight::model::{Model, State, Vehicle};
-use wireflight_flight::Controls;
 
 /// Most residual rows of one sample: position, velocity, attitude, rates and the
 /// accelerometer (3 each) and the airspeed.
@@ -536,11 +536,11 @@ mod tests {
     use super::*;
     use crate::compare::start::{params_of, Scratch};
     use crate::compare::CompareConfig;
+    use wireflight_data::VehicleKind;
     use wireflight_flight::autopilot::Manoeuvre;
     use wireflight_flight::effects::Origin;
     use wireflight_flight::simulate::{simulate, Noise, SimSpec};
     use wireflight_flight::spec::{EffectSpec, ModelSpec};
-    use wireflight_flight::VehicleKind;
 
     fn model(kind: VehicleKind, effects: &[&str]) -> Model {
         let mut spec = ModelSpec::baseline(kind);
@@ -606,7 +606,7 @@ mod tests {
 
     /// What an accelerometer reads along a flight, from its recorded (noisy) states: values
     /// the size and shape of a real one's.
-    fn accelerometer(truth: &Model, d: &wireflight_flight::data::FlightData) -> Vec<DVec3> {
+    fn accelerometer(truth: &Model, d: &wireflight_data::FlightData) -> Vec<DVec3> {
         (0..d.len())
             .map(|i| {
                 let mut x = State::default();

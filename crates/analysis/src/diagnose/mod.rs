@@ -57,7 +57,7 @@ use screen::{score_aircraft, score_effect, KeyScore};
 
 use crate::compare::{noise_floor, AxisError, CompareConfig, Comparison, NoiseEstimate, Prepared};
 use crate::free::KeyError;
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::effects::{Effect, ParamError, CATALOGUE};
 use wireflight_flight::model::{Model, ModelError};
 use wireflight_flight::spec::{EffectSpec, SpecError};

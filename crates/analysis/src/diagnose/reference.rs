@@ -18,7 +18,7 @@ use super::joint::{fit_joint, Member};
 use super::{diagnose, Candidate, DiagnoseConfig, DiagnoseError, Diagnosis, Verdict};
 use crate::compare::Prepared;
 use crate::reference::{model_floor, ModelFloor, ReferenceError};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::chi2_quantile;
 

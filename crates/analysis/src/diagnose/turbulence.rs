@@ -45,7 +45,7 @@ use crate::compare::{estimate_noise, CompareConfig, NoiseEstimate, Prepared};
 use crate::filter_error::flight::{
     FilterError, FilterFit, FlightFilter, GustEstimate, GustModel, SETTLED_SIGMAS, SETTLE_ROUNDS,
 };
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::chi2_quantile;
 use wireflight_flight::params::keys::KEYS;

@@ -39,10 +39,9 @@ use wireflight_flight::model::{Model, Vehicle};
 use wireflight_flight::numeric::chi2_quantile;
 
 use crate::identify::equation_error::EeSample;
-use wireflight_flight::data::FlightData;
-use wireflight_flight::derive::{Differentiator, Window};
+use wireflight_data::derive::{Differentiator, Window};
+use wireflight_data::{Controls, FlightData};
 use wireflight_flight::model::State;
-use wireflight_flight::Controls;
 
 /// The family-wise false-alarm rate of the selection (split over every candidate of every axis).
 pub const FALSE_ALARM: f64 = 0.01;
@@ -480,7 +479,7 @@ fn variables(
     v[Var::Qbar.index()] = 0.5 * air.rho * va * va;
     v[Var::Rho.index()] = air.rho;
     v[Var::Height.index()] = -s.state.pos_ned().z;
-    v[Var::G.index()] = wireflight_flight::G0;
+    v[Var::G.index()] = wireflight_data::G0;
     v
 }
 

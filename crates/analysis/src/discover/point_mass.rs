@@ -18,11 +18,10 @@
 //! the forms a body's lift and side force take ([`library::point_mass_with_incidence`]), so
 //! that what is found is a term the same point mass takes (`--add 'term:Y=k*qbar*beta'`).
 
-use wireflight_flight::data::FlightData;
-use wireflight_flight::derive::{Differentiator, Window};
+use wireflight_data::derive::{Differentiator, Window};
+use wireflight_data::{Controls, FlightData};
 use wireflight_flight::expr::{Axis, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, State};
-use wireflight_flight::Controls;
 
 use super::{
     held_integral, library, regression_rows, select_terms, AxisTarget, DiscoverError, Discovery,
@@ -73,7 +72,7 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
         row[Var::Qbar.index()] = 0.5 * rho * va * va;
         row[Var::Rho.index()] = rho;
         row[Var::Height.index()] = -pos.z;
-        row[Var::G.index()] = wireflight_flight::G0;
+        row[Var::G.index()] = wireflight_data::G0;
         if !(d.iter().all(|x| x.is_finite()) && row.iter().all(|x| x.is_finite())) {
             return Err(too_few(i));
         }

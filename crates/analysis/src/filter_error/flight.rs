@@ -57,7 +57,7 @@ use super::Mat;
 use rayon::prelude::*;
 
 use crate::compare::{combined, controls_at, CompareConfig, Measured, NoiseEstimate, SIGMA_MIN};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::linear::skew;
 use wireflight_flight::model::{Model, State, Vehicle};
 use wireflight_flight::turbulence::{DrydenIntensity, TurbulenceLevel};
@@ -1005,7 +1005,7 @@ impl<'d> FlightFilter<'d> {
         model: &mut Model,
         t: f64,
         x: &State,
-        cmd: &wireflight_flight::Controls,
+        cmd: &wireflight_data::Controls,
         dryden: &DrydenFilters,
     ) -> ([f64; ROWS], [[f64; NA]; ROWS]) {
         let mut y = [0.0; ROWS];
@@ -1086,7 +1086,7 @@ fn augmented_jacobian(
     model: &mut Model,
     t: f64,
     x: &State,
-    cmd: &wireflight_flight::Controls,
+    cmd: &wireflight_data::Controls,
     dryden: &DrydenFilters,
 ) -> [f64; NA * NA] {
     let mut a = [0.0; NA * NA];

@@ -11,10 +11,9 @@ use rayon::prelude::*;
 use super::Prior;
 use crate::free::{set_values, values, Free};
 use crate::lm::newton_trial;
-use wireflight_flight::data::FlightData;
-use wireflight_flight::derive::{Differentiator, Window};
+use wireflight_data::derive::{Differentiator, Window};
+use wireflight_data::{Controls, FlightData};
 use wireflight_flight::model::{Model, State};
-use wireflight_flight::Controls;
 
 /// At most this many samples of each flight enter the regression (evenly strided).
 const EE_SAMPLES: usize = 4000;

@@ -32,7 +32,7 @@ use crate::compare::{compare_refit, compare_with_fits, CompareConfig, Comparison
 use crate::free::{aircraft_free, set_values, values, Free, KeyError};
 use crate::lm::{Lm, FIT_TOL};
 use crate::profile::{add_into, linear_profile, normal_equations, Linearised, Normal};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::model::{Model, State};
 use wireflight_flight::numeric::invert;
 use wireflight_flight::params::keys::{self, AircraftKey};

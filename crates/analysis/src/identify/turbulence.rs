@@ -13,7 +13,7 @@ use crate::filter_error::flight::{
     fit_flights, FilterError, FlightFilter, GustEstimate, MethodChoice as Method, SETTLED_SIGMAS,
     SETTLE_ROUNDS,
 };
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::model::Model;
 
 /// What the filter-error method did to an identification.

@@ -23,7 +23,7 @@ use wireflight_analysis::compare::{
     compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
 };
 use wireflight_analysis::diagnose::{diagnose, Correction, DiagnoseConfig, Diagnosis, Verdict};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::effects::term::term_of;
 use wireflight_flight::effects::{Effect, Param, CATALOGUE};
 use wireflight_flight::model::Model;

@@ -13,7 +13,7 @@ use std::time::Instant;
 use wireflight_analysis::compare::Prepared;
 use wireflight_analysis::diagnose::{add_fitted, DiagnoseConfig};
 use wireflight_analysis::discover::discover;
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::effects::Effect;
 use wireflight_flight::expr::Axis;
 use wireflight_flight::model::Model;

@@ -16,7 +16,7 @@ use crate::render::LineScene;
 use crate::scene::builder::{FrameSpec, Layer, SceneBuilder};
 use crate::scene::track::{model_frame, pose_at};
 use crate::scene::ReplayError;
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_geometry::clip::{ClipStats, Clipper};
 use wireflight_geometry::euler::{viewer_from_ned, Convention, EulerZyx, Gimbal};
 use wireflight_geometry::mesh::world::{World, WorldSpec};

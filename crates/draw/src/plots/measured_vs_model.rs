@@ -13,8 +13,8 @@ use super::style::{
 };
 use super::{prediction_windows, window_segments, CanvasError, PlotContext, Segments};
 use wireflight_analysis::compare::{Comparison, Prediction};
-use wireflight_flight::data::FlightData;
-use wireflight_flight::derive::unwrap_angles;
+use wireflight_data::derive::unwrap_angles;
+use wireflight_data::FlightData;
 use wireflight_geometry::euler::EulerZyx;
 
 /// One quantity plotted against time.

@@ -43,7 +43,7 @@ use self::residual_axes::draw_residual_axes;
 use self::residuals::draw_residuals;
 use self::style::{render_png, Root};
 use wireflight_analysis::compare::{Comparison, Prediction};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_fsio::{FsError, StagedDir};
 
 /// Why the plots could not be written. Every error names the directory or the file.

@@ -15,7 +15,7 @@ use super::style::{
 };
 use super::{window_segments, CanvasError, PlotContext, Segments};
 use wireflight_analysis::compare::{estimate_noise, Comparison, Prediction};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::model::air_angles;
 
 /// One axis's residual: predicted − measured at prediction index `k` of sample `i`.

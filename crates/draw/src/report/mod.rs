@@ -31,7 +31,7 @@ use wireflight_analysis::filter_error::flight::{
     GUST_LR_BOUND, MAX_INNOVATION_SPREAD, MIN_TURBULENCE_MPS, TURBULENCE_LR_BOUND,
 };
 use wireflight_analysis::report::{innovations_text, noise_text, verdict_text};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
 use wireflight_flight::params::keys;
 use wireflight_geometry::clip::Clipper;

@@ -17,7 +17,7 @@ use super::track::{model_frame, pose_at, ModelTrack};
 use super::ReplayError;
 use crate::figures::three_figures;
 use crate::render::{LineBatch, LineScene};
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_geometry::camera::{CameraPreset, Subject};
 use wireflight_geometry::clip::{ClipStats, Clipper, DepthRange};
 use wireflight_geometry::euler::viewer_from_ned;

@@ -11,7 +11,7 @@ use glam::{DQuat, DVec3, Vec3};
 use super::builder::ModelFrame;
 use super::ReplayError;
 use wireflight_analysis::compare::Comparison;
-use wireflight_flight::data::FlightData;
+use wireflight_data::FlightData;
 use wireflight_geometry::euler::{viewer_from_ned, EulerZyx};
 
 /// The model's flight beside the measured one, for comparison overlays: the multiple-shooting

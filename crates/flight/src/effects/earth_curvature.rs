@@ -39,7 +39,7 @@ impl Effect for EarthCurvature {
 mod tests {
     use super::super::tests_support::sample;
     use super::*;
-    use crate::G0;
+    use wireflight_data::G0;
 
     #[test]
     fn curvature_pulls_back_toward_the_origin() {

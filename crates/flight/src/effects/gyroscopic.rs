@@ -42,7 +42,7 @@ impl Effect for Gyroscopic {
 mod tests {
     use super::super::tests_support::sample;
     use super::*;
-    use crate::Controls;
+    use wireflight_data::Controls;
 
     #[test]
     fn moment_is_minus_omega_cross_h() {

@@ -61,7 +61,7 @@ use std::sync::Arc;
 use glam::{DMat3, DQuat, DVec3};
 
 use super::aero::AirData;
-use super::{Controls, VehicleKind};
+use wireflight_data::{Controls, OriginError, VehicleKind};
 
 pub use crate::effect_basics;
 
@@ -240,20 +240,6 @@ pub enum ParamError {
     },
 }
 
-/// A field of an [`Origin`] outside its range ([`Origin::RANGES`]).
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{key} = {value} is outside {lo}..={hi}")]
-pub struct OriginError {
-    /// The field, as named in [`Origin::RANGES`].
-    pub key: &'static str,
-    /// The value refused.
-    pub value: f64,
-    /// The least valid value.
-    pub lo: f64,
-    /// The greatest valid value.
-    pub hi: f64,
-}
-
 /// The catalogue: every built-in effect, in the spec's order. One line per effect.
 pub static CATALOGUE: &[&EffectInfo] = &[
     &wind::INFO,
@@ -308,25 +294,14 @@ pub struct Origin {
 }
 
 impl Origin {
-    /// The range of each field, by its name in files and options: latitude within ±90°,
-    /// longitude −180°..360°, altitude −1e4..1e8 m.
-    pub const RANGES: [(&'static str, f64, f64); 3] = [
-        ("latitude_deg", -90.0, 90.0),
-        ("longitude_deg", -180.0, 360.0),
-        ("altitude_m", -1e4, 1e8),
-    ];
-
-    /// Check one field's value (`key` as in [`Origin::RANGES`]; other keys pass).
+    /// Check one field's value (`key` as in the flight data's metadata; other keys pass)
+    /// against its range, the one table of [`wireflight_data::ORIGIN_RANGES`]: latitude within
+    /// ±90°, longitude −180°..360°, altitude −1e4..1e8 m.
     ///
     /// # Errors
     /// The value is outside the field's range (the message names both).
     pub fn check_field(key: &str, value: f64) -> Result<(), OriginError> {
-        match Self::RANGES.iter().find(|(k, _, _)| *k == key) {
-            Some(&(key, lo, hi)) if !(lo..=hi).contains(&value) => {
-                Err(OriginError { key, value, lo, hi })
-            }
-            _ => Ok(()),
-        }
+        wireflight_data::check_origin_field(key, value)
     }
 
     /// Check every field ([`Origin::check_field`]).
@@ -830,7 +805,7 @@ pub(crate) mod tests {
     /// The baseline of a vehicle family built for a flight that recorded an attitude (the nose
     /// 12° above the horizon, turning), so that every effect, those acting from it too, can
     /// be added.
-    fn baseline_with_attitude(kind: crate::VehicleKind) -> crate::model::Model {
+    fn baseline_with_attitude(kind: wireflight_data::VehicleKind) -> crate::model::Model {
         use wireflight_geometry::euler::EulerZyx;
         let times = [0.0, 1.0, 2.0];
         let attitude = times.map(|t| EulerZyx::new(0.2 * t, 12f64.to_radians(), 0.1));
@@ -842,13 +817,13 @@ pub(crate) mod tests {
 
     /// A fixed wing in flight (turning, climbing, rolling) and commands for it: where the
     /// effects' derivatives are compared.
-    pub(crate) fn flying() -> (crate::model::State, crate::Controls) {
+    pub(crate) fn flying() -> (crate::model::State, wireflight_data::Controls) {
         let mut x = crate::model::State::default();
         x.set_pos_ned(glam::DVec3::new(10.0, -20.0, -150.0));
         x.set_vel(glam::DVec3::new(24.0, 1.5, 2.0));
         x.set_omega(glam::DVec3::new(0.3, -0.2, 0.1));
         x.set_attitude(wireflight_geometry::euler::EulerZyx::new(0.5, 0.1, -0.3));
-        let cmd = crate::Controls {
+        let cmd = wireflight_data::Controls {
             throttle: 0.7,
             elevator: -0.05,
             aileron: 0.02,
@@ -863,7 +838,7 @@ pub(crate) mod tests {
     /// the propeller torque have one.
     #[test]
     fn an_effect_at_its_absent_values_changes_nothing() {
-        use crate::VehicleKind;
+        use wireflight_data::VehicleKind;
         let mut tried = Vec::new();
         for info in catalogue_and_terms() {
             let Some(absent) = info
@@ -922,7 +897,7 @@ pub(crate) mod tests {
     /// dependent ones say so.
     #[test]
     fn an_effect_that_does_not_vary_in_space_does_not() {
-        use crate::VehicleKind;
+        use wireflight_data::VehicleKind;
         let mut still = Vec::new();
         for info in catalogue_and_terms() {
             for kind in [VehicleKind::FixedWing, VehicleKind::PointMass] {
@@ -978,7 +953,7 @@ pub(crate) mod tests {
     #[test]
     fn an_effect_that_says_it_is_a_uniform_wind_is_one() {
         use crate::spec::ModelSpec;
-        use crate::VehicleKind;
+        use wireflight_data::VehicleKind;
         let base = ModelSpec::baseline(VehicleKind::FixedWing)
             .build(Origin::default())
             .unwrap();
@@ -1063,7 +1038,7 @@ pub(crate) mod tests_support {
             omega: DVec3::ZERO,
             altitude_m: 0.0,
             rho: RHO_SEA_LEVEL,
-            g: super::super::G0,
+            g: wireflight_data::G0,
             air_vel_ned: DVec3::ZERO,
             controls: Controls::default(),
             mass: 1.0,

@@ -43,7 +43,7 @@ impl Effect for PropTorque {
 mod tests {
     use super::super::tests_support::sample;
     use super::*;
-    use crate::Controls;
+    use wireflight_data::Controls;
 
     #[test]
     fn rolling_moment_is_minus_k_throttle_squared() {

@@ -432,7 +432,7 @@ mod tests {
     use super::super::tests_support::sample;
     use super::*;
     use crate::aero::air_angles;
-    use crate::Controls;
+    use wireflight_data::Controls;
 
     fn ctx() -> EffectContext {
         EffectContext {
@@ -517,7 +517,7 @@ mod tests {
     fn a_pitching_term_enters_the_models_pitch_acceleration() {
         use crate::model::Vehicle;
         use crate::spec::{EffectSpec, ModelSpec};
-        let base = ModelSpec::baseline(crate::VehicleKind::FixedWing)
+        let base = ModelSpec::baseline(wireflight_data::VehicleKind::FixedWing)
             .build(super::super::Origin::default())
             .unwrap();
         let Vehicle::FixedWing(p) = &base.vehicle else {

@@ -15,10 +15,10 @@ use glam::{DVec2, Vec2};
 
 use super::{rings, Fit, CLIP, PICTURE, RESULT, SUBJECT};
 use crate::app::cli::ClipArgs;
-use crate::clip::weiler_atherton::{self, Piece};
+use crate::draw::render::{LineBatch, LineScene, Rgba, Segment2};
+use crate::draw::scene::font;
 use crate::fsio::write_dir_atomic;
-use crate::render::{LineBatch, LineScene, Rgba, Segment2};
-use crate::scene::font;
+use crate::geometry::clip::weiler_atherton::{self, Piece};
 
 /// The list of pictures written with them; its presence marks a directory as this command's.
 pub const MANIFEST: &str = "wireflight-clip-demo.txt";
@@ -404,7 +404,7 @@ fn scene(case: &Case, pieces: &[Piece]) -> LineScene {
     LineScene {
         width: PICTURE.0,
         height: PICTURE.1,
-        background: crate::scene::palette::BACKGROUND,
+        background: crate::draw::scene::palette::BACKGROUND,
         batches: vec![
             LineBatch {
                 color: HATCH,
@@ -451,7 +451,7 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             Op::Intersection => clipped.intersection,
             Op::Difference => clipped.difference,
         };
-        let image = crate::render::cpu::render(&scene(&case, &pieces));
+        let image = crate::draw::render::cpu::render(&scene(&case, &pieces));
         let name = format!("{}.png", case.name);
         writeln!(
             manifest,

@@ -2,16 +2,16 @@ use super::*;
 use crate::compare::start::Scratch;
 use crate::compare::CompareConfig;
 use crate::profile::{perturbed_models, window_normal_towards, Normal};
+use wireflight_data::VehicleKind;
 use wireflight_flight::autopilot::Manoeuvre;
 use wireflight_flight::effects::Origin;
 use wireflight_flight::numeric::solve_in_place;
 use wireflight_flight::simulate::{simulate, Noise, SimSpec};
 use wireflight_flight::spec::{EffectSpec, ModelSpec};
-use wireflight_flight::VehicleKind;
 
 /// The airframe, the airframe with the effect `wind` (a spec), and a 45 s flight test of the
 /// latter at 50 Hz with survey-grade noise.
-fn windy(wind: &str) -> (Model, Model, wireflight_flight::data::FlightData) {
+fn windy(wind: &str) -> (Model, Model, wireflight_data::FlightData) {
     let airframe = ModelSpec::baseline(VehicleKind::FixedWing)
         .build(Origin::default())
         .unwrap();

@@ -37,7 +37,7 @@ pub(crate) mod tests {
 
     use super::super::{Origin, Reading, CATALOGUE};
     use crate::spec::ModelSpec;
-    use crate::VehicleKind;
+    use wireflight_data::VehicleKind;
 
     /// A reading with every channel non-zero.
     pub(crate) fn reading() -> Reading {

@@ -457,7 +457,7 @@ fn clip(s: &str) -> String {
     if s.chars().count() > 60 {
         out.push('…');
     }
-    crate::data::report::escape(&out)
+    crate::report::escape(&out)
 }
 
 #[cfg(test)]

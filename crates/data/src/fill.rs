@@ -76,7 +76,7 @@ mod tests {
     use wireflight_geometry::euler::EulerZyx;
 
     use super::*;
-    use crate::data::Metadata;
+    use crate::Metadata;
 
     #[test]
     fn derive_missing_fills_velocities_and_rates() {

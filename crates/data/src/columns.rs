@@ -132,7 +132,7 @@ impl Quantity {
 }
 
 impl Quantity {
-    /// The quantity a column map's name (`crate::data::mapped::QUANTITIES`) gives, for its
+    /// The quantity a column map's name (`crate::mapped::QUANTITIES`) gives, for its
     /// range: `height` is checked as `down` (the same range), `lat, lon, alt` as themselves.
     pub(super) fn of_mapped(name: &str) -> Option<Self> {
         use Quantity as Q;

@@ -1,4 +1,9 @@
-//! Flight data: the CSV format of `docs/flight-data.md`.
+//! Flight data for wireflight: [`FlightData`] (samples of a measured or simulated flight), the
+//! files it is read from — the project's CSV of `docs/flight-data.md` (and JSBSim's), any CSV
+//! through a column map ([`mapped`]), PX4 ULog ([`px4`] on [`ulog`]), each a [`FlightReader`]
+//! chosen by [`load`] — and the CSV it is written to. Below the flight model: it knows the
+//! vehicle only as plain data ([`VehicleKind`], [`Controls`]), and files only through
+//! `wireflight_fsio`.
 //!
 //! # Reading
 //! [`read`] / [`parse`] accept two dialects, told apart by the header:
@@ -22,7 +27,7 @@
 //! velocity from NED velocity and attitude. [`FlightData::derived`] lists what was derived.
 //!
 //! The smoothing differentiator that does this, and how its window is chosen, are described
-//! in [`crate::derive`], which works on plain slices and knows nothing of this module.
+//! in [`mod@derive`], which works on plain slices and knows nothing of [`FlightData`].
 //!
 //! # Writing
 //! [`write()`] / [`to_csv_string`] write the wireflight dialect: metadata, then the channels
@@ -32,13 +37,19 @@
 //!
 //! # Layout
 //! This file holds the data types ([`FlightData`], [`Metadata`]), the errors ([`DataError`],
-//! [`ValidationError`]) and the unit constants; `columns.rs` the column tables and dialect
-//! detection, `read.rs` the reader, `write.rs` the writer, `fill.rs` the filling-in of missing
-//! channels. [`import`] chooses among the readers (this CSV's, [`mapped`], [`px4`] on
-//! [`ulog`]), which say what they found in a [`report::ImportReport`]. The differentiator and
-//! angle unwrapping live in [`crate::derive`] and are re-exported here.
+//! [`ValidationError`]), the unit constants and the ranges of the origin's metadata
+//! ([`ORIGIN_RANGES`]); `vehicle.rs` the vehicle's family and controls, `columns.rs` the column
+//! tables and dialect detection, `read.rs` the reader, `write.rs` the writer, `fill.rs` the
+//! filling-in of missing channels. [`import`] holds the [`FlightReader`] trait and the list of
+//! formats, [`READERS`] (this CSV's, [`mapped`], [`px4`] on [`ulog`]), which say what they
+//! found in a [`report::ImportReport`]; a new format is a module with a reader and a line in
+//! that list. The differentiator and angle unwrapping live in [`mod@derive`] and are
+//! re-exported here.
+
+#![warn(missing_docs)]
 
 mod columns;
+pub mod derive;
 mod fill;
 pub mod import;
 pub mod mapped;
@@ -46,24 +57,28 @@ pub mod px4;
 mod read;
 pub mod report;
 pub mod ulog;
+mod vehicle;
 mod write;
 
 use std::fmt;
 
 use glam::DVec3;
 
-use super::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
 pub use self::columns::JSBSIM_COLUMNS;
-pub use self::import::{load, ImportError, LoadOptions, Loaded};
-pub use self::read::{parse, read};
-pub use self::report::ImportReport;
-pub use self::write::{to_csv_string, write, WriteError};
-pub use super::derive::{
+pub use self::derive::{
     body_rates_from_attitude, unwrap_angles, unwrap_attitude, Differentiator, Window,
     DEFAULT_HALF_WIDTH_S, MAX_HALF_SAMPLES, MIN_HALF_SAMPLES,
 };
+pub use self::import::{load, FlightReader, ImportError, LoadOptions, Loaded, READERS};
+pub use self::read::{parse, read};
+pub use self::report::ImportReport;
+pub use self::vehicle::{Controls, UnknownVehicle, VehicleKind};
+pub use self::write::{to_csv_string, write, WriteError};
+
+/// Standard gravity g0, m/s².
+pub const G0: f64 = 9.80665;
 
 /// Metres per foot (exact).
 pub const METRES_PER_FOOT: f64 = 0.3048;
@@ -77,7 +92,16 @@ pub const EARTH_RADIUS_M: f64 = 6_371_000.0;
 /// Largest accelerometer reading a reader accepts on any axis, m/s²: 50 g. Airframes break
 /// long before (aerobatic aircraft are built for about 10 g, small drones survive crashes of
 /// more), so beyond it a number is a unit mistake (mg, raw counts) or a glitch, not a flight.
-pub const MAX_ACCEL_MPS2: f64 = 50.0 * crate::G0;
+pub const MAX_ACCEL_MPS2: f64 = 50.0 * G0;
+
+/// The range of each field of the flight's geodetic origin, by its metadata key: latitude
+/// within ±90°, longitude −180°..360°, altitude −1e4..1e8 m. The readers hold the metadata to
+/// it ([`check_origin_field`]), and the flight model its origin.
+pub const ORIGIN_RANGES: [(&str, f64, f64); 3] = [
+    ("latitude_deg", -90.0, 90.0),
+    ("longitude_deg", -180.0, 360.0),
+    ("altitude_m", -1e4, 1e8),
+];
 
 /// Name recorded in [`FlightData::derived`] when the NED velocity was derived.
 pub const DERIVED_VEL_NED: &str = "vel_ned";
@@ -262,6 +286,33 @@ impl std::error::Error for DataError {
             DataErrorKind::Unreadable(e) => Some(e),
             _ => None,
         }
+    }
+}
+
+/// A field of the flight's origin outside its range ([`ORIGIN_RANGES`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{key} = {value} is outside {lo}..={hi}")]
+pub struct OriginError {
+    /// The field, as named in [`ORIGIN_RANGES`].
+    pub key: &'static str,
+    /// The value refused.
+    pub value: f64,
+    /// The least valid value.
+    pub lo: f64,
+    /// The greatest valid value.
+    pub hi: f64,
+}
+
+/// Check one field of the origin (`key` as in [`ORIGIN_RANGES`]; other keys pass).
+///
+/// # Errors
+/// The value is outside the field's range (the message names both).
+pub fn check_origin_field(key: &str, value: f64) -> Result<(), OriginError> {
+    match ORIGIN_RANGES.iter().find(|(k, _, _)| *k == key) {
+        Some(&(key, lo, hi)) if !(lo..=hi).contains(&value) => {
+            Err(OriginError { key, value, lo, hi })
+        }
+        _ => Ok(()),
     }
 }
 

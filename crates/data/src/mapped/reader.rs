@@ -7,11 +7,10 @@ use std::path::Path;
 use glam::DVec3;
 
 use super::ColumnMap;
-use crate::data::columns::Quantity;
-use crate::data::read::{flat_earth_ned, line_of, parse_metadata, text_lines};
-use crate::data::report::ImportReport;
-use crate::data::{DataError, DataErrorKind, FlightData, Metadata};
-use crate::Controls;
+use crate::columns::Quantity;
+use crate::read::{flat_earth_ned, line_of, parse_metadata, text_lines};
+use crate::report::ImportReport;
+use crate::{Controls, DataError, DataErrorKind, FlightData, Metadata};
 use wireflight_geometry::euler::EulerZyx;
 
 /// A CSV that cannot be read through its column map.
@@ -250,7 +249,7 @@ pub fn parse(
     let time = take("time").unwrap_or_default();
     let n = time.len();
     let down = take("down").or_else(|| take("height").map(|h| h.iter().map(|v| -v).collect()));
-    let mut report = ImportReport::new(file, "CSV with a column map");
+    let mut report = ImportReport::new(file, super::FORMAT);
     let pos_ned = match take("lat") {
         Some(lat) => {
             let lon = take("lon").unwrap_or_else(|| vec![0.0; n]);

@@ -95,7 +95,7 @@ fn reads_mapped_rows() {
 fn every_mapped_quantity_has_a_range() {
     for (name, _, _) in QUANTITIES {
         assert!(
-            crate::data::columns::Quantity::of_mapped(name).is_some(),
+            crate::columns::Quantity::of_mapped(name).is_some(),
             "{name} has no range"
         );
     }

@@ -52,6 +52,9 @@ use wireflight_geometry::euler::EulerZyx;
 mod series;
 use series::{slerp, Series};
 
+/// The format's name in reports.
+pub const FORMAT: &str = "PX4 ULog";
+
 /// Highest default rate of the time base, Hz (a log's 100–250 Hz estimates are resampled to
 /// this unless [`UlogOptions::rate_hz`] says otherwise).
 pub const DEFAULT_MAX_RATE_HZ: f64 = 50.0;
@@ -127,7 +130,7 @@ pub fn from_ulog(
     file: &str,
     options: &UlogOptions,
 ) -> Result<(FlightData, ImportReport), UlogError> {
-    let mut report = ImportReport::new(file, "PX4 ULog");
+    let mut report = ImportReport::new(file, FORMAT);
     about(log, &mut report);
     let err = |kind| UlogError::file(file, kind);
     if let Some(r) = options.rate_hz {
@@ -799,8 +802,8 @@ fn position(
 }
 
 /// Checks the origin (latitude °, longitude °, altitude m, from `topic`'s `fields`) against
-/// the ranges of the flight data's metadata ([`crate::effects::Origin::check_field`]), which
-/// the CSV reader applies to what `import --out` writes.
+/// the ranges of the flight data's metadata ([`crate::ORIGIN_RANGES`]), which the CSV reader
+/// applies to what `import --out` writes.
 ///
 /// # Errors
 /// The first value outside, naming the topic and field.
@@ -812,7 +815,7 @@ fn check_origin(
 ) -> Result<(), UlogError> {
     let keys = ["latitude_deg", "longitude_deg", "altitude_m"];
     for ((key, field), v) in keys.into_iter().zip(fields).zip([lat, lon, alt]) {
-        if let Err(e) = crate::effects::Origin::check_field(key, v) {
+        if let Err(e) = crate::check_origin_field(key, v) {
             return Err(UlogError::file(
                 file,
                 UlogErrorKind::BadValues(format!("the flight's origin: {e}")),

@@ -4,9 +4,9 @@
 use glam::DQuat;
 
 use super::GAP_NOTE_S;
-use crate::data::columns::Quantity;
-use crate::data::report::ImportReport;
-use crate::data::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
+use crate::columns::Quantity;
+use crate::report::ImportReport;
+use crate::ulog::{Topic, UlogError, UlogErrorKind, UlogFile};
 
 /// One topic's samples: times (s from the log's start) and columns, cleaned.
 #[derive(Clone, Debug)]

@@ -183,7 +183,7 @@ pub(super) fn parse_metadata(rest: &str, meta: &mut Metadata) -> Result<(), Data
         "aircraft" => meta.aircraft = Some(value.to_string()),
         "latitude_deg" | "longitude_deg" | "altitude_m" => {
             let v = number()?;
-            crate::effects::Origin::check_field(key, v).map_err(|e| bad(e.to_string()))?;
+            crate::check_origin_field(key, v).map_err(|e| bad(e.to_string()))?;
             match key {
                 "latitude_deg" => meta.latitude_deg = Some(v),
                 "longitude_deg" => meta.longitude_deg = Some(v),

@@ -45,6 +45,9 @@ use super::{METRES_PER_FOOT, MPS_PER_KNOT};
 mod reader;
 pub use reader::{parse, read, MappedError};
 
+/// The format's name in reports.
+pub const FORMAT: &str = "CSV with a column map";
+
 /// Kinds of quantity, for checking units.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Dimension {

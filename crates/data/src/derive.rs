@@ -2,8 +2,8 @@
 //! unwrapping ([`unwrap_angles`], [`unwrap_attitude`]) and body rates from attitude.
 //!
 //! This is numerical work on plain slices of times, values and angles, not on the file format
-//! or [`FlightData`](crate::data::FlightData), so it lives apart from [`crate::data`] (which
-//! uses it to fill in the channels a flight lacks, and re-exports these names for its callers).
+//! or [`FlightData`](crate::FlightData), so it lives apart from the data types and readers
+//! (which use it to fill in the channels a flight lacks; the crate re-exports these names).
 //! It does no I/O.
 //!
 //! # Differentiating noisy, unevenly sampled data
@@ -21,7 +21,7 @@
 //! 0.5 Hz, 16 % at 1 Hz) — body motion of aircraft and falling bodies is mostly below 1 Hz,
 //! measurement noise is white. [`FlightData::derive_missing_with`] takes another [`Window`].
 //!
-//! [`FlightData::derive_missing_with`]: crate::data::FlightData::derive_missing_with
+//! [`FlightData::derive_missing_with`]: crate::FlightData::derive_missing_with
 
 use std::f64::consts::{PI, TAU};
 
