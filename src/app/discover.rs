@@ -7,7 +7,7 @@ use crate::analysis::discover::error_after::measure_errors;
 use crate::analysis::discover::report::{discovery_json, discovery_text};
 use crate::analysis::report::model_label;
 use crate::app::cli::DiscoverArgs;
-use crate::app::diagnose::add_fitted_on;
+use crate::app::workbench::add_fitted_on;
 
 /// Run `wireflight discover`.
 ///

@@ -9,7 +9,7 @@ use crate::analysis::diagnose::DiagnoseConfig;
 use crate::analysis::identify::{free_keys, identify, Identification, IdentifyConfig};
 use crate::analysis::report::{model_label, Table};
 use crate::app::cli::IdentifyArgs;
-use crate::app::diagnose::add_fitted_on;
+use crate::app::workbench::add_fitted_on;
 use crate::data::FlightData;
 use crate::data::VehicleKind;
 use crate::flight::model::{Model, Vehicle};

@@ -16,6 +16,7 @@ pub mod import;
 pub mod render;
 pub mod simulate;
 pub mod view;
+pub mod workbench;
 
 use std::ffi::OsString;
 use std::process::ExitCode;

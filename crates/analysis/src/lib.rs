@@ -6,6 +6,7 @@
 
 #![warn(missing_docs)]
 
+pub mod assess;
 pub mod compare;
 pub mod conditions;
 pub mod diagnose;

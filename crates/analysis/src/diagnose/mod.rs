@@ -43,8 +43,11 @@
 mod fit;
 mod joint;
 pub mod reference;
+mod request;
 pub mod screen;
 pub mod turbulence;
+
+pub use request::{run, Request, RunError};
 
 use std::fmt;
 
@@ -329,6 +332,38 @@ pub struct Diagnosis {
 pub const EQUIVALENT: f64 = 0.01;
 
 impl Diagnosis {
+    /// `base` with every cause found applied, and the numbers the filter's own search added
+    /// in turbulence: the model a model file keeps.
+    ///
+    /// # Errors
+    /// A cause that does not apply to `base` (a diagnosis of another model).
+    pub fn model_with_causes(&self, base: &Model) -> Result<Model, ModelError> {
+        let mut model = base.clone();
+        for c in &self.found {
+            c.correction.apply(&mut model)?;
+        }
+        for r in self.search_added() {
+            model.set_aircraft(&r.param, r.value)?;
+        }
+        Ok(model)
+    }
+
+    /// The names of the causes [`Self::model_with_causes`] applies, in its order.
+    pub fn cause_names(&self) -> Vec<&str> {
+        self.found
+            .iter()
+            .map(|c| c.effect.as_str())
+            .chain(self.search_added().map(|r| r.cause.as_str()))
+            .collect()
+    }
+
+    /// The numbers the filter's own search found in turbulence.
+    fn search_added(&self) -> impl Iterator<Item = &turbulence::Refit> {
+        self.turbulence
+            .iter()
+            .flat_map(|t| t.refits.iter().filter(|r| r.added))
+    }
+
     /// The one cause found, when the verdict names exactly one.
     pub fn winner(&self) -> Option<&Candidate> {
         match (&self.verdict, self.found.as_slice()) {

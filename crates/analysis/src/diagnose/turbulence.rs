@@ -363,7 +363,7 @@ pub fn compare_through_turbulence(
 ///
 /// # Errors
 /// Only when the filter is forced and cannot run (a point mass, a channel missing).
-pub fn through_turbulence(
+pub(crate) fn through_turbulence(
     base: &Model,
     d: &mut Diagnosis,
     data: &FlightData,

@@ -4,6 +4,9 @@
 
 use std::fmt::Write as _;
 
+mod assessment;
+pub use assessment::{assessment_json, assessment_text, Names};
+
 use serde_json::{json, Map, Value};
 
 use crate::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
@@ -11,6 +14,7 @@ use crate::conditions::Condition;
 use crate::diagnose::reference::ReferenceVerdict;
 use crate::diagnose::{Candidate, Diagnosis, Verdict};
 use crate::reference::ModelFloor;
+use wireflight_data::VehicleKind;
 use wireflight_flight::model::Model;
 use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
 
@@ -550,6 +554,23 @@ fn causes_table(causes: &[Candidate]) -> String {
         ]);
     }
     t.render(2)
+}
+
+/// What to do next after a diagnosis that leaves the flight unexplained (empty otherwise,
+/// or where `discover`'s terms were already tried): `discover` estimates the force and moment
+/// the model lacks.
+pub fn next_step_text(d: &Diagnosis, vehicle: VehicleKind, flight: &str, tried: bool) -> String {
+    if d.verdict != Verdict::Unexplained || tried {
+        return String::new();
+    }
+    let what = match vehicle {
+        VehicleKind::FixedWing => "the force and moment",
+        VehicleKind::PointMass => "the force (along and across its path)",
+    };
+    format!(
+        "  next: `wireflight discover --flight {flight}` estimates {what} the model lacks and \
+         proposes terms; `diagnose --discover` tries them as candidates\n"
+    )
 }
 
 /// The ranking table and verdict of a diagnosis, as text.
