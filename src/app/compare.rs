@@ -13,8 +13,8 @@ use crate::data::FlightData;
 use crate::draw::output::{write_frames, FrameOut};
 use crate::draw::render::Rasterizer;
 use crate::draw::scene::replay::ReplayScene;
-use crate::draw::scene::track::ModelTrack;
 use crate::geometry::clip::Clipper;
+use crate::present::track::model_track;
 
 /// Run `wireflight compare`.
 ///
@@ -142,18 +142,18 @@ fn write_plots(
         .quoted()
         .conditions
         .first()
-        .map(|c| crate::draw::plots::ConditionSeries {
+        .map(|c| crate::present::plots::ConditionSeries {
             name: c.name.to_string(),
             unit: c.unit.to_string(),
             per_window: c.per_window.clone(),
         });
-    let info = crate::draw::plots::PlotInfo {
+    let info = crate::present::plots::PlotInfo {
         data_name: Some(args.flight.display().to_string()),
         model_name: Some(model_label(&a.base)),
         noise_floor: Some(a.floor),
         window_s: Some(a.config.window_s),
     };
-    Ok(crate::draw::plots::write_plots_with(
+    Ok(crate::present::plots::write_plots_with(
         dir,
         data,
         &a.before.comparison,
@@ -170,7 +170,7 @@ fn write_replay(
     a: &Assessment,
     out: FrameOut,
 ) -> anyhow::Result<String> {
-    let mut track = ModelTrack::from_comparison(data, &a.last().comparison)?;
+    let mut track = model_track(data, &a.last().comparison)?;
     // One scale for before and after, so the strip shows the error fall.
     let b = &a.before.comparison.prediction;
     track.strip_scale_m = b
@@ -245,7 +245,7 @@ fn write_report(
     added: &str,
     path: &Path,
 ) -> anyhow::Result<()> {
-    let report = crate::draw::report::Report {
+    let report = crate::present::report::Report {
         command: format!("wireflight compare --flight {}", args.flight.display()),
         data_name: args.flight.display().to_string(),
         data,
@@ -258,10 +258,10 @@ fn write_report(
         conditions: &a.quoted().conditions,
         diagnosis: None,
         fitted: &a.fitted,
-        replay: Some(crate::draw::report::ReplaySize::default()),
+        replay: Some(crate::present::report::ReplaySize::default()),
         at_floor: crate::analysis::diagnose::DiagnoseConfig::default().at_floor,
         turbulence: a.turbulence.as_ref().map(|(t, _)| t),
     };
-    crate::draw::report::write_report(path, &report)?;
+    crate::present::report::write_report(path, &report)?;
     Ok(())
 }

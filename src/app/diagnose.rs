@@ -81,6 +81,9 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     keep(args, &data, &base, &d, &config)
 }
 
+/// Candidate effects beyond the catalogue.
+type Candidates = Vec<Box<dyn Effect>>;
+
 /// The model to diagnose (with the `--add` effects fitted), the candidates beyond the
 /// catalogue (a model file's terms without values, and `discover`'s with `--discover`), and
 /// the search's options.
@@ -88,7 +91,7 @@ fn model_and_candidates(
     args: &DiagnoseArgs,
     data: &FlightData,
     with_references: bool,
-) -> anyhow::Result<(Model, Vec<Box<dyn Effect>>, DiagnoseConfig)> {
+) -> anyhow::Result<(Model, Candidates, DiagnoseConfig)> {
     // A model also flown on the references must not read the test flight's record there.
     let mut base = if with_references {
         args.model.choice().build_unrecorded(&args.flight, data)?
@@ -205,7 +208,7 @@ fn write_report(
             .join(" + ")
     );
     let conditions = crate::analysis::conditions::conditions(data, &d.base, base.origin.altitude_m);
-    let report = crate::draw::report::Report {
+    let report = crate::present::report::Report {
         command: format!("wireflight diagnose --flight {}", args.flight.display()),
         data_name: args.flight.display().to_string(),
         data,
@@ -218,10 +221,10 @@ fn write_report(
         conditions: &conditions,
         diagnosis: Some(d),
         fitted: &d.found,
-        replay: Some(crate::draw::report::ReplaySize::default()),
+        replay: Some(crate::present::report::ReplaySize::default()),
         at_floor: cfg.at_floor,
         turbulence: d.turbulence.as_ref(),
     };
-    crate::draw::report::write_report(path, &report)?;
+    crate::present::report::write_report(path, &report)?;
     Ok(())
 }

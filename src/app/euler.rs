@@ -45,77 +45,18 @@ enum Given {
 /// angles not at lock for `--gimbal-lock`), unreadable meshes, unwritable output.
 pub fn run(args: &EulerArgs) -> anyhow::Result<()> {
     let convention = args.convention();
-    for (option, angles) in [
-        ("--angles", args.angles),
-        ("--from-angles", args.from_angles),
-        ("--to-angles", args.to_angles),
-    ] {
-        if let (true, Some(a)) = (args.radians, angles) {
-            if let Some(x) = a.iter().find(|x| x.abs() > MAX_RADIANS) {
-                bail!(
-                    "{option}: {x:e} rad is beyond ±{MAX_RADIANS:e} rad, where a multiple of 2π \
-                     cannot be taken off exactly; give the angle reduced, or in degrees \
-                     (reduced exactly at any size)"
-                );
-            }
-        }
-    }
-    let reduce = |a: [f64; 3]| {
-        if args.radians {
-            a
-        } else {
-            a.map(reduce_degrees)
-        }
-    };
-    let to_radians = |a: [f64; 3]| {
-        if args.radians {
-            a
-        } else {
-            reduce(a).map(f64::to_radians)
-        }
-    };
-    let given = if let Some(a) = args.angles {
-        let degrees = if args.radians {
-            a.map(f64::to_degrees)
-        } else {
-            reduce(a)
-        };
-        Some(Given::Angles(
-            EulerAngles::new(convention, to_radians(a)),
-            degrees,
-        ))
-    } else if let Some(m) = args.from_matrix {
-        Some(Given::Matrix(m))
-    } else {
-        args.from_quat.map(Given::Quat)
-    };
+    check_radians(args)?;
+    let given = given(args, convention);
     if args.interpolate {
         let (Some(a), Some(b)) = (args.from_angles, args.to_angles) else {
             bail!("--interpolate needs --from-angles A,B,C and --to-angles A,B,C");
         };
-        let a = EulerAngles::new(convention, to_radians(a));
-        let b = EulerAngles::new(convention, to_radians(b));
+        let a = EulerAngles::new(convention, typed_radians(args, a));
+        let b = EulerAngles::new(convention, typed_radians(args, b));
         return interpolate(args, &a, &b);
     }
     if args.gimbal_lock {
-        let locked = match &given {
-            None => EulerAngles::from_degrees(convention, default_lock_degrees(convention)),
-            Some(g) => {
-                let e = solve(g, convention)?.euler;
-                if !e.lock().is_locked() {
-                    bail!(
-                        "--gimbal-lock: the middle angle {} is not at gimbal lock (±90° for \
-                         Tait–Bryan {seq:#}, 0° or 180° for proper Euler); e.g. --angles {}",
-                        crate::draw::scene::euler::degrees_label(e.angles[1]),
-                        default_lock_degrees(convention)
-                            .map(|a| a.to_string())
-                            .join(","),
-                        seq = convention.sequence,
-                    );
-                }
-                e
-            }
-        };
+        let locked = locked_angles(given.as_ref(), convention)?;
         return gimbal_lock(args, &locked);
     }
     let Some(given) = given else {
@@ -128,6 +69,85 @@ pub fn run(args: &EulerArgs) -> anyhow::Result<()> {
         return steps(args, &solution.euler);
     }
     print_numbers(args, &given, solution)
+}
+
+/// Refuse angles typed in radians beyond [`MAX_RADIANS`].
+fn check_radians(args: &EulerArgs) -> anyhow::Result<()> {
+    if !args.radians {
+        return Ok(());
+    }
+    for (option, angles) in [
+        ("--angles", args.angles),
+        ("--from-angles", args.from_angles),
+        ("--to-angles", args.to_angles),
+    ] {
+        if let Some(x) = angles.iter().flatten().find(|x| x.abs() > MAX_RADIANS) {
+            bail!(
+                "{option}: {x:e} rad is beyond ±{MAX_RADIANS:e} rad, where a multiple of 2π \
+                 cannot be taken off exactly; give the angle reduced, or in degrees \
+                 (reduced exactly at any size)"
+            );
+        }
+    }
+    Ok(())
+}
+
+/// Angles as typed, in radians: as they are with `--radians`, else degrees reduced
+/// ([`reduce_degrees`]) and converted.
+fn typed_radians(args: &EulerArgs, a: [f64; 3]) -> [f64; 3] {
+    if args.radians {
+        a
+    } else {
+        a.map(reduce_degrees).map(f64::to_radians)
+    }
+}
+
+/// Angles as typed, in degrees as printed back: converted with `--radians`, else reduced
+/// ([`reduce_degrees`]).
+fn typed_degrees(args: &EulerArgs, a: [f64; 3]) -> [f64; 3] {
+    if args.radians {
+        a.map(f64::to_degrees)
+    } else {
+        a.map(reduce_degrees)
+    }
+}
+
+/// The rotation given: `--angles`, `--from-matrix` or `--from-quat`, if any.
+fn given(args: &EulerArgs, convention: Convention) -> Option<Given> {
+    if let Some(a) = args.angles {
+        Some(Given::Angles(
+            EulerAngles::new(convention, typed_radians(args, a)),
+            typed_degrees(args, a),
+        ))
+    } else if let Some(m) = args.from_matrix {
+        Some(Given::Matrix(m))
+    } else {
+        args.from_quat.map(Given::Quat)
+    }
+}
+
+/// `--gimbal-lock`'s angles: those given, refused unless at lock, or the convention's
+/// default lock.
+fn locked_angles(given: Option<&Given>, convention: Convention) -> anyhow::Result<EulerAngles> {
+    let Some(g) = given else {
+        return Ok(EulerAngles::from_degrees(
+            convention,
+            default_lock_degrees(convention),
+        ));
+    };
+    let e = solve(g, convention)?.euler;
+    if !e.lock().is_locked() {
+        bail!(
+            "--gimbal-lock: the middle angle {} is not at gimbal lock (±90° for \
+             Tait–Bryan {seq:#}, 0° or 180° for proper Euler); e.g. --angles {}",
+            crate::draw::scene::euler::degrees_label(e.angles[1]),
+            default_lock_degrees(convention)
+                .map(|a| a.to_string())
+                .join(","),
+            seq = convention.sequence,
+        );
+    }
+    Ok(e)
 }
 
 /// Largest angle in radians taken (`--radians`): beyond it, taking off multiples of an `f64`

@@ -12,6 +12,7 @@ use crate::draw::scene::replay::ReplayScene;
 use crate::draw::scene::still::still;
 use crate::draw::scene::{frame, ViewSpec};
 use crate::geometry::clip::{DepthRange, PlaneSet};
+use crate::geometry::mesh::EdgeMesh;
 use crate::geometry::pipeline::Viewport;
 use glam::Vec4;
 
@@ -26,88 +27,83 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         width: args.size.0,
         height: args.size.1,
     };
-    if let Some(flight) = &args.flight {
-        let out = match (&args.frames_dir, &args.out) {
-            (Some(dir), _) => FrameOut::Pngs(dir),
-            (None, Some(gif)) if is_gif(gif) => FrameOut::Gif(gif),
-            (None, Some(other)) => bail!(
-                "{}: a replay is written as frames (--frames-dir DIR) or an animated GIF (--out \
-                 FILE.gif)",
-                other.display()
-            ),
-            (None, None) => bail!("--flight needs --frames-dir DIR or --out FILE.gif"),
-        };
-        let data = crate::app::data::load_flight(flight, &args.data)?;
-        let mut rasterizer = Rasterizer::choose(args.backend.into())?;
-        let mut replay = ReplayScene::new(&data, &mesh, args.clipper)
-            .with_context(|| format!("{}", flight.display()))?;
-        let span = (data.time[0], data.time[data.len() - 1]);
-        let w = write_frames(
-            &mut replay,
-            span,
-            viewport,
-            args.fps,
-            args.max_frames,
-            out,
-            &mut rasterizer,
-            false,
-        )?;
-        let (what, to) = match out {
-            FrameOut::Pngs(dir) => ("frames", dir),
-            FrameOut::Gif(gif) => ("GIF frames", gif),
-        };
-        println!(
-            "wrote {} {what} of {} ({:.1} s at {} fps, {}x{}, {}) to {}{}",
-            w.frames,
-            crate::app::shown(flight),
-            data.duration(),
-            w.fps,
-            viewport.width,
-            viewport.height,
-            rasterizer.describe(),
-            crate::app::shown(to),
-            if matches!(out, FrameOut::Gif(_)) {
-                format!(" ({} kB)", w.bytes.div_ceil(1000))
-            } else {
-                String::new()
-            }
-        );
-        println!("clip, all frames: {}", w.stats);
-        return Ok(());
+    match &args.flight {
+        Some(flight) => replay(args, flight, &mesh, viewport),
+        None => still_image(args, &mesh_name, &mesh, viewport),
     }
-    let out = args.out.as_deref().context("--out is required")?;
-    let mut clip_planes = PlaneSet::EMPTY;
-    for p in &args.clip_plane {
-        clip_planes
-            .push(Vec4::from_array(*p))
-            .with_context(|| format!("--clip-plane {p:?}"))?;
-    }
-    if args.hidden_line && mesh.faces().is_empty() {
-        anyhow::bail!(
-            "--hidden-line needs a mesh with faces (an OBJ or glTF model); `{}` has only edges",
-            mesh_name
-        );
-    }
-    let spec = ViewSpec {
-        attitude: crate::draw::scene::attitude::from_aerospace_degrees(
-            args.yaw, args.pitch, args.roll,
+}
+
+/// `--flight`: the recorded flight's frames, as PNGs or an animated GIF.
+fn replay(
+    args: &RenderArgs,
+    flight: &Path,
+    mesh: &EdgeMesh,
+    viewport: Viewport,
+) -> anyhow::Result<()> {
+    let out = match (&args.frames_dir, &args.out) {
+        (Some(dir), _) => FrameOut::Pngs(dir),
+        (None, Some(gif)) if is_gif(gif) => FrameOut::Gif(gif),
+        (None, Some(other)) => bail!(
+            "{}: a replay is written as frames (--frames-dir DIR) or an animated GIF (--out \
+             FILE.gif)",
+            other.display()
         ),
-        camera: args.camera.into(),
-        orthographic: args.projection == ProjectionArg::Ortho,
-        fov_y_deg: args.fov,
-        viewport,
-        depth: DepthRange::ZeroToOne,
-        pan: args.pan,
-        clipper: args.clipper,
-        clip_planes,
-        hidden_line: args.hidden_line,
+        (None, None) => bail!("--flight needs --frames-dir DIR or --out FILE.gif"),
     };
+    let data = crate::app::data::load_flight(flight, &args.data)?;
+    let mut rasterizer = Rasterizer::choose(args.backend.into())?;
+    let mut replay = ReplayScene::new(&data, mesh, args.clipper)
+        .with_context(|| format!("{}", flight.display()))?;
+    let span = (data.time[0], data.time[data.len() - 1]);
+    let w = write_frames(
+        &mut replay,
+        span,
+        viewport,
+        args.fps,
+        args.max_frames,
+        out,
+        &mut rasterizer,
+        false,
+    )?;
+    let (what, to) = match out {
+        FrameOut::Pngs(dir) => ("frames", dir),
+        FrameOut::Gif(gif) => ("GIF frames", gif),
+    };
+    println!(
+        "wrote {} {what} of {} ({:.1} s at {} fps, {}x{}, {}) to {}{}",
+        w.frames,
+        crate::app::shown(flight),
+        data.duration(),
+        w.fps,
+        viewport.width,
+        viewport.height,
+        rasterizer.describe(),
+        crate::app::shown(to),
+        if matches!(out, FrameOut::Gif(_)) {
+            format!(" ({} kB)", w.bytes.div_ceil(1000))
+        } else {
+            String::new()
+        }
+    );
+    println!("clip, all frames: {}", w.stats);
+    Ok(())
+}
+
+/// One picture of the mesh, PNG or SVG by `--out`'s extension.
+fn still_image(
+    args: &RenderArgs,
+    mesh_name: &str,
+    mesh: &EdgeMesh,
+    viewport: Viewport,
+) -> anyhow::Result<()> {
+    let out = args.out.as_deref().context("--out is required")?;
+    let spec = view_spec(args, mesh_name, mesh, viewport)?;
     // A cut-away or hidden-line view is of the model alone: the world's ground and horizon
     // are not cut by the model's planes nor made of faces.
     let (scene, stats) = if spec.clip_planes.is_empty() && !spec.hidden_line {
-        still(&mesh, &spec, args.world.into())
+        still(mesh, &spec, args.world.into())
     } else {
-        frame(&mesh, &spec)
+        frame(mesh, &spec)
     };
     // Only a raster image needs a rasterizer (and the GPU's start-up).
     let mut rasterizer = match OutputFormat::of(out)? {
@@ -130,6 +126,42 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The view the options ask for: attitude, camera, projection, the `--clip-plane`s and
+/// hidden lines (refused for a mesh without faces).
+fn view_spec(
+    args: &RenderArgs,
+    mesh_name: &str,
+    mesh: &EdgeMesh,
+    viewport: Viewport,
+) -> anyhow::Result<ViewSpec> {
+    let mut clip_planes = PlaneSet::EMPTY;
+    for p in &args.clip_plane {
+        clip_planes
+            .push(Vec4::from_array(*p))
+            .with_context(|| format!("--clip-plane {p:?}"))?;
+    }
+    if args.hidden_line && mesh.faces().is_empty() {
+        anyhow::bail!(
+            "--hidden-line needs a mesh with faces (an OBJ or glTF model); `{}` has only edges",
+            mesh_name
+        );
+    }
+    Ok(ViewSpec {
+        attitude: crate::draw::scene::attitude::from_aerospace_degrees(
+            args.yaw, args.pitch, args.roll,
+        ),
+        camera: args.camera.into(),
+        orthographic: args.projection == ProjectionArg::Ortho,
+        fov_y_deg: args.fov,
+        viewport,
+        depth: DepthRange::ZeroToOne,
+        pan: args.pan,
+        clipper: args.clipper,
+        clip_planes,
+        hidden_line: args.hidden_line,
+    })
 }
 
 /// The wireframe to draw: `--mesh`, or the old spelling `--model` with a note on stderr — but

@@ -17,6 +17,37 @@ use crate::flight::turbulence::Turbulence;
 /// Bad model or effect specs, a manoeuvre for the other vehicle, no trim, divergence, write
 /// errors.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let (spec, truth) = model_specs(args)?;
+    let listed: Vec<String> = spec.effects.iter().map(EffectSpec::to_arg).collect();
+    let origin = Origin {
+        latitude_deg: args.latitude,
+        longitude_deg: args.longitude,
+        altitude_m: args.altitude,
+    };
+    let model = truth.build(origin).context("building the model")?;
+    let manoeuvre: Manoeuvre = match &args.manoeuvre {
+        Some(m) => m.parse()?,
+        None if spec.vehicle == VehicleKind::PointMass => Manoeuvre::Ballistic,
+        None => Manoeuvre::Level,
+    };
+    let sim = sim_spec(args, &spec, manoeuvre, &listed);
+    let progress = crate::draw::progress::Progress::spinner(
+        &format!("simulating {:.0} s of flight", args.duration),
+        false,
+    );
+    // --max-samples permits a length; what the machine can hold bounds it too (a run that
+    // would not fit is refused before any work instead of aborting on allocation).
+    let max_bytes = crate::fsio::available_memory().map_or(u64::MAX, |free| free / 10 * 9);
+    let flight = simulate_bounded(&model, &sim, args.max_samples, max_bytes)?;
+    drop(progress);
+    data::write(&args.out, &flight)?;
+    println!("{}", summary(args, &spec, manoeuvre, &listed, &flight));
+    Ok(())
+}
+
+/// The model the file names (`--model` or the baseline, with `--effects` and `--add`), and
+/// the truth flown: that model with the `--hidden` effects too.
+fn model_specs(args: &SimulateArgs) -> anyhow::Result<(ModelSpec, ModelSpec)> {
     let mut spec = match &args.model {
         Some(path) => ModelSpec::load(path)?,
         None => {
@@ -31,23 +62,22 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     for add in &args.add {
         spec.effects.push(EffectSpec::parse(add)?);
     }
-    let listed: Vec<String> = spec.effects.iter().map(EffectSpec::to_arg).collect();
     let mut truth = spec.clone();
     for hidden in &args.hidden {
         truth.effects.push(EffectSpec::parse(hidden)?);
     }
-    let origin = Origin {
-        latitude_deg: args.latitude,
-        longitude_deg: args.longitude,
-        altitude_m: args.altitude,
-    };
-    let model = truth.build(origin).context("building the model")?;
-    let manoeuvre: Manoeuvre = match &args.manoeuvre {
-        Some(m) => m.parse()?,
-        None if spec.vehicle == VehicleKind::PointMass => Manoeuvre::Ballistic,
-        None => Manoeuvre::Level,
-    };
-    let sim = SimSpec {
+    Ok((spec, truth))
+}
+
+/// The flight to simulate: the manoeuvre, its length and rate, the sensors' noise, the
+/// turbulence, and what the file's header says of them.
+fn sim_spec(
+    args: &SimulateArgs,
+    spec: &ModelSpec,
+    manoeuvre: Manoeuvre,
+    listed: &[String],
+) -> SimSpec {
+    SimSpec {
         manoeuvre,
         duration_s: args.duration,
         rate_hz: args.rate,
@@ -71,23 +101,23 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             ))
         ),
         aircraft: (spec.vehicle == VehicleKind::FixedWing).then(|| spec.aircraft.clone()),
-        listed_effects: listed.clone(),
+        listed_effects: listed.to_vec(),
         turbulence: args.turbulence.map(|level| Turbulence {
             level,
             seed: args.turbulence_seed,
         }),
-    };
-    let progress = crate::draw::progress::Progress::spinner(
-        &format!("simulating {:.0} s of flight", args.duration),
-        false,
-    );
-    // --max-samples permits a length; what the machine can hold bounds it too (a run that
-    // would not fit is refused before any work instead of aborting on allocation).
-    let max_bytes = crate::fsio::available_memory().map_or(u64::MAX, |free| free / 10 * 9);
-    let flight = simulate_bounded(&model, &sim, args.max_samples, max_bytes)?;
-    drop(progress);
-    data::write(&args.out, &flight)?;
-    println!(
+    }
+}
+
+/// The line that says what was written.
+fn summary(
+    args: &SimulateArgs,
+    spec: &ModelSpec,
+    manoeuvre: Manoeuvre,
+    listed: &[String],
+    flight: &data::FlightData,
+) -> String {
+    format!(
         "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}{}",
         crate::app::shown(&args.out),
         flight.len(),
@@ -114,6 +144,5 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             ", {level} turbulence (seed {})",
             args.turbulence_seed
         ))
-    );
-    Ok(())
+    )
 }

@@ -1,7 +1,9 @@
-//! The layers hold: no library crate below the drawing crate depends on a GPU, window or plot
-//! crate, and no module of any crate imports a sibling that imports it back (directly or
-//! through other siblings). Cargo refuses circles between crates; these tests do the same
-//! for the modules inside each crate, and for the dependency lists cargo would accept.
+//! The layers hold: no library crate below the viewer depends on a GPU, window or plot crate,
+//! the viewer (`draw`) takes wgpu only behind its feature and draws no plots, only the
+//! presentation crate (`present`) depends on plotters, and no module of any crate imports a
+//! sibling that imports it back (directly or through other siblings). Cargo refuses circles
+//! between crates; these tests do the same for the modules inside each crate, and for the
+//! dependency lists cargo would accept.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -27,14 +29,19 @@ const LIGHT: [&str; 5] = [
 
 /// The workspace crates each library crate may depend on (`wireflight-` left out): the layers
 /// below it only (`ARCHITECTURE.md`). Flight data sits below the flight model and reads files;
-/// the analysis is pure and reads none.
-const BELOW: [(&str, &[&str]); 6] = [
+/// the analysis is pure and reads none; the viewer knows flight data but neither the flight
+/// model nor the analysis; the presentation sits on all of them.
+const BELOW: [(&str, &[&str]); 7] = [
     ("geometry", &[]),
     ("fsio", &[]),
     ("data", &["geometry", "fsio"]),
     ("flight", &["geometry", "fsio", "data"]),
     ("analysis", &["geometry", "data", "flight"]),
-    ("draw", &["geometry", "fsio", "data", "flight", "analysis"]),
+    ("draw", &["geometry", "fsio", "data"]),
+    (
+        "present",
+        &["geometry", "fsio", "data", "flight", "analysis", "draw"],
+    ),
 ];
 
 fn repo() -> PathBuf {
@@ -43,7 +50,10 @@ fn repo() -> PathBuf {
 
 /// The crates of the workspace: package name → (directory, its `[dependencies]`, each with
 /// whether it is optional).
-fn workspace_crates() -> BTreeMap<String, (PathBuf, Vec<(String, bool)>)> {
+type Crates = BTreeMap<String, (PathBuf, Vec<(String, bool)>)>;
+
+/// The crates of the workspace (see [`Crates`]).
+fn workspace_crates() -> Crates {
     let mut out = BTreeMap::new();
     for entry in std::fs::read_dir(repo().join("crates")).unwrap() {
         let dir = entry.unwrap().path();
@@ -71,32 +81,49 @@ fn workspace_crates() -> BTreeMap<String, (PathBuf, Vec<(String, bool)>)> {
     out
 }
 
-#[test]
-fn light_crates_have_no_gpu_window_or_plot_dependency() {
-    let crates = workspace_crates();
-    for name in LIGHT {
-        // Every crate reachable through non-optional dependencies, this one included.
-        let mut seen = BTreeSet::new();
-        let mut todo = vec![name.to_string()];
-        while let Some(c) = todo.pop() {
-            if !seen.insert(c.clone()) {
-                continue;
-            }
-            if let Some((_, deps)) = crates.get(&c) {
-                for (dep, optional) in deps {
-                    assert!(
-                        !HEAVY.contains(&dep.as_str()),
-                        "{name} depends on {dep} (through {c})"
-                    );
-                    if !optional {
-                        todo.push(dep.clone());
-                    }
+/// The crates of [`HEAVY`] that `name`'s dependency tree lists, each with the crate that lists
+/// it: `name`'s own dependencies and those of the workspace crates it reaches through
+/// non-optional ones (an optional dependency is listed, not followed).
+fn heavy_listed(crates: &Crates, name: &str) -> Vec<(String, String)> {
+    assert!(crates.contains_key(name), "no crate {name}");
+    let mut found = BTreeSet::new();
+    let mut seen = BTreeSet::new();
+    let mut todo = vec![name.to_string()];
+    while let Some(c) = todo.pop() {
+        if !seen.insert(c.clone()) {
+            continue;
+        }
+        if let Some((_, deps)) = crates.get(&c) {
+            for (dep, optional) in deps {
+                if HEAVY.contains(&dep.as_str()) {
+                    found.insert((dep.clone(), c.clone()));
+                }
+                if !optional {
+                    todo.push(dep.clone());
                 }
             }
         }
-        assert!(seen.len() > 1 || name == "wireflight-fsio" || crates.contains_key(name));
     }
-    // The drawing crate has wgpu only behind its feature.
+    found.into_iter().collect()
+}
+
+#[test]
+fn light_crates_have_no_gpu_window_or_plot_dependency() {
+    let crates = workspace_crates();
+    let listed = |pairs: &[(&str, &str)]| -> Vec<(String, String)> {
+        pairs
+            .iter()
+            .map(|(dep, by)| (dep.to_string(), by.to_string()))
+            .collect()
+    };
+    for name in LIGHT {
+        let heavy = heavy_listed(&crates, name);
+        assert!(
+            heavy.is_empty(),
+            "{name} depends on {heavy:?} (crate, listed by)"
+        );
+    }
+    // The viewer has wgpu only behind its feature, and nothing else of them: no plots.
     let (_, draw) = &crates["wireflight-draw"];
     for (dep, optional) in draw {
         if dep == "wgpu" {
@@ -106,6 +133,20 @@ fn light_crates_have_no_gpu_window_or_plot_dependency() {
             );
         }
     }
+    assert_eq!(
+        heavy_listed(&crates, "wireflight-draw"),
+        listed(&[("wgpu", "wireflight-draw")]),
+        "wireflight-draw's GPU, window and plot dependencies"
+    );
+    // The presentation draws the plots, and takes no GPU or window crate of its own.
+    assert_eq!(
+        heavy_listed(&crates, "wireflight-present"),
+        listed(&[
+            ("plotters", "wireflight-present"),
+            ("wgpu", "wireflight-draw")
+        ]),
+        "wireflight-present's GPU, window and plot dependencies"
+    );
 }
 
 #[test]

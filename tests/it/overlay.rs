@@ -9,7 +9,6 @@ use wireflight::data::VehicleKind;
 use wireflight::draw::render::{cpu, Image, Rgba};
 use wireflight::draw::scene::palette::{self, ERROR_STRIP, MODEL_AIRCRAFT, TRAIL};
 use wireflight::draw::scene::replay::ReplayScene;
-use wireflight::draw::scene::track::ModelTrack;
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
@@ -17,6 +16,7 @@ use wireflight::flight::spec::{EffectSpec, ModelSpec};
 use wireflight::geometry::clip::Clipper;
 use wireflight::geometry::mesh::plane::builtin_plane;
 use wireflight::geometry::pipeline::Viewport;
+use wireflight::present::track::model_track;
 
 const VIEW: Viewport = Viewport {
     width: 480,
@@ -69,7 +69,7 @@ fn model_aircraft_drifts_without_the_effect_and_flies_on_top_with_it() {
     let gap_at = |model_spec: &ModelSpec| {
         let model = model_spec.build(Origin::default()).unwrap();
         let comparison = compare(&model, &data, cfg);
-        let track = ModelTrack::from_comparison(&data, &comparison).unwrap();
+        let track = model_track(&data, &comparison).unwrap();
         assert_eq!(track.window_starts, [0, 500, 1000]);
         let mut scene = ReplayScene::new(&data, &mesh, Clipper::Blinn)
             .unwrap()
@@ -130,7 +130,7 @@ fn comparison_frames_have_a_legend_and_no_text_over_the_drawing() {
         ..CompareConfig::default()
     };
     let comparison = compare(&base.build(Origin::default()).unwrap(), &data, cfg);
-    let track = ModelTrack::from_comparison(&data, &comparison).unwrap();
+    let track = model_track(&data, &comparison).unwrap();
     let mut scene = ReplayScene::new(&data, &builtin_plane(), Clipper::Blinn)
         .unwrap()
         .with_model(track);

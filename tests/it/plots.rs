@@ -13,16 +13,16 @@ use wireflight::analysis::compare::{
 use wireflight::analysis::conditions::conditions;
 use wireflight::data::FlightData;
 use wireflight::data::VehicleKind;
-use wireflight::draw::plots::{
-    write_plots, write_plots_with, ConditionSeries, PlotInfo, ERROR_VS_CONDITION,
-    ERROR_VS_CONDITION_SIZE, MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, RESIDUALS,
-    RESIDUALS_PER_AXIS, RESIDUALS_PER_AXIS_ROW, RESIDUALS_PER_AXIS_WIDTH, RESIDUALS_SIZE,
-};
 use wireflight::flight::autopilot::Manoeuvre;
 use wireflight::flight::effects::Origin;
 use wireflight::flight::model::Model;
 use wireflight::flight::simulate::{simulate, Noise, SimSpec};
 use wireflight::flight::spec::{EffectSpec, ModelSpec};
+use wireflight::present::plots::{
+    write_plots, write_plots_with, ConditionSeries, PlotInfo, ERROR_VS_CONDITION,
+    ERROR_VS_CONDITION_SIZE, MEASURED_VS_MODEL, MEASURED_VS_MODEL_SIZE, RESIDUALS,
+    RESIDUALS_PER_AXIS, RESIDUALS_PER_AXIS_ROW, RESIDUALS_PER_AXIS_WIDTH, RESIDUALS_SIZE,
+};
 
 use crate::support::cli::ok_in;
 use crate::support::flights::Flight;

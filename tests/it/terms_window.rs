@@ -142,7 +142,7 @@ fn a_discovered_term_is_a_row_and_ticking_it_brings_the_error_to_the_noise() {
     assert!(all.contains("discover: k_m1 = -0.0"), "{all}");
     assert!(drawn.iter().any(|t| t == "× noise"), "{all}");
     let mut session = session;
-    let c = session.compare_mut().unwrap();
+    let c = session.compare_mut::<Compare>().unwrap();
 
     // Unticked, the base model's error again; a second discovery on it annotates the same
     // row rather than adding another.

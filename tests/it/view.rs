@@ -345,7 +345,7 @@ fn compare_mode_ticking_the_fitted_wind_makes_the_error_fall() {
     );
 
     // Ticking `wind` before the fit is in: the default (zero) wind changes nothing.
-    let c = s.compare_mut().unwrap();
+    let c = s.compare_mut::<Compare>().unwrap();
     let before = c.before.total;
     assert!(c.set_by_name("wind", true));
     c.wait();

@@ -44,13 +44,15 @@
 //! formats, [`READERS`] (this CSV's, [`mapped`], [`px4`] on [`ulog`]), which say what they
 //! found in a [`report::ImportReport`]; a new format is a module with a reader and a line in
 //! that list. The differentiator and angle unwrapping live in [`mod@derive`] and are
-//! re-exported here.
+//! re-exported here. [`mod@format`] is how numbers are written for people, everywhere in
+//! wireflight.
 
 #![warn(missing_docs)]
 
 mod columns;
 pub mod derive;
 mod fill;
+pub mod format;
 pub mod import;
 pub mod mapped;
 pub mod px4;

@@ -1,10 +1,10 @@
 //! Numbers as the pictures write them. Fixed decimals, "n/a" for what is not finite and never
-//! "-0" come from [`wireflight_flight::numeric::format`], the one number formatter; what
-//! pictures add on top is here: decimals chosen by the number's size, for labels and titles
-//! that show a value of any size in a few characters. (The plots' typographic minus sign and
-//! tick labels are in `plots::style`.)
+//! "-0" come from [`wireflight_data::format`], the one number formatter; what pictures add on
+//! top is here: decimals chosen by the number's size, for labels and titles that show a value
+//! of any size in a few characters. (The plots' typographic minus sign and tick labels are in
+//! `wireflight-present`'s `plots::style`.)
 
-use wireflight_flight::numeric::format::fixed;
+use wireflight_data::format::fixed;
 
 /// About three significant figures: decimals by magnitude (none from 100, one from 10, two
 /// from 1, three below), "0" for zero or what rounds to it, "n/a" for what is not finite:

@@ -432,7 +432,7 @@ fn num(x: f64) -> String {
     if !x.is_finite() || x == 0.0 || (x.abs() >= 1e-4 && x.abs() < 1e15) {
         format!("{x}")
     } else {
-        super::numeric::format::fmt_number(x)
+        wireflight_data::format::fmt_number(x)
     }
 }
 

@@ -177,7 +177,7 @@ impl WindowArgs {
                 "{}: --window-offset {} s leaves no {} s window in the flight's {:.2} s (give \
                  an offset of at most {:.2} s)",
                 crate::app::shown(path),
-                crate::flight::numeric::format::fmt_number(self.window_offset),
+                crate::data::format::fmt_number(self.window_offset),
                 cfg.window_s,
                 duration,
                 (duration - cfg.window_s).max(0.0)

@@ -348,6 +348,41 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
         // The demo's options are kept apart from the files' by clap (`conflicts_with_all`).
         return demo::run(args);
     }
+    let (subject_path, clip_path) = polygon_inputs(args)?;
+    let op = args.op.unwrap_or(PolygonOp::Intersection);
+    let subjects = load(subject_path, args.max_bytes)?;
+    let clips = load(clip_path, args.max_bytes)?;
+    for (i, s) in subjects.iter().enumerate() {
+        validate(s, i + 1, Which::Subject, subject_path)?;
+    }
+    let clip = &clips[0];
+    validate(clip, 1, Which::Clip, clip_path)?;
+
+    let pieces = clip_all(&subjects, clip, op)?;
+    // + 0.0: an empty result's −0 is 0.
+    let area = weiler_atherton::total_area(&pieces) + 0.0;
+    let (rings, index) = rings(&pieces);
+    let body = format_polygons(&rings);
+    let png = match &args.picture {
+        Some(_) => Some(picture_png(&subjects, clip, &rings)?),
+        None => None,
+    };
+    crate::fsio::write_atomic(&args.output, body.as_bytes())
+        .with_context(|| format!("{}", args.output.display()))?;
+    if let (Some(path), Some(png)) = (&args.picture, &png) {
+        crate::fsio::write_atomic(path, png).with_context(|| format!("{}", path.display()))?;
+    }
+    if args.json {
+        println!("{}", format_json(&rings, &index, area));
+        return Ok(());
+    }
+    print_summary(args, op, subjects.len(), &pieces, area);
+    Ok(())
+}
+
+/// `--subject` and `--clip`, after refusing the options that are the edge clippers' alone
+/// and a `--picture` that is no PNG.
+fn polygon_inputs(args: &ClipArgs) -> anyhow::Result<(&Path, &Path)> {
     for (given, option) in [
         (args.input.is_some(), "--input (give --subject and --clip)"),
         (args.window.is_some(), "--rect"),
@@ -370,15 +405,15 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let op = args.op.unwrap_or(PolygonOp::Intersection);
-    let subjects = load(subject_path, args.max_bytes)?;
-    let clips = load(clip_path, args.max_bytes)?;
-    for (i, s) in subjects.iter().enumerate() {
-        validate(s, i + 1, Which::Subject, subject_path)?;
-    }
-    let clip = &clips[0];
-    validate(clip, 1, Which::Clip, clip_path)?;
+    Ok((subject_path, clip_path))
+}
 
+/// Every subject polygon clipped against `clip`: the pieces of `op`'s result, in order.
+fn clip_all(
+    subjects: &[FilePolygon],
+    clip: &FilePolygon,
+    op: PolygonOp,
+) -> anyhow::Result<Vec<Piece>> {
     let mut pieces: Vec<Piece> = Vec::new();
     for (i, s) in subjects.iter().enumerate() {
         let clipped = weiler_atherton::clip(&s.vertices, &clip.vertices)
@@ -388,29 +423,23 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
             PolygonOp::Difference => clipped.difference,
         });
     }
-    // + 0.0: an empty result's −0 is 0.
-    let area = weiler_atherton::total_area(&pieces) + 0.0;
-    let (rings, index) = rings(&pieces);
-    let body = format_polygons(&rings);
-    let png = match &args.picture {
-        Some(_) => {
-            let subject_rings: Vec<&[DVec2]> =
-                subjects.iter().map(|s| s.vertices.as_slice()).collect();
-            let scene = picture(&subject_rings, &clip.vertices, &rings);
-            let image = crate::draw::render::cpu::render(&scene);
-            Some(image.encode_png().context("encoding the picture")?)
-        }
-        None => None,
-    };
-    crate::fsio::write_atomic(&args.output, body.as_bytes())
-        .with_context(|| format!("{}", args.output.display()))?;
-    if let (Some(path), Some(png)) = (&args.picture, &png) {
-        crate::fsio::write_atomic(path, png).with_context(|| format!("{}", path.display()))?;
-    }
-    if args.json {
-        println!("{}", format_json(&rings, &index, area));
-        return Ok(());
-    }
+    Ok(pieces)
+}
+
+/// `--picture`: the subjects, the clip polygon and the result, as PNG bytes.
+fn picture_png(
+    subjects: &[FilePolygon],
+    clip: &FilePolygon,
+    result: &[&[DVec2]],
+) -> anyhow::Result<Vec<u8>> {
+    let subject_rings: Vec<&[DVec2]> = subjects.iter().map(|s| s.vertices.as_slice()).collect();
+    let scene = picture(&subject_rings, &clip.vertices, result);
+    let image = crate::draw::render::cpu::render(&scene);
+    image.encode_png().context("encoding the picture")
+}
+
+/// What was written: the result counted, and the picture.
+fn print_summary(args: &ClipArgs, op: PolygonOp, subjects: usize, pieces: &[Piece], area: f64) {
     let holes: usize = pieces.iter().map(|p| p.holes.len()).sum();
     let op_name = match op {
         PolygonOp::Intersection => "intersection",
@@ -421,12 +450,11 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     println!(
         "wrote {} ({op_name} of {} with the clip polygon: {}, {}, area {area})",
         crate::app::shown(&args.output),
-        plural(subjects.len(), "subject polygon", "subject polygons"),
+        plural(subjects, "subject polygon", "subject polygons"),
         plural(pieces.len(), "piece", "pieces"),
         plural(holes, "hole", "holes"),
     );
     if let Some(p) = &args.picture {
         println!("wrote {}", crate::app::shown(p));
     }
-    Ok(())
 }

@@ -8,10 +8,10 @@ use serde_json::{json, Value};
 
 use super::keys::bound;
 use crate::app::cli::{as_simulated, simulate_flies, EffectsArgs};
+use crate::data::format::fmt_number;
 use crate::data::VehicleKind;
 use crate::flight::autopilot::Manoeuvre;
 use crate::flight::effects::{Channel, EffectInfo, ParamSpec, CATALOGUE};
-use crate::flight::numeric::format::fmt_number;
 use crate::flight::spec::{EffectSpec, SpecError, AIRCRAFT};
 
 /// Run `wireflight effects`.

@@ -4,7 +4,7 @@
 use serde_json::{json, Value};
 
 use crate::app::cli::KeysArgs;
-use crate::flight::numeric::format::fmt_number;
+use crate::data::format::fmt_number;
 use crate::flight::params::keys::KEYS;
 use crate::flight::params::FixedWingParams;
 

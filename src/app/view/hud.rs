@@ -6,7 +6,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::compare::{Compare, Fit};
+use super::compare::{Compare, EffectRow, Fit};
 use super::gimbal::EulerPanel;
 use super::session::{self, Session};
 use super::KEY_HELP;
@@ -101,10 +101,8 @@ fn thousands(v: u64) -> String {
 }
 
 pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
-    use egui::{Color32, RichText};
+    use egui::Color32;
     let r = hud.session.readout();
-    // `+ 0.0` shows −0.0 as 0.00.
-    let [yaw, pitch, roll] = crate::draw::scene::attitude::aerospace_degrees(r.angles);
     let frame = egui::Frame::NONE
         .fill(Color32::from_black_alpha(170))
         .inner_margin(8.0)
@@ -117,91 +115,110 @@ pub(super) fn draw_hud(ctx: &egui::Context, hud: &HudData<'_>) {
                 ui.style_mut().override_text_style = Some(egui::TextStyle::Monospace);
                 ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
                 ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
-                let mode = hud.session.rig.mode;
-                let state = match (r.replay, hud.session.paused) {
-                    (Some(_), true) => "replay paused",
-                    (Some(_), false) => "replay playing",
-                    (None, true) => "PAUSED",
-                    (None, false) if hud.session.scripted() => "scripted",
-                    (None, false) => "flying",
-                };
-                ui.label(format!("camera {mode}  ·  {state}  ·  H: help"));
-                ui.label(format!(
-                    "yaw {yaw:8.2}°  pitch {pitch:7.2}°  roll {roll:8.2}°  (+ nose right, nose up, right wing down)"
-                ));
-                match r.gimbal {
-                    Gimbal::LockedNoseUp | Gimbal::LockedNoseDown => {
-                        ui.label(
-                            RichText::new(
-                                "GIMBAL LOCK (pitch ±90°): yaw and roll share one axis; shown as yaw, roll 0",
-                            )
-                            .color(Color32::from_rgb(255, 80, 80))
-                            .strong(),
-                        );
-                    }
-                    Gimbal::Free if r.cos_pitch < 1f64.to_radians().sin() => {
-                        ui.label(
-                            RichText::new(
-                                "near gimbal lock (|θ| > 89°): yaw and roll are ill-conditioned",
-                            )
-                            .color(Color32::from_rgb(255, 200, 60)),
-                        );
-                    }
-                    Gimbal::Free => {}
-                }
-                let mut line = format!(
-                    "speed {:6.1} m/s ({:5.1} kt)  altitude {:7.1} m",
-                    r.speed,
-                    r.speed * 1.943_844,
-                    r.altitude
-                );
-                if let Some(t) = r.throttle {
-                    line += &format!("  throttle {:3.0}%", 100.0 * t);
-                }
-                ui.label(line);
-                if let Some((t, t0, t1)) = r.replay {
-                    ui.label(format!("replay t {:7.2} s of {:.2}..{:.2} s", t, t0, t1));
-                } else {
-                    ui.label(format!("flight time {:7.2} s", r.time));
-                }
-                let m = hud.meter;
-                ui.label(format!(
-                    "{:5.1} FPS  frame {:6.2} ms  scene {:5.2} ms  {}x{} px @{:.2}x",
-                    m.fps(),
-                    m.interval * 1e3,
-                    m.build * 1e3,
-                    hud.size.0,
-                    hud.size.1,
-                    hud.scale
-                ));
-                let c = &m.clip;
-                ui.label(format!(
-                    "clipper {} (K)  ·  {:.0} ns/edge incl. transform and projection",
-                    hud.session.clipper(),
-                    m.build * 1e9 / c.edges_in.max(1) as f64
-                ));
-                ui.label(format!(
-                    "clip: edges in {}  accepted {}  rejected {}  clipped {}  removed {}  culled {}",
-                    thousands(c.edges_in),
-                    thousands(c.trivially_accepted),
-                    thousands(c.trivially_rejected),
-                    thousands(c.clipped),
-                    thousands(c.clipped_away),
-                    thousands(c.bounds_rejected)
-                ));
-                ui.label(format!(
-                    "segments drawn {}  ·  {}",
-                    thousands(m.segments as u64),
-                    hud.adapter
-                ));
-                if let Some(n) = hud.frames {
-                    ui.label(format!("frame {} of {n}", m.frames));
-                }
-                if let Some(note) = hud.note {
-                    ui.label(RichText::new(note).color(Color32::from_rgb(255, 220, 120)));
-                }
+                attitude_lines(ui, hud, &r);
+                motion_lines(ui, &r);
+                meter_lines(ui, hud);
             });
         });
+}
+
+/// The camera and what the aircraft is doing, its attitude, and a warning at or near gimbal
+/// lock.
+fn attitude_lines(ui: &mut egui::Ui, hud: &HudData<'_>, r: &session::Readout) {
+    use egui::{Color32, RichText};
+    // `+ 0.0` shows −0.0 as 0.00.
+    let [yaw, pitch, roll] = crate::draw::scene::attitude::aerospace_degrees(r.angles);
+    let mode = hud.session.rig.mode;
+    let state = match (r.replay, hud.session.paused) {
+        (Some(_), true) => "replay paused",
+        (Some(_), false) => "replay playing",
+        (None, true) => "PAUSED",
+        (None, false) if hud.session.scripted() => "scripted",
+        (None, false) => "flying",
+    };
+    ui.label(format!("camera {mode}  ·  {state}  ·  H: help"));
+    ui.label(format!(
+        "yaw {yaw:8.2}°  pitch {pitch:7.2}°  roll {roll:8.2}°  (+ nose right, nose up, right wing down)"
+    ));
+    match r.gimbal {
+        Gimbal::LockedNoseUp | Gimbal::LockedNoseDown => {
+            ui.label(
+                RichText::new(
+                    "GIMBAL LOCK (pitch ±90°): yaw and roll share one axis; shown as yaw, roll 0",
+                )
+                .color(Color32::from_rgb(255, 80, 80))
+                .strong(),
+            );
+        }
+        Gimbal::Free if r.cos_pitch < 1f64.to_radians().sin() => {
+            ui.label(
+                RichText::new("near gimbal lock (|θ| > 89°): yaw and roll are ill-conditioned")
+                    .color(Color32::from_rgb(255, 200, 60)),
+            );
+        }
+        Gimbal::Free => {}
+    }
+}
+
+/// Speed, altitude and throttle; the replay's time or the flight's.
+fn motion_lines(ui: &mut egui::Ui, r: &session::Readout) {
+    let mut line = format!(
+        "speed {:6.1} m/s ({:5.1} kt)  altitude {:7.1} m",
+        r.speed,
+        r.speed * 1.943_844,
+        r.altitude
+    );
+    if let Some(t) = r.throttle {
+        line += &format!("  throttle {:3.0}%", 100.0 * t);
+    }
+    ui.label(line);
+    if let Some((t, t0, t1)) = r.replay {
+        ui.label(format!("replay t {:7.2} s of {:.2}..{:.2} s", t, t0, t1));
+    } else {
+        ui.label(format!("flight time {:7.2} s", r.time));
+    }
+}
+
+/// Frame timing, the clipper and its counts, the segments drawn, the frame count of a
+/// counted run and the passing note.
+fn meter_lines(ui: &mut egui::Ui, hud: &HudData<'_>) {
+    use egui::{Color32, RichText};
+    let m = hud.meter;
+    ui.label(format!(
+        "{:5.1} FPS  frame {:6.2} ms  scene {:5.2} ms  {}x{} px @{:.2}x",
+        m.fps(),
+        m.interval * 1e3,
+        m.build * 1e3,
+        hud.size.0,
+        hud.size.1,
+        hud.scale
+    ));
+    let c = &m.clip;
+    ui.label(format!(
+        "clipper {} (K)  ·  {:.0} ns/edge incl. transform and projection",
+        hud.session.clipper(),
+        m.build * 1e9 / c.edges_in.max(1) as f64
+    ));
+    ui.label(format!(
+        "clip: edges in {}  accepted {}  rejected {}  clipped {}  removed {}  culled {}",
+        thousands(c.edges_in),
+        thousands(c.trivially_accepted),
+        thousands(c.trivially_rejected),
+        thousands(c.clipped),
+        thousands(c.clipped_away),
+        thousands(c.bounds_rejected)
+    ));
+    ui.label(format!(
+        "segments drawn {}  ·  {}",
+        thousands(m.segments as u64),
+        hud.adapter
+    ));
+    if let Some(n) = hud.frames {
+        ui.label(format!("frame {} of {n}", m.frames));
+    }
+    if let Some(note) = hud.note {
+        ui.label(RichText::new(note).color(Color32::from_rgb(255, 220, 120)));
+    }
 }
 
 pub(super) fn draw_help(ctx: &egui::Context, open: &mut bool) {
@@ -296,67 +313,9 @@ pub(super) fn draw_compare(
         .show(ctx, |ui| {
             ui.style_mut().wrap_mode = Some(egui::TextWrapMode::Extend);
             ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
-            let fitting = matches!(c.fit, Fit::Running(_));
-            ui.horizontal(|ui| {
-                ui.spacing_mut().item_spacing.x = 0.0;
-                ui.monospace("measured ");
-                swatch(ui, rgba(crate::draw::scene::palette::AIRCRAFT));
-                ui.monospace("   model ");
-                swatch(ui, rgba(crate::draw::scene::palette::MODEL_AIRCRAFT));
-                ui.monospace("   ");
-                let verdict = RichText::new(c.verdict_line()).monospace();
-                ui.label(if fitting {
-                    verdict.color(Color32::from_rgb(255, 220, 120))
-                } else {
-                    verdict.strong()
-                });
-            });
-            let (b, n) = (&c.before, &c.now);
-            egui::Grid::new("wireflight-compare-errors")
-                .num_columns(3)
-                .spacing([16.0, 2.0])
-                .show(ui, |ui| {
-                    ui.monospace("error (RMS)");
-                    ui.monospace("before");
-                    ui.monospace("now");
-                    ui.end_row();
-                    let row = |ui: &mut egui::Ui, name: &str, x: String, y: String| {
-                        ui.monospace(name);
-                        ui.monospace(x);
-                        ui.monospace(y);
-                        ui.end_row();
-                    };
-                    row(
-                        ui,
-                        "total",
-                        format!("{:.3}", b.total),
-                        format!("{:.3}", n.total),
-                    );
-                    row(
-                        ui,
-                        "position",
-                        fmt_channel(Some(b.channels.position_m), "m"),
-                        fmt_channel(Some(n.channels.position_m), "m"),
-                    );
-                    row(
-                        ui,
-                        "velocity",
-                        fmt_channel(b.channels.velocity_mps, "m/s"),
-                        fmt_channel(n.channels.velocity_mps, "m/s"),
-                    );
-                    row(
-                        ui,
-                        "attitude",
-                        fmt_channel(b.channels.attitude_deg, "°"),
-                        fmt_channel(n.channels.attitude_deg, "°"),
-                    );
-                    row(
-                        ui,
-                        "× noise",
-                        format!("{:.2}", b.noise_units),
-                        format!("{:.2}", n.noise_units),
-                    );
-                });
+            legend_and_verdict(ui, c);
+            errors_grid(ui, c);
+            let n = &c.now;
             let status = if c.recomputing() {
                 "model: recomputing…".to_string()
             } else {
@@ -372,70 +331,163 @@ pub(super) fn draw_compare(
             }
             error_plot(ui, c, r.replay.map(|(t, _, _)| t));
             ui.separator();
-            ui.horizontal(|ui| {
-                let button = ui
-                    .add_enabled(!c.discovering(), egui::Button::new("discover"))
-                    .on_hover_text(
-                        "the force and moment the model as ticked lacks on this flight, as \
-                         terms: each becomes a row, fitted",
-                    );
-                if button.clicked() {
-                    actions.discover = true;
-                    button.surrender_focus();
-                }
-                ui.monospace(c.discovery.line());
-            });
-            egui::Grid::new("wireflight-compare-effects")
-                .num_columns(3)
-                .spacing([10.0, 1.0])
-                .show(ui, |ui| {
-                    ui.monospace("effect");
-                    ui.monospace(if c.rows.iter().any(|r| r.fitted.is_some()) {
-                        "parameters (fitted)"
-                    } else {
-                        "parameters (defaults)"
-                    });
-                    ui.monospace("fit error");
-                    ui.end_row();
-                    for (i, row) in c.rows.iter().enumerate() {
-                        let mut on = row.on;
-                        let response =
-                            ui.add_enabled(!row.in_base, egui::Checkbox::new(&mut on, row.name));
-                        if response.changed() {
-                            actions.toggles.push((i, on));
-                            // Space and the arrows belong to the replay, not to the checkbox.
-                            response.surrender_focus();
-                        }
-                        let params = row.params();
-                        let units: Vec<String> = params
-                            .iter()
-                            .map(|p| format!("{} = {} {}", p.name, p.value, p.unit))
-                            .collect();
-                        let params: Vec<String> = params
-                            .iter()
-                            .map(|p| format!("{}={:.3}", p.name, p.value))
-                            .collect();
-                        let mut text = params.join("\n");
-                        if row.in_base {
-                            text = format!("in the base model\n{text}");
-                        }
-                        if let Some(d) = &row.discovered {
-                            text = format!("{text}\n{}", d.note());
-                        }
-                        let label = ui.monospace(text);
-                        if !units.is_empty() {
-                            label.on_hover_text(units.join("\n"));
-                        }
-                        ui.monospace(
-                            row.fitted_error
-                                .filter(|_| !row.in_base)
-                                .map_or_else(String::new, |e| format!("{e:.3}")),
-                        );
-                        ui.end_row();
-                    }
-                });
+            actions.discover = discover_row(ui, c);
+            actions.toggles = effects_grid(ui, c);
         });
     actions
+}
+
+/// The colours of the measured and the model aircraft, and the verdict (highlighted while
+/// the fit runs).
+fn legend_and_verdict(ui: &mut egui::Ui, c: &Compare) {
+    use egui::{Color32, RichText};
+    let fitting = matches!(c.fit, Fit::Running(_));
+    ui.horizontal(|ui| {
+        ui.spacing_mut().item_spacing.x = 0.0;
+        ui.monospace("measured ");
+        swatch(ui, rgba(crate::draw::scene::palette::AIRCRAFT));
+        ui.monospace("   model ");
+        swatch(ui, rgba(crate::draw::scene::palette::MODEL_AIRCRAFT));
+        ui.monospace("   ");
+        let verdict = RichText::new(c.verdict_line()).monospace();
+        ui.label(if fitting {
+            verdict.color(Color32::from_rgb(255, 220, 120))
+        } else {
+            verdict.strong()
+        });
+    });
+}
+
+/// The errors before and now, per channel, in total and in noise units.
+fn errors_grid(ui: &mut egui::Ui, c: &Compare) {
+    let (b, n) = (&c.before, &c.now);
+    egui::Grid::new("wireflight-compare-errors")
+        .num_columns(3)
+        .spacing([16.0, 2.0])
+        .show(ui, |ui| {
+            ui.monospace("error (RMS)");
+            ui.monospace("before");
+            ui.monospace("now");
+            ui.end_row();
+            let row = |ui: &mut egui::Ui, name: &str, x: String, y: String| {
+                ui.monospace(name);
+                ui.monospace(x);
+                ui.monospace(y);
+                ui.end_row();
+            };
+            row(
+                ui,
+                "total",
+                format!("{:.3}", b.total),
+                format!("{:.3}", n.total),
+            );
+            row(
+                ui,
+                "position",
+                fmt_channel(Some(b.channels.position_m), "m"),
+                fmt_channel(Some(n.channels.position_m), "m"),
+            );
+            row(
+                ui,
+                "velocity",
+                fmt_channel(b.channels.velocity_mps, "m/s"),
+                fmt_channel(n.channels.velocity_mps, "m/s"),
+            );
+            row(
+                ui,
+                "attitude",
+                fmt_channel(b.channels.attitude_deg, "°"),
+                fmt_channel(n.channels.attitude_deg, "°"),
+            );
+            row(
+                ui,
+                "× noise",
+                format!("{:.2}", b.noise_units),
+                format!("{:.2}", n.noise_units),
+            );
+        });
+}
+
+/// The discover button and discover's state; whether the button was pressed.
+fn discover_row(ui: &mut egui::Ui, c: &Compare) -> bool {
+    let mut pressed = false;
+    ui.horizontal(|ui| {
+        let button = ui
+            .add_enabled(!c.discovering(), egui::Button::new("discover"))
+            .on_hover_text(
+                "the force and moment the model as ticked lacks on this flight, as \
+                 terms: each becomes a row, fitted",
+            );
+        if button.clicked() {
+            pressed = true;
+            button.surrender_focus();
+        }
+        ui.monospace(c.discovery.line());
+    });
+    pressed
+}
+
+/// A row per effect: its checkbox, its parameters (a discovered term's with discover's
+/// reading) and its fit error; the rows whose checkbox was clicked, with their new state.
+fn effects_grid(ui: &mut egui::Ui, c: &Compare) -> Vec<(usize, bool)> {
+    let mut toggles = Vec::new();
+    egui::Grid::new("wireflight-compare-effects")
+        .num_columns(3)
+        .spacing([10.0, 1.0])
+        .show(ui, |ui| {
+            ui.monospace("effect");
+            ui.monospace(if c.rows.iter().any(|r| r.fitted.is_some()) {
+                "parameters (fitted)"
+            } else {
+                "parameters (defaults)"
+            });
+            ui.monospace("fit error");
+            ui.end_row();
+            for (i, row) in c.rows.iter().enumerate() {
+                if let Some(on) = effect_row(ui, row) {
+                    toggles.push((i, on));
+                }
+            }
+        });
+    toggles
+}
+
+/// One effect's row; its checkbox's new state where it was clicked.
+fn effect_row(ui: &mut egui::Ui, row: &EffectRow) -> Option<bool> {
+    let mut on = row.on;
+    let response = ui.add_enabled(!row.in_base, egui::Checkbox::new(&mut on, row.name));
+    let toggled = response.changed().then_some(on);
+    if toggled.is_some() {
+        // Space and the arrows belong to the replay, not to the checkbox.
+        response.surrender_focus();
+    }
+    let params = row.params();
+    let units: Vec<String> = params
+        .iter()
+        .map(|p| format!("{} = {} {}", p.name, p.value, p.unit))
+        .collect();
+    let params: Vec<String> = params
+        .iter()
+        .map(|p| format!("{}={:.3}", p.name, p.value))
+        .collect();
+    let mut text = params.join("\n");
+    if row.in_base {
+        text = format!("in the base model\n{text}");
+    }
+    if let Some(d) = &row.discovered {
+        text = format!("{text}\n{}", d.note());
+    }
+    let label = ui.monospace(text);
+    if !units.is_empty() {
+        label.on_hover_text(units.join("\n"));
+    }
+    ui.monospace(
+        row.fitted_error
+            .filter(|_| !row.in_base)
+            .map_or_else(String::new, |e| format!("{e:.3}")),
+    );
+    ui.end_row();
+    toggled
 }
 
 /// The position error over the flight: the base model in grey, the model as ticked in the
@@ -537,63 +589,10 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
         .collapsible(true)
         .show(ctx, |ui| {
             ui.visuals_mut().override_text_color = Some(Color32::from_rgb(200, 230, 210));
-            ui.horizontal(|ui| {
-                let mut sequence = convention.sequence;
-                egui::ComboBox::from_id_salt("wireflight-euler-sequence")
-                    .selected_text(format!("{sequence:#}"))
-                    .show_ui(ui, |ui| {
-                        for s in Sequence::ALL {
-                            let kind = if s.is_tait_bryan() {
-                                "Tait–Bryan"
-                            } else {
-                                "proper Euler"
-                            };
-                            ui.selectable_value(&mut sequence, s, format!("{s:#}  {kind}"));
-                        }
-                    });
-                let mut extrinsic = convention.frame == Frame::Extrinsic;
-                ui.checkbox(&mut extrinsic, "extrinsic (fixed axes)");
-                let frame = if extrinsic {
-                    Frame::Extrinsic
-                } else {
-                    Frame::Intrinsic
-                };
-                let chosen = Convention::new(sequence, frame);
-                if chosen != convention {
-                    changes.convention = Some(chosen);
-                }
-            });
-            let [a, b, c] = convention.sequence.axes().map(|x| x.name());
-            let product = match convention.frame {
-                Frame::Intrinsic => {
-                    format!("R = R{a}(A)·R{b}(B)·R{c}(C), axes turning with the body")
-                }
-                Frame::Extrinsic => format!("R = R{c}(C)·R{b}(B)·R{a}(A), fixed axes, A first"),
-            };
-            ui.monospace(product);
+            changes.convention = convention_row(ui, convention);
+            ui.monospace(rotation_product(convention));
             ui.monospace("aerospace axes: x nose, y right wing, z down (north-east-down world)");
-            let euler = panel.euler();
-            let mut degrees = panel.degrees();
-            let mut moved = false;
-            for (k, (lo, hi)) in panel.ranges().into_iter().enumerate() {
-                ui.horizontal(|ui| {
-                    swatch(ui, rgba(crate::draw::scene::euler::slot_color(k)));
-                    ui.monospace(format!(
-                        "{} {:<3}",
-                        ["A", "B", "C"][k],
-                        crate::draw::scene::euler::axis_label(&euler, k)
-                    ));
-                    let slider = egui::Slider::new(&mut degrees[k], lo..=hi)
-                        .suffix("°")
-                        .fixed_decimals(1);
-                    if ui.add(slider).changed() {
-                        moved = true;
-                    }
-                });
-            }
-            if moved {
-                changes.degrees = Some(degrees);
-            }
+            changes.degrees = angle_sliders(ui, panel);
             let mut drive = panel.drive;
             let label = "the sliders set the attitude (else they show it)";
             if ui.checkbox(&mut drive, label).changed() {
@@ -613,6 +612,71 @@ pub(super) fn draw_euler(ctx: &egui::Context, panel: &EulerPanel) -> EulerChange
             }
         });
     changes
+}
+
+/// The sequence's menu and the extrinsic checkbox; the convention chosen where it changed.
+fn convention_row(ui: &mut egui::Ui, convention: Convention) -> Option<Convention> {
+    let mut changed = None;
+    ui.horizontal(|ui| {
+        let mut sequence = convention.sequence;
+        egui::ComboBox::from_id_salt("wireflight-euler-sequence")
+            .selected_text(format!("{sequence:#}"))
+            .show_ui(ui, |ui| {
+                for s in Sequence::ALL {
+                    let kind = if s.is_tait_bryan() {
+                        "Tait–Bryan"
+                    } else {
+                        "proper Euler"
+                    };
+                    ui.selectable_value(&mut sequence, s, format!("{s:#}  {kind}"));
+                }
+            });
+        let mut extrinsic = convention.frame == Frame::Extrinsic;
+        ui.checkbox(&mut extrinsic, "extrinsic (fixed axes)");
+        let frame = if extrinsic {
+            Frame::Extrinsic
+        } else {
+            Frame::Intrinsic
+        };
+        let chosen = Convention::new(sequence, frame);
+        if chosen != convention {
+            changed = Some(chosen);
+        }
+    });
+    changed
+}
+
+/// The rotation as a product of the elementary ones, and how its axes move.
+fn rotation_product(convention: Convention) -> String {
+    let [a, b, c] = convention.sequence.axes().map(|x| x.name());
+    match convention.frame {
+        Frame::Intrinsic => format!("R = R{a}(A)·R{b}(B)·R{c}(C), axes turning with the body"),
+        Frame::Extrinsic => format!("R = R{c}(C)·R{b}(B)·R{a}(A), fixed axes, A first"),
+    }
+}
+
+/// A slider per angle, coloured like its gimbal ring; the three angles where one moved.
+fn angle_sliders(ui: &mut egui::Ui, panel: &EulerPanel) -> Option<[f64; 3]> {
+    let euler = panel.euler();
+    let mut degrees = panel.degrees();
+    let mut moved = false;
+    for (k, (lo, hi)) in panel.ranges().into_iter().enumerate() {
+        ui.horizontal(|ui| {
+            swatch(ui, rgba(crate::draw::scene::euler::slot_color(k)));
+            ui.monospace(format!(
+                "{} {:<3}",
+                ["A", "B", "C"][k],
+                crate::draw::scene::euler::axis_label(&euler, k)
+            ));
+            let slider = egui::Slider::new(&mut degrees[k], lo..=hi)
+                .suffix("°")
+                .fixed_decimals(1);
+            if ui.add(slider).changed() {
+                moved = true;
+            }
+        });
+    }
+    moved.then_some(degrees)
 }
 
 /// The scene of a screenshot: the window's line scene with what the HUD and the compare panel
@@ -652,7 +716,7 @@ pub(super) fn screenshot_scene(session: &Session) -> crate::draw::render::LineSc
         Some((t, t0, t1)) => format!("t {:.2} s of {:.2}..{:.2} s", t, t0, t1),
         None => format!("flight time {:.2} s", r.time),
     });
-    if let Some(c) = session.compare() {
+    if let Some(c) = session.compare::<Compare>() {
         let label = |effects: &[String]| {
             if effects.is_empty() {
                 "base model".to_string()

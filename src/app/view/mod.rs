@@ -2,15 +2,15 @@
 //!
 //! This module is the I/O shell — winit window and events, the wgpu surface ([`surface`]), the
 //! egui HUD, files. Everything it shows comes from a [`Session`](session::Session) of
-//! [`wireflight_draw::flythrough`], which is pure: model → transform → clip (on the CPU,
-//! Blinn) → draw, one way.
+//! [`wireflight_draw::flythrough`] (in `--compare` mode with the compare panel of
+//! [`wireflight_present::flythrough`] as its model panel), which is pure: model → transform →
+//! clip (on the CPU, Blinn) → draw, one way.
 
 mod hud;
 pub mod surface;
 
-pub use wireflight_draw::flythrough::{
-    cameras, compare, discovery, flight, gimbal, script, session,
-};
+pub use wireflight_draw::flythrough::{cameras, flight, gimbal, script, session};
+pub use wireflight_present::flythrough::{compare, discovery};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -336,6 +336,30 @@ impl App {
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
         let now = Instant::now();
+        self.tick(now);
+        let Some(size) = self.gfx.as_ref().map(|g| g.renderer.size()) else {
+            return Ok(());
+        };
+        self.build_scene(now, size);
+        let Some(output) = self.run_hud(size) else {
+            return Ok(());
+        };
+        self.present(output)?;
+        self.finish_counted_run(event_loop, size)
+    }
+
+    /// Build the frame's scene at the window's size, timed and counted by the meter.
+    fn build_scene(&mut self, now: Instant, (width, height): (u32, u32)) {
+        let build_start = Instant::now();
+        let clip = self.session.build(Viewport { width, height });
+        let build = build_start.elapsed();
+        let segments = self.session.scene().segment_count();
+        self.meter.record(now, build, clip, segments);
+    }
+
+    /// Advance the flight by the time since the last frame (a fixed step when scripted or
+    /// counted), and pick up finished background work.
+    fn tick(&mut self, now: Instant) {
         let dt = match self.options.fixed_dt {
             Some(dt) => dt,
             None => self
@@ -347,23 +371,17 @@ impl App {
         let held = self.held();
         self.session.advance(dt, &held);
         self.session.poll();
+    }
 
-        let Some(gfx) = self.gfx.as_mut() else {
-            return Ok(());
-        };
-        let (width, height) = gfx.renderer.size();
-        let build_start = Instant::now();
-        let clip = self.session.build(Viewport { width, height });
-        let build = build_start.elapsed();
-        let segments = self.session.scene().segment_count();
-        self.meter.record(now, build, clip, segments);
-
-        // HUD.
+    /// One egui pass over the HUD and the panels shown, and what the user did in them
+    /// applied; egui's output, to be drawn.
+    fn run_hud(&mut self, size: (u32, u32)) -> Option<egui::FullOutput> {
+        let gfx = self.gfx.as_mut()?;
         let raw_input = gfx.egui.take_egui_input(&gfx.window);
         let hud = HudData {
             session: &self.session,
             meter: &self.meter,
-            size: (width, height),
+            size,
             scale: gfx.window.scale_factor(),
             adapter: &self.adapter,
             note: self
@@ -389,27 +407,15 @@ impl App {
             }
         });
         self.show_help = show_help;
-        if let Some(c) = self.session.compare_mut() {
-            for (i, on) in actions.toggles {
-                c.set(i, on);
-            }
-            if actions.discover {
-                c.start_discover();
-            }
-        }
-        if euler.any() {
-            // The scene was built before the panel ran: show the change in the next frame.
-            gfx.window.request_redraw();
-        }
-        if let Some(c) = euler.convention {
-            self.session.set_euler_convention(c);
-        }
-        if let Some(d) = euler.degrees {
-            self.session.set_euler_degrees(d);
-        }
-        if let Some(drive) = euler.drive {
-            self.session.set_euler_drive(drive);
-        }
+        apply_panels(&mut self.session, &gfx.window, actions, euler);
+        Some(output)
+    }
+
+    /// Draw the scene with egui's output over it, and say when the next frame is wanted.
+    fn present(&mut self, output: egui::FullOutput) -> anyhow::Result<()> {
+        let Some(gfx) = self.gfx.as_mut() else {
+            return Ok(());
+        };
         gfx.egui
             .handle_platform_output(&gfx.window, output.platform_output);
         let jobs = self
@@ -448,22 +454,32 @@ impl App {
                 self.wait_until = Some(self.wait_until.map_or(expiry, |w| w.min(expiry)));
             }
         }
+        Ok(())
+    }
 
-        if let Some(n) = self.options.frames {
-            if self.meter.frames >= n {
-                if let Some(path) = self.options.screenshot.clone() {
-                    write_screenshot(&screenshot_scene(&self.session), &path)?;
-                    println!(
-                        "wrote {} ({}x{}, {})",
-                        path.display(),
-                        width,
-                        height,
-                        Rasterizer::Cpu.describe()
-                    );
-                }
-                event_loop.exit();
-            }
+    /// A counted run (`--frames N`) ends after its last frame, with the screenshot asked for.
+    fn finish_counted_run(
+        &mut self,
+        event_loop: &ActiveEventLoop,
+        (width, height): (u32, u32),
+    ) -> anyhow::Result<()> {
+        let Some(n) = self.options.frames else {
+            return Ok(());
+        };
+        if self.meter.frames < n {
+            return Ok(());
         }
+        if let Some(path) = self.options.screenshot.clone() {
+            write_screenshot(&screenshot_scene(&self.session), &path)?;
+            println!(
+                "wrote {} ({}x{}, {})",
+                path.display(),
+                width,
+                height,
+                Rasterizer::Cpu.describe()
+            );
+        }
+        event_loop.exit();
         Ok(())
     }
 
@@ -508,6 +524,37 @@ impl App {
         if let Some(c) = self.session.compare() {
             println!("{}", compare_summary(c));
         }
+    }
+}
+
+/// What the user did in the panels this frame: effects ticked, discover started, the Euler
+/// panel's convention, angles and whether they drive the attitude.
+fn apply_panels(
+    session: &mut Session,
+    window: &Window,
+    actions: CompareActions,
+    euler: EulerChanges,
+) {
+    if let Some(c) = session.compare_mut::<Compare>() {
+        for (i, on) in actions.toggles {
+            c.set(i, on);
+        }
+        if actions.discover {
+            c.start_discover();
+        }
+    }
+    if euler.any() {
+        // The scene was built before the panel ran: show the change in the next frame.
+        window.request_redraw();
+    }
+    if let Some(c) = euler.convention {
+        session.set_euler_convention(c);
+    }
+    if let Some(d) = euler.degrees {
+        session.set_euler_degrees(d);
+    }
+    if let Some(drive) = euler.drive {
+        session.set_euler_drive(drive);
     }
 }
 

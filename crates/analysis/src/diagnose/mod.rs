@@ -930,9 +930,9 @@ fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<Strin
                     "{} {} ({} {} RMS, {} × its noise)",
                     a.channel,
                     a.axis,
-                    wireflight_flight::numeric::format::fixed(a.rms, 3),
+                    wireflight_data::format::fixed(a.rms, 3),
                     a.unit,
-                    wireflight_flight::numeric::format::fixed(*ratio, 1)
+                    wireflight_data::format::fixed(*ratio, 1)
                 )
             })
             .collect();
@@ -948,10 +948,7 @@ fn evidence(cmp: &Comparison, prep: &Prepared, scores: &[KeyScore]) -> Vec<Strin
                 "{} ({}: {}% of the misfit above the noise)",
                 s.key.term,
                 s.key.name,
-                wireflight_flight::numeric::format::fixed(
-                    100.0 * (s.reduction / excess).min(1.0),
-                    0
-                )
+                wireflight_data::format::fixed(100.0 * (s.reduction / excess).min(1.0), 0)
             )
         })
         .collect();

@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use serde_json::{json, Value};
-use wireflight_flight::numeric::format::fmt_number;
+use wireflight_data::format::fmt_number;
 
 use super::Discovery;
 use wireflight_flight::expr::Axis;

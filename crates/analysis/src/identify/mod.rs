@@ -22,9 +22,16 @@
 //! The covariance is the inverse of the posterior's information, the data's part inflated for
 //! correlated residuals as in the diagnosis; |correlation| above [`CONFOUNDED`] names pairs the
 //! data cannot separate.
+//!
+//! [`run`] is the whole of `wireflight identify`'s decision: the fit, the refit through
+//! turbulence where it is chosen ([`turbulence`]) and the checks on held-out flights, returned
+//! as one finished [`Identified`].
 
 pub(crate) mod equation_error;
+mod request;
 pub mod turbulence;
+
+pub use request::{run, HeldOut, Identified, Request, RunError};
 
 use equation_error::equation_error;
 

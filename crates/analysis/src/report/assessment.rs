@@ -1,7 +1,7 @@
 //! An [`Assessment`] as text and JSON: what `wireflight compare` prints.
 
 use serde_json::{json, Value};
-use wireflight_flight::numeric::format::{fixed, signed};
+use wireflight_data::format::{fixed, signed};
 
 use super::{
     axes_text, candidate_json, comparison_json, conditions_json, count, fmt_opt, fmt_params,

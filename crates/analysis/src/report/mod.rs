@@ -1,11 +1,13 @@
-//! Results as people and programs read them: the text tables and the JSON of comparisons and
-//! diagnoses, one formatter for every command and the window. Pure: builds strings and JSON
-//! values, writes nothing.
+//! Results as people and programs read them: the text tables and the JSON of comparisons,
+//! diagnoses and identifications, one formatter for every command and the window. Pure:
+//! builds strings and JSON values, writes nothing.
 
 use std::fmt::Write as _;
 
 mod assessment;
+mod identification;
 pub use assessment::{assessment_json, assessment_text, Names};
+pub use identification::{identification_json, identification_text, Flights};
 
 use serde_json::{json, Map, Value};
 
@@ -14,9 +16,9 @@ use crate::conditions::Condition;
 use crate::diagnose::reference::ReferenceVerdict;
 use crate::diagnose::{Candidate, Diagnosis, Verdict};
 use crate::reference::ModelFloor;
+use wireflight_data::format::{fixed, fmt_number, signed};
 use wireflight_data::VehicleKind;
 use wireflight_flight::model::Model;
-use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
 
 /// A text table whose columns line up: numbers right-aligned, names and words left-aligned
 /// (the first column always left; another column right when every cell under its header is

@@ -1,20 +1,23 @@
 //! What the fly-through window shows, without the window: the aircraft (flown kinematically
 //! from keys or a script, or replayed from a recorded flight), the cameras, the trail, and the
 //! frame built from them. The window code feeds it time steps and held keys and draws
-//! [`Session::scene`]; tests drive it directly.
+//! [`Session::scene`]; tests drive it directly. In `--compare` mode the model's flight is
+//! drawn beside a replay from a [`ModelPanel`], which the session holds without knowing what
+//! computes it.
 //!
 //! Pure: no I/O.
+
+use std::any::Any;
 
 use glam::{DMat3, DQuat, DVec3, Vec3};
 
 use super::cameras::{CameraMode, CameraRig, Target};
-use super::compare::Compare;
 use super::flight::{Controls, Kinematic, Start};
 use super::gimbal::EulerPanel;
 use super::script::{Player, Script};
 use crate::render::LineScene;
 use crate::scene::builder::{FrameSpec, Layer, SceneBuilder};
-use crate::scene::track::{model_frame, pose_at};
+use crate::scene::track::{model_frame, pose_at, ModelTrack};
 use crate::scene::ReplayError;
 use wireflight_data::FlightData;
 use wireflight_geometry::clip::{ClipStats, Clipper};
@@ -170,6 +173,18 @@ pub struct Readout {
     pub time: f64,
 }
 
+/// The model's flight beside a replay and what computes it: the one seam through which a
+/// comparison joins the viewer, which knows neither the flight model nor the analysis.
+/// `wireflight-present`'s compare panel implements it (its comparisons, fit and discovery run
+/// on worker threads); the session polls it for finished work, draws its track, and hands it
+/// back by its type ([`Session::compare`]).
+pub trait ModelPanel: Any {
+    /// Take in finished background work, without waiting; true if anything changed.
+    fn poll(&mut self) -> bool;
+    /// The model's flight as it stands now.
+    fn track(&self) -> &ModelTrack;
+}
+
 /// The whole non-window state of the viewer.
 pub struct Session {
     /// Where the aircraft comes from.
@@ -182,7 +197,7 @@ pub struct Session {
     trail: Vec<Vec3>,
     trail_clock: f64,
     initial_camera: CameraMode,
-    compare: Option<Box<Compare>>,
+    compare: Option<Box<dyn ModelPanel>>,
     /// The Euler-angle panel: a convention's angles of the attitude, its gimbal rings, and
     /// sliders that can set the attitude.
     pub euler: EulerPanel,
@@ -251,20 +266,22 @@ impl Session {
     }
 
     /// Show the model's flight beside the replayed one (`--compare`; a replay session only,
-    /// of the same flight).
-    pub fn with_compare(mut self, compare: Compare) -> Self {
+    /// of the same flight), as the panel computes it.
+    pub fn with_compare(mut self, compare: impl ModelPanel) -> Self {
         self.compare = Some(Box::new(compare));
         self
     }
 
-    /// The comparison, in `--compare` mode.
-    pub fn compare(&self) -> Option<&Compare> {
-        self.compare.as_deref()
+    /// The comparison panel, in `--compare` mode (`None` too if it is not a `P`).
+    pub fn compare<P: ModelPanel>(&self) -> Option<&P> {
+        let panel: &dyn Any = self.compare.as_deref()?;
+        panel.downcast_ref()
     }
 
-    /// The comparison, to tick effects.
-    pub fn compare_mut(&mut self) -> Option<&mut Compare> {
-        self.compare.as_deref_mut()
+    /// The comparison panel, to tick effects.
+    pub fn compare_mut<P: ModelPanel>(&mut self) -> Option<&mut P> {
+        let panel: &mut dyn Any = self.compare.as_deref_mut()?;
+        panel.downcast_mut()
     }
 
     /// Take in finished background work of the comparison; true if anything changed.
@@ -512,7 +529,7 @@ impl Session {
             }
         };
         let model = match (&self.compare, &self.source) {
-            (Some(c), Source::Replay(_)) => Some(model_frame(&c.now.track, t)),
+            (Some(c), Source::Replay(_)) => Some(model_frame(c.track(), t)),
             _ => None,
         };
         let mut stats = self.builder.build(&FrameSpec {

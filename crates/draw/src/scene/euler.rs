@@ -15,7 +15,7 @@ use glam::{DMat3, DVec3, Mat4, Vec2, Vec3};
 
 use super::{font, palette};
 use crate::render::{LineBatch, LineScene, Rgba, Segment2};
-use wireflight_flight::numeric::format::signed;
+use wireflight_data::format::signed;
 use wireflight_geometry::camera::{Camera, Projection};
 use wireflight_geometry::clip::{ClipStats, Clipper, DepthRange};
 use wireflight_geometry::euler::{EulerAngles, Frame};

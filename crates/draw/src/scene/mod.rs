@@ -37,7 +37,8 @@ use wireflight_geometry::mesh::{EdgeMesh, MeshProblem};
 use wireflight_geometry::pipeline::{model_matrix, EdgeProjector, Viewport};
 
 /// Why a recorded flight (and the model's flight beside it) cannot be drawn: by
-/// [`replay::ReplayScene`], [`track::ModelTrack`] and the fly-through's replay.
+/// [`replay::ReplayScene`], the fly-through's replay, and a [`track::ModelTrack`] made from a
+/// comparison (by `wireflight-present`).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ReplayError {
     /// The flight has no samples.

@@ -14,7 +14,7 @@ use glam::{Mat4, Vec2, Vec3};
 use super::font::{draw_label, label_width};
 use crate::figures::three_figures;
 use crate::render::{Rgba, Segment2};
-use wireflight_flight::numeric::format::fixed;
+use wireflight_data::format::fixed;
 use wireflight_geometry::pipeline::Viewport;
 
 /// Height of the text, pixels, for a frame of this size (7..=16 px, about 1/45 of the height).

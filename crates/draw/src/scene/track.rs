@@ -1,7 +1,8 @@
 //! Flights in the viewer's frame: the pose of a recorded aircraft at any time (interpolated
 //! between samples), and the flight model's track beside it — the multiple-shooting
 //! prediction, restarted from the data at each window start — with the pose of the model's
-//! aircraft at any time (never interpolated across a restart).
+//! aircraft at any time (never interpolated across a restart). A track is made from a
+//! comparison by `wireflight-present`'s `track::model_track`; here it is only drawn.
 //!
 //! Flight data are in NED/FRD; the viewer is Z-up. Positions map by
 //! [`wireflight_geometry::euler::viewer_from_ned`], attitudes by [`EulerZyx::from_aerospace`]. Pure: no I/O.
@@ -9,8 +10,6 @@
 use glam::{DQuat, DVec3, Vec3};
 
 use super::builder::ModelFrame;
-use super::ReplayError;
-use wireflight_analysis::compare::Comparison;
 use wireflight_data::FlightData;
 use wireflight_geometry::euler::{viewer_from_ned, EulerZyx};
 
@@ -35,43 +34,6 @@ pub struct ModelTrack {
 }
 
 impl ModelTrack {
-    /// From a comparison of `data` made over all its windows (every sample predicted).
-    ///
-    /// # Errors
-    /// A comparison that does not cover the flight sample by sample
-    /// ([`ReplayError::PartialComparison`]).
-    pub fn from_comparison(
-        data: &FlightData,
-        comparison: &Comparison,
-    ) -> Result<Self, ReplayError> {
-        let prediction = &comparison.prediction;
-        let n = prediction.index.len();
-        if n == 0 || n > data.len() || prediction.index.iter().enumerate().any(|(k, &i)| k != i) {
-            return Err(ReplayError::PartialComparison);
-        }
-        let window_starts = comparison.windows.iter().map(|w| w.samples.0).collect();
-        let path: Vec<Vec3> = prediction
-            .pos_ned
-            .iter()
-            .map(|p| viewer_from_ned(*p).as_vec3())
-            .collect();
-        let error_m: Vec<f64> = (0..n)
-            .map(|k| (prediction.pos_ned[k] - data.pos_ned[k]).length())
-            .collect();
-        Ok(Self {
-            strip_scale_m: error_m.iter().copied().fold(0.0, f64::max),
-            time: data.time[..n].to_vec(),
-            path,
-            attitude: prediction
-                .attitude
-                .iter()
-                .map(|a| EulerZyx::from_aerospace(*a))
-                .collect(),
-            window_starts,
-            error_m,
-        })
-    }
-
     /// Index of the last sample at or before `t`.
     pub fn sample_at(&self, t: f64) -> usize {
         self.time

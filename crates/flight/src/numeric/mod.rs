@@ -57,7 +57,6 @@ pub fn solve_in_place(a: &mut [f64], b: &mut [f64], n: usize) -> Option<()> {
     b.iter().all(|v| v.is_finite()).then_some(())
 }
 
-pub mod format;
 mod kernels;
 
 pub use kernels::{axpy, dot, gram, mul12, Mat12};

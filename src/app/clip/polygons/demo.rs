@@ -123,17 +123,32 @@ fn c_shape() -> Vec<DVec2> {
     ]
 }
 
-fn cases() -> Vec<Case> {
-    // A five-pointed star, strictly inside the L below.
-    let star: Vec<DVec2> = (0..10)
+/// A five-pointed star, strictly inside the L.
+fn star() -> Vec<DVec2> {
+    (0..10)
         .map(|k| {
             let r = if k % 2 == 0 { 1.3 } else { 0.55 };
             let a = std::f64::consts::FRAC_PI_2 + f64::from(k) * std::f64::consts::PI / 5.0;
             p(1.6, 1.6) + r * DVec2::new(a.cos(), a.sin())
         })
-        .collect();
-    let square = vec![p(0., 0.), p(4., 0.), p(4., 4.), p(0., 4.)];
-    let u = vec![
+        .collect()
+}
+
+/// An L, 6 wide and 6 tall, its arms 3 thick.
+fn l_shape() -> Vec<DVec2> {
+    vec![
+        p(0., 0.),
+        p(6., 0.),
+        p(6., 3.),
+        p(3., 3.),
+        p(3., 6.),
+        p(0., 6.),
+    ]
+}
+
+/// A U, 3 wide and 3 tall, its gap 1 wide.
+fn u_shape() -> Vec<DVec2> {
+    vec![
         p(0., 0.),
         p(3., 0.),
         p(3., 3.),
@@ -142,7 +157,25 @@ fn cases() -> Vec<Case> {
         p(1., 1.),
         p(1., 3.),
         p(0., 3.),
-    ];
+    ]
+}
+
+/// A 4 × 4 square with a V cut into its top, the V's tip at (2, 2).
+fn notched_square() -> Vec<DVec2> {
+    vec![
+        p(0., 0.),
+        p(4., 0.),
+        p(4., 4.),
+        p(3., 4.),
+        p(2., 2.),
+        p(1., 4.),
+        p(0., 4.),
+    ]
+}
+
+/// The cases, in the order their pictures are written.
+fn cases() -> Vec<Case> {
+    let square = vec![p(0., 0.), p(4., 0.), p(4., 4.), p(0., 4.)];
     vec![
         Case {
             name: "concave-pieces",
@@ -166,15 +199,8 @@ fn cases() -> Vec<Case> {
             name: "hole",
             title: "ONE INSIDE THE OTHER",
             point: "NO EDGES CROSS: THE STAR IS A CLOCKWISE HOLE",
-            subject: vec![
-                p(0., 0.),
-                p(6., 0.),
-                p(6., 3.),
-                p(3., 3.),
-                p(3., 6.),
-                p(0., 6.),
-            ],
-            clip: star,
+            subject: l_shape(),
+            clip: star(),
             op: Op::Difference,
             marks: vec![],
         },
@@ -182,7 +208,7 @@ fn cases() -> Vec<Case> {
             name: "shared-vertex",
             title: "SHARED VERTEX",
             point: "TOUCHING AT (4, 4): A NOTCH, NOT A HOLE",
-            subject: square.clone(),
+            subject: square,
             clip: vec![p(4., 4.), p(1., 2.5), p(2.5, 1.)],
             op: Op::Difference,
             marks: vec![p(4., 4.)],
@@ -191,7 +217,7 @@ fn cases() -> Vec<Case> {
             name: "collinear-overlap",
             title: "COLLINEAR OVERLAPPING EDGES",
             point: "EDGES SPLIT AT EACH OTHER'S ENDS, SHARED ONCE",
-            subject: u,
+            subject: u_shape(),
             clip: vec![p(0.5, 0.), p(3., 0.), p(3., 2.), p(0.5, 2.)],
             op: Op::Intersection,
             marks: vec![p(0.5, 0.), p(3., 0.), p(3., 2.)],
@@ -200,15 +226,7 @@ fn cases() -> Vec<Case> {
             name: "vertex-on-edge",
             title: "VERTEX ON AN EDGE",
             point: "THE TIP ON THE BAND'S EDGE: 2 PIECES MEET AT (2, 2)",
-            subject: vec![
-                p(0., 0.),
-                p(4., 0.),
-                p(4., 4.),
-                p(3., 4.),
-                p(2., 2.),
-                p(1., 4.),
-                p(0., 4.),
-            ],
+            subject: notched_square(),
             clip: vec![p(-1., 2.), p(5., 2.), p(5., 5.), p(-1., 5.)],
             op: Op::Intersection,
             marks: vec![p(2., 2.)],

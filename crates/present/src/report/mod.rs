@@ -19,10 +19,7 @@ use crate::plots::{
     render_plots, windows_text, ConditionSeries, PlotError, PlotInfo, ERROR_VS_CONDITION,
     MEASURED_VS_MODEL, RESIDUALS, RESIDUALS_PER_AXIS,
 };
-use crate::render::gif::GifAnimation;
-use crate::render::Rasterizer;
-use crate::scene::replay::ReplayScene;
-use crate::scene::track::ModelTrack;
+use crate::track::model_track;
 use wireflight_analysis::compare::{Comparison, NoiseEstimate};
 use wireflight_analysis::conditions::Condition;
 use wireflight_analysis::diagnose::turbulence::TurbulenceFinding;
@@ -31,8 +28,11 @@ use wireflight_analysis::filter_error::flight::{
     GUST_LR_BOUND, MAX_INNOVATION_SPREAD, MIN_TURBULENCE_MPS, TURBULENCE_LR_BOUND,
 };
 use wireflight_analysis::report::{innovations_text, noise_text, verdict_text};
+use wireflight_data::format::{fixed, fmt_number, signed};
 use wireflight_data::FlightData;
-use wireflight_flight::numeric::format::{fixed, fmt_number, signed};
+use wireflight_draw::render::gif::GifAnimation;
+use wireflight_draw::render::Rasterizer;
+use wireflight_draw::scene::replay::ReplayScene;
 use wireflight_flight::params::keys;
 use wireflight_geometry::clip::Clipper;
 use wireflight_geometry::pipeline::Viewport;
@@ -804,7 +804,7 @@ fn next_section(r: &Report) -> String {
 /// The replay as GIF bytes: both aircraft and the error strip, at `size`.
 fn replay_gif(r: &Report, size: ReplaySize) -> Result<Vec<u8>, String> {
     let last = r.after.as_ref().map_or(r.before, |(c, _)| *c);
-    let mut track = ModelTrack::from_comparison(r.data, last).map_err(|e| e.to_string())?;
+    let mut track = model_track(r.data, last).map_err(|e| e.to_string())?;
     // One scale for before and after, so the strip shows the error fall.
     let b = &r.before.prediction;
     track.strip_scale_m = b

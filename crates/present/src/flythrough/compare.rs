@@ -7,8 +7,9 @@
 //! model file declares, those of `--add 'term:…'`, and those `discover` finds when the panel
 //! asks it ([`Compare::start_discover`], on a third worker thread: [`super::discovery`]).
 //!
-//! No window code: the window reads this state, tests drive it directly ([`Compare::wait`],
-//! [`Compare::wait_fit`], [`Compare::wait_discover`]).
+//! No window code: the window reads this state (the fly-through session holds it as its
+//! [`ModelPanel`]), tests drive it directly ([`Compare::wait`], [`Compare::wait_fit`],
+//! [`Compare::wait_discover`]).
 
 use std::error::Error;
 use std::panic::AssertUnwindSafe;
@@ -17,13 +18,15 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::discovery::{self, Discovered, Discovering, Found};
-use crate::scene::track::ModelTrack;
-use crate::scene::ReplayError;
+use crate::track::model_track;
 use wireflight_analysis::compare::{
     compare_prepared, ChannelErrors, CompareConfig, Comparison, Prepared,
 };
 use wireflight_analysis::diagnose::{diagnose, Correction, DiagnoseConfig, Diagnosis, Verdict};
 use wireflight_data::FlightData;
+use wireflight_draw::flythrough::session::ModelPanel;
+use wireflight_draw::scene::track::ModelTrack;
+use wireflight_draw::scene::ReplayError;
 use wireflight_flight::effects::term::term_of;
 use wireflight_flight::effects::{Effect, Param, CATALOGUE};
 use wireflight_flight::model::Model;
@@ -681,6 +684,18 @@ impl Compare {
     }
 }
 
+/// The panel as the fly-through session holds it: polled for finished work, the model as
+/// ticked now drawn beside the replay.
+impl ModelPanel for Compare {
+    fn poll(&mut self) -> bool {
+        Compare::poll(self)
+    }
+
+    fn track(&self) -> &ModelTrack {
+        &self.now.track
+    }
+}
+
 /// A worker's result: waiting for it (`block`) or only taking it if it is there.
 fn receive<T>(rx: &Receiver<T>, block: bool) -> Result<T, TryRecvError> {
     if block {
@@ -707,7 +722,7 @@ fn evaluate(
         },
     );
     let comparison: Comparison = compare_prepared(model, &prep);
-    let track = ModelTrack::from_comparison(data, &comparison)?;
+    let track = model_track(data, &comparison)?;
     let error_bins = bin_max(&track.time, &track.error_m, ERROR_BINS);
     let compute_s = start.elapsed().as_secs_f64();
     Ok(Outcome {

@@ -12,7 +12,7 @@ use std::sync::OnceLock;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{FontStyle, RGBAColor};
-use wireflight_flight::numeric::format::fixed;
+use wireflight_data::format::fixed;
 
 use super::CanvasError;
 
@@ -165,7 +165,7 @@ pub(super) fn header<'a>(
 /// Tick labels with as many decimals as the tick spacing needs ([`fixed`]: never "-0");
 /// U+2212 for minus. Axes reaching 1e6 or more, or with steps below 1e-6, are labelled in
 /// scientific notation with the digits that tell the ticks apart (never a 100-digit number):
-/// what differs from `wireflight_flight::numeric::format`, which has a fixed count of digits.
+/// what differs from `wireflight_data::format`, which has a fixed count of digits.
 pub(super) fn tick_formatter(range: &Range<f64>, n: usize) -> impl Fn(&f64) -> String {
     // The tick step: the smallest 1, 2 or 5 × 10^k giving at most `2n` ticks (plotters may
     // place up to twice as many as asked: a label with too few decimals would repeat).
@@ -418,7 +418,7 @@ pub(super) fn padded(lo: f64, hi: f64) -> Range<f64> {
 }
 
 /// A number as a plot writes it: with U+2212 (−) for the minus sign, which the hyphen of
-/// `wireflight_flight::numeric::format` stands in for in plain text.
+/// `wireflight_data::format` stands in for in plain text.
 pub(super) fn unicode_minus(s: String) -> String {
     s.replace('-', "\u{2212}")
 }

@@ -13,11 +13,11 @@ use std::time::Instant;
 use wireflight_analysis::compare::Prepared;
 use wireflight_analysis::diagnose::{add_fitted, DiagnoseConfig};
 use wireflight_analysis::discover::discover;
+use wireflight_data::format::fmt_number;
 use wireflight_data::FlightData;
 use wireflight_flight::effects::Effect;
 use wireflight_flight::expr::Axis;
 use wireflight_flight::model::Model;
-use wireflight_flight::numeric::format::fmt_number;
 use wireflight_flight::spec::EffectSpec;
 
 /// How many of discover's terms (best first) become rows: each is fitted, and a row the

@@ -11,7 +11,7 @@ use super::style::{
     Root, AFTER, BEFORE, NOISE,
 };
 use super::{CanvasError, ConditionSeries, PlotContext};
-use wireflight_flight::numeric::format::signed;
+use wireflight_data::format::signed;
 use wireflight_flight::numeric::pearson;
 
 /// The units the score combines, e.g. "m, m/s, °".

@@ -12,8 +12,8 @@ use super::style::{
     BEFORE_LIGHT, NOISE, SHADE,
 };
 use super::{window_segments, CanvasError, PlotContext, Segments};
-use crate::figures::three_figures;
 use wireflight_analysis::compare::{estimate_noise, Comparison, Prediction};
+use wireflight_draw::figures::three_figures;
 use wireflight_flight::numeric::attitude_error_deg;
 
 /// The title of `residuals.png`: the total error before (→ after) and the noise floor.
