@@ -4,8 +4,8 @@ use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::DiagnoseConfig;
 use crate::analysis::discover::discover;
 use crate::analysis::discover::error_after::measure_errors;
-use crate::analysis::discover::report::{discovery_json, discovery_text};
 use crate::analysis::report::model_label;
+use crate::analysis::report::{discovery_json, discovery_text};
 use crate::app::cli::DiscoverArgs;
 use crate::app::workbench::add_fitted_on;
 

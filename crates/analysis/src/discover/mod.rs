@@ -32,7 +32,6 @@
 pub mod error_after;
 pub mod library;
 mod point_mass;
-pub mod report;
 
 use wireflight_flight::expr::{Axis, Term, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, Vehicle};

@@ -5,8 +5,10 @@
 use std::fmt::Write as _;
 
 mod assessment;
+mod discovery;
 mod identification;
 pub use assessment::{assessment_json, assessment_text, Names};
+pub use discovery::{discovery_json, discovery_text};
 pub use identification::{identification_json, identification_text, Flights};
 
 use serde_json::{json, Map, Value};

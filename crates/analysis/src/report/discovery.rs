@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 use serde_json::{json, Value};
 use wireflight_data::format::fmt_number;
 
-use super::Discovery;
+use crate::discover::Discovery;
 use wireflight_flight::expr::Axis;
 
 /// An axis's unit in a discovery: the force's or moment's, or on a point mass (mass 1) m/s².
