@@ -24,6 +24,7 @@ pub mod model;
 pub mod numeric;
 pub mod params;
 pub mod sensing;
+pub mod sensor_errors;
 pub mod simulate;
 pub mod spec;
 pub mod trim;
