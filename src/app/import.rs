@@ -2,6 +2,7 @@
 //! the result as the project's CSV.
 
 use crate::app::cli::ImportArgs;
+use crate::data::report::{sampled_channels, sampling_lines};
 use crate::data::{load, Loaded};
 
 /// Run `wireflight import`.
@@ -21,6 +22,7 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
                 "format": "wireflight CSV",
                 "samples": data.len(),
                 "duration_s": data.duration(),
+                "sampled": crate::data::report::sampled_json(&sampled_channels(&data)),
             }),
         };
         v["derived"] = serde_json::json!(data.derived);
@@ -34,16 +36,27 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
         let text = match &report {
             Some(r) => r.to_string(),
             None => format!(
-                "{} (flight-data CSV): {} samples over {:.1} s\n",
+                "{} (flight-data CSV): {} {} over {:.1} s\n{}",
                 args.flight.display(),
                 data.len(),
-                data.duration()
+                if data.sampling.is_all() {
+                    "samples"
+                } else {
+                    "rows"
+                },
+                data.duration(),
+                sampling_lines(&sampled_channels(&data))
             ),
         };
         eprint!("{}", crate::fsio::printable(&text));
     }
     if let Some(out) = &args.out {
-        println!("wrote {} ({} samples)", crate::app::shown(out), data.len());
+        let rows = if data.sampling.is_all() {
+            "samples"
+        } else {
+            "rows"
+        };
+        println!("wrote {} ({} {rows})", crate::app::shown(out), data.len());
     }
     Ok(())
 }

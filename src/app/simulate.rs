@@ -7,6 +7,7 @@ use crate::data;
 use crate::data::VehicleKind;
 use crate::flight::autopilot::Manoeuvre;
 use crate::flight::effects::Origin;
+use crate::flight::sensor_errors::SensorErrors;
 use crate::flight::simulate::{simulate_bounded, Noise, SimSpec};
 use crate::flight::spec::{EffectSpec, ModelSpec};
 use crate::flight::turbulence::Turbulence;
@@ -30,7 +31,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
         None if spec.vehicle == VehicleKind::PointMass => Manoeuvre::Ballistic,
         None => Manoeuvre::Level,
     };
-    let sim = sim_spec(args, &spec, manoeuvre, &listed);
+    let sim = sim_spec(args, &spec, manoeuvre, &listed)?;
     let progress = crate::draw::progress::Progress::spinner(
         &format!("simulating {:.0} s of flight", args.duration),
         false,
@@ -71,13 +72,21 @@ fn model_specs(args: &SimulateArgs) -> anyhow::Result<(ModelSpec, ModelSpec)> {
 
 /// The flight to simulate: the manoeuvre, its length and rate, the sensors' noise, the
 /// turbulence, and what the file's header says of them.
+///
+/// # Errors
+/// A `--sensor-errors` that is neither a preset nor a readable, valid TOML file.
 fn sim_spec(
     args: &SimulateArgs,
     spec: &ModelSpec,
     manoeuvre: Manoeuvre,
     listed: &[String],
-) -> SimSpec {
-    SimSpec {
+) -> anyhow::Result<SimSpec> {
+    let sensor_errors = args
+        .sensor_errors
+        .as_deref()
+        .map(SensorErrors::from_arg)
+        .transpose()?;
+    Ok(SimSpec {
         manoeuvre,
         duration_s: args.duration,
         rate_hz: args.rate,
@@ -106,7 +115,8 @@ fn sim_spec(
             level,
             seed: args.turbulence_seed,
         }),
-    }
+        sensor_errors,
+    })
 }
 
 /// The line that says what was written.
@@ -118,7 +128,7 @@ fn summary(
     flight: &data::FlightData,
 ) -> String {
     format!(
-        "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}{}",
+        "wrote {}: {} samples over {:.1} s at {} Hz, {} {} ({}), effects: {}{}{}{}",
         crate::app::shown(&args.out),
         flight.len(),
         flight.duration(),
@@ -143,6 +153,9 @@ fn summary(
         args.turbulence.map_or(String::new(), |level| format!(
             ", {level} turbulence (seed {})",
             args.turbulence_seed
-        ))
+        )),
+        args.sensor_errors
+            .as_ref()
+            .map_or(String::new(), |e| format!(", sensor errors {e}"))
     )
 }

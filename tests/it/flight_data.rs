@@ -129,8 +129,15 @@ fn non_numeric_cell() {
     let e = err(&format!("{HEAD}0,0,0,0,1,2,3\n0.1,0,0,0,abc,2,3\n"));
     check(&e, 4, Some("pitch_deg"), &["not a number", "abc"]);
     assert!(matches!(e.kind, DataErrorKind::NonNumeric { .. }));
+    // An empty cell is a channel not sampled then: all of its set or none.
     let e = err(&format!("{HEAD}0,0,,0,1,2,3\n"));
-    check(&e, 3, Some("east_m"), &["not a number"]);
+    check(
+        &e,
+        3,
+        Some("east_m"),
+        &["empty while `north_m` has a value", "position"],
+    );
+    assert!(matches!(e.kind, DataErrorKind::PartlyEmpty { .. }));
 }
 
 #[test]
@@ -423,6 +430,7 @@ fn full_sample() -> FlightData {
                 .collect(),
         ),
         derived: vec![],
+        sampling: Default::default(),
         time,
     }
 }

@@ -9,7 +9,7 @@ use std::path::Path;
 use wireflight::data::mapped::ColumnMap;
 use wireflight::data::px4::{self, UlogOptions};
 use wireflight::data::ulog::UlogFile;
-use wireflight::data::{load, LoadOptions, VehicleKind, EARTH_RADIUS_M};
+use wireflight::data::{load, Channel, LoadOptions, VehicleKind, EARTH_RADIUS_M};
 
 use crate::support::cli::{ok_with_stderr, stderr, stdout, wireflight};
 use crate::support::data_file;
@@ -37,24 +37,33 @@ fn from_bytes(bytes: &[u8]) -> Result<wireflight::data::FlightData, String> {
 fn px4_sitl_log_matches_pyulog() {
     let loaded = load(&data_file("px4-sitl-hop.ulg"), &LoadOptions::default()).unwrap();
     let d = &loaded.data;
-    // Position and attitude overlap from 0.088 s to 31.088 s; 20 Hz (attitude 20.8 Hz).
-    assert_eq!(d.len(), 621);
-    assert!((d.time[1] - 0.05).abs() < 1e-12);
-    for (k, z, x) in [
-        (100, -0.033887953425829224, -7.202928617726484e-05),
-        (300, -0.04205239392243899, 0.019029540941119194),
-        (500, -0.4834666561621884, 0.00759859755635261),
+    // Position and attitude overlap from 0.088 s to 31.088 s. Each topic keeps its own
+    // samples there: position at 10.4 Hz, attitude at 20.8 Hz (thinned to at most 20 a
+    // second, the default), rates at 50 Hz (thinned likewise); the rows are their times.
+    let own = |c: Channel| d.sampling.count(c, d.len());
+    assert_eq!(
+        [
+            own(Channel::Position),
+            own(Channel::Attitude),
+            own(Channel::Rates)
+        ],
+        [310, 621, 621]
+    );
+    assert_eq!(d.len(), 1241);
+    for i in 0..d.len() {
+        assert!(
+            Channel::ALL.iter().any(|&c| d.sampling.at(c, i)),
+            "row {i} is no channel's sample"
+        );
+    }
+    for (t, z, x) in [
+        (5.0, -0.033887953425829224, -7.202928617726484e-05),
+        (15.0, -0.04205239392243899, 0.019029540941119194),
+        (25.0, -0.4834666561621884, 0.00759859755635261),
     ] {
-        assert!(
-            (d.pos_ned[k].z - z).abs() < 1e-6,
-            "{k}: {} vs {z}",
-            d.pos_ned[k].z
-        );
-        assert!(
-            (d.pos_ned[k].x - x).abs() < 1e-6,
-            "{k}: {} vs {x}",
-            d.pos_ned[k].x
-        );
+        let p = d.position_at(t).unwrap();
+        assert!((p.z - z).abs() < 1e-6, "{t}: {} vs {z}", p.z);
+        assert!((p.x - x).abs() < 1e-6, "{t}: {} vs {x}", p.x);
     }
     let lowest = d.pos_ned.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
     assert!((-2.16..-1.9).contains(&lowest), "{lowest}");
@@ -81,7 +90,8 @@ fn px4_sitl_log_matches_pyulog() {
         "vehicle_attitude q[0..4]",
         "vehicle_angular_velocity xyz[0..3]",
         "not used: PWM per output",
-        "621 samples at 20 Hz over 31.0 s",
+        "1241 rows (the times anything was sampled) over 31.0 s",
+        "position      310 samples    10 Hz  filled in at 931 rows between",
         "give --vehicle",
     ] {
         assert!(report.contains(want), "{want}\n{report}");
@@ -94,8 +104,10 @@ fn px4_sitl_log_matches_pyulog() {
 fn px4_vtol_log_has_airspeed_controls_and_notes() {
     let (d, report) =
         px4::read(&data_file("px4-vtol-ground.ulg"), &UlogOptions::default()).unwrap();
-    assert_eq!(d.len(), 325);
-    assert!((d.time[1] - 0.02).abs() < 1e-12);
+    // Position (102 Hz), attitude (205 Hz), rates (404 Hz) and airspeed (94 Hz), each
+    // thinned to at most 50 samples a second at their own times.
+    assert_eq!(d.len(), 1193);
+    assert_eq!(d.sampling.count(Channel::Attitude, d.len()), 318);
     assert!(d.airspeed.is_some() && d.controls.is_some());
     assert_eq!(d.meta.latitude_deg, None);
     let r = report.to_string();
@@ -105,7 +117,7 @@ fn px4_vtol_log_has_airspeed_controls_and_notes() {
         "actuator_controls_0 control[0..4]",
         "no global reference: origin unknown",
         "1 logger dropout",
-        "325 samples at 50 Hz over 6.5 s",
+        "1193 rows (the times anything was sampled) over 6.5 s",
     ] {
         assert!(r.contains(want), "{want}\n{r}");
     }
@@ -118,7 +130,8 @@ fn px4_vtol_log_has_airspeed_controls_and_notes() {
         },
     )
     .unwrap();
-    assert_eq!(slow.len(), 65);
+    assert_eq!(slow.sampling.count(Channel::Position, slow.len()), 65);
+    assert_eq!(slow.len(), 228);
 }
 
 /// Every prefix of a real log: a header or definitions section cut short is an error naming
@@ -204,6 +217,101 @@ fn synthetic_ulog_resampled_onto_one_time_base() {
     // Velocity derived from positions; no controls, so MAV_TYPE 1 stays without a vehicle.
     assert!(d.is_derived("vel_ned"));
     assert_eq!(d.meta.vehicle, None);
+}
+
+/// A log as a navigation filter and its sensors write one: position at 5 Hz, attitude at
+/// 50 Hz and rates at 250 Hz, each topic at its own (offset) times, over 4 s.
+fn multi_rate_log() -> UlogWriter {
+    let mut w = UlogWriter::new(None);
+    w.format(LOCAL);
+    w.format(ATT);
+    w.format("vehicle_angular_velocity:uint64_t timestamp;float[3] xyz;");
+    let p = w.subscribe("vehicle_local_position");
+    let a = w.subscribe("vehicle_attitude");
+    let r = w.subscribe("vehicle_angular_velocity");
+    // In time order, as a logger writes them: rates every 4 ms from 1 s, attitude every
+    // 20 ms from 1.001 s, position every 200 ms from 1.0025 s.
+    let mut messages: Vec<(u64, u16, Vec<f32>)> = Vec::new();
+    for k in 0..1000u64 {
+        let t = 1_000_000 + k * 4_000;
+        messages.push((t, r, vec![0.1, 0.0, (k as f32) * 1e-3]));
+    }
+    for k in 0..200u64 {
+        let t = 1_001_000 + k * 20_000;
+        messages.push((t, a, vec![1.0, 0.0, 0.0, 0.0]));
+    }
+    for k in 0..20u64 {
+        let t = 1_002_500 + k * 200_000;
+        messages.push((t, p, vec![(k as f32) * 5.0, 0.0, -50.0]));
+    }
+    messages.sort_by_key(|m| m.0);
+    for (t, id, fields) in messages {
+        w.data_f32(id, t, &fields);
+    }
+    w
+}
+
+#[test]
+fn a_multi_rate_ulog_keeps_every_channel_at_its_own_times() {
+    let log = UlogFile::parse(&multi_rate_log().bytes, "m.ulg", |t| {
+        px4::TOPICS.contains(&t)
+    })
+    .unwrap();
+    let options = UlogOptions {
+        rate_hz: Some(250.0),
+        ..UlogOptions::default()
+    };
+    let (d, report) = px4::from_ulog(&log, "m.ulg", &options).unwrap();
+    // Where position and attitude overlap: from the first position (1.0025 s) to the last
+    // (4.8025 s), attitude from 1.021 s to 4.801 s, rates from 1.004 s to 4.8 s.
+    let own = |c: Channel| d.sampling.count(c, d.len());
+    assert_eq!(own(Channel::Position), 20);
+    assert_eq!(own(Channel::Attitude), 190);
+    assert_eq!(own(Channel::Rates), 950);
+    // Every row is a sample of some channel: no time was invented.
+    assert_eq!(d.len(), 20 + 190 + 950);
+    // The samples are at their own times, with their own values.
+    let t_of = |us: u64| (us as f64 - 1_002_500.0) * 1e-6;
+    let rows: Vec<usize> = d.sampling.rows(Channel::Position, d.len()).collect();
+    for (k, &i) in rows.iter().enumerate() {
+        assert!((d.time[i] - t_of(1_002_500 + k as u64 * 200_000)).abs() < 1e-9);
+        assert!((d.pos_ned[i].x - 5.0 * k as f64).abs() < 1e-9);
+    }
+    let rates = d.rates_body.as_ref().unwrap();
+    for i in d.sampling.rows(Channel::Rates, d.len()) {
+        let k = ((d.time[i] - t_of(1_000_000)) / 0.004).round();
+        assert!((rates[i].z - k * 1e-3).abs() < 1e-6, "{i}: {}", rates[i]);
+    }
+    // Through the project's CSV and back: the same samples, none invented.
+    let back = wireflight::data::parse(&wireflight::data::to_csv_string(&d), "back.csv").unwrap();
+    assert_eq!(back.sampling, d.sampling);
+    assert_eq!(back.len(), d.len());
+    for i in d.sampling.rows(Channel::Position, d.len()) {
+        assert!((back.pos_ned[i] - d.pos_ned[i]).length() < 1e-9);
+    }
+    // The report says each channel's samples and rate.
+    let text = report.to_string();
+    for want in [
+        "1160 rows (the times anything was sampled)",
+        "position     20 samples     5 Hz  filled in at 1140 rows between",
+        "attitude    190 samples    50 Hz",
+        "body rates  950 samples   250 Hz",
+    ] {
+        assert!(text.contains(want), "{want}\n{text}");
+    }
+    // At the default rate (the faster of position and attitude, 50 Hz) the rates are
+    // thinned to samples they have, 50 a second.
+    let (thin, _) = px4::from_ulog(&log, "m.ulg", &UlogOptions::default()).unwrap();
+    let r = thin.rates_body.as_ref().unwrap();
+    let kept: Vec<usize> = thin.sampling.rows(Channel::Rates, thin.len()).collect();
+    assert_eq!(kept.len(), 190);
+    for &i in &kept {
+        let k = ((thin.time[i] + 0.0025) / 0.004).round();
+        assert!(
+            (r[i].z - k * 1e-3).abs() < 1e-6,
+            "a thinned sample is one the log has"
+        );
+    }
 }
 
 #[test]
@@ -411,10 +519,11 @@ fn commands_read_ulog_and_mapped_csv() {
     ]);
     // The report of what the log held goes to stderr (as every command's); the result to
     // stdout.
-    assert!(se.contains("621 samples at 20 Hz"), "{se}");
+    assert!(se.contains("1241 rows"), "{se}");
     assert!(so.starts_with("wrote"), "{so}");
     let back = wireflight::data::read(&out).unwrap();
-    assert_eq!(back.len(), 621);
+    assert_eq!(back.len(), 1241);
+    assert_eq!(back.sampling.count(Channel::Position, back.len()), 310);
 
     // compare and diagnose need a vehicle for a quadrotor log; the report goes to stderr.
     let o = wireflight(&["compare", "--flight", hop.to_str().unwrap(), "--json"]);

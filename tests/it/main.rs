@@ -38,6 +38,7 @@ mod plots;
 mod readme;
 mod reference_flights;
 mod report;
+mod sensor_errors;
 mod sensors;
 mod several_causes;
 mod terms;

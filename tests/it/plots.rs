@@ -55,6 +55,7 @@ fn flight(truth: &Model, manoeuvre: Manoeuvre, duration_s: f64) -> FlightData {
         aircraft: None,
         listed_effects: Vec::new(),
         turbulence: None,
+        sensor_errors: None,
     };
     simulate(truth, &spec).unwrap()
 }

@@ -52,6 +52,7 @@ fn thrust_line_flight() -> FlightData {
         aircraft: Some("aerosonde".into()),
         listed_effects: Vec::new(),
         turbulence: None,
+        sensor_errors: None,
     };
     let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
     let dir = tempfile::tempdir().unwrap();

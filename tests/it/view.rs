@@ -280,6 +280,7 @@ fn windy_flight(dir: &Path, duration_s: f64) -> std::path::PathBuf {
         aircraft: Some("aerosonde".into()),
         listed_effects: Vec::new(),
         turbulence: None,
+        sensor_errors: None,
     };
     let data = simulate(&truth.build(Origin::default()).unwrap(), &spec).unwrap();
     let path = dir.join("windy.csv");

@@ -2,8 +2,11 @@
 //! channels it has ([`FlightData::derive_missing`]), with the smoothing differentiator of
 //! [`crate::derive`].
 
+use glam::DVec3;
+
 use super::{FlightData, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED};
 use crate::derive::{body_rates_from_attitude, Differentiator, Window};
+use crate::sampling::{fill_vec3, Channel};
 
 impl FlightData {
     /// [`derive_missing_with`](Self::derive_missing_with) with the default [`Window`].
@@ -22,7 +25,9 @@ impl FlightData {
     /// * `vel_body`: Rᵀ·vel_ned when attitude is present.
     ///
     /// Present channels are never changed. Does nothing with fewer than two samples or when
-    /// [`validate`](Self::validate) fails.
+    /// [`validate`](Self::validate) fails. A channel sampled at its own rate
+    /// ([`Sampling`](crate::Sampling)) is differentiated over its own samples, and the
+    /// derivative filled in between them.
     pub fn derive_missing_with(&mut self, window: Window) {
         if self.len() < 2 || self.validate().is_err() {
             return;
@@ -30,6 +35,9 @@ impl FlightData {
         let needs_diff = self.vel_ned.is_none() || self.rates_body.is_none();
         let diff =
             needs_diff.then(|| Differentiator::new(&self.time, window.half_samples(&self.time)));
+        if needs_diff && !self.sampling.is_all() {
+            self.derive_from_own_samples(window);
+        }
         let mark = |derived: &mut Vec<&'static str>, name: &'static str| {
             if !derived.contains(&name) {
                 derived.push(name);
@@ -65,6 +73,48 @@ impl FlightData {
                         .collect(),
                 );
                 mark(&mut self.derived, DERIVED_VEL_BODY);
+            }
+        }
+    }
+}
+
+impl FlightData {
+    /// The velocity from positions and the rates from attitude, each channel differentiated
+    /// over its own samples (module docs): what [`Self::derive_missing_with`] does first for
+    /// a flight whose channels have their own rates.
+    fn derive_from_own_samples(&mut self, window: Window) {
+        let n = self.len();
+        let own = |channel: Channel| -> (Vec<usize>, Vec<f64>) {
+            let rows: Vec<usize> = self.sampling.rows(channel, n).collect();
+            let t = rows.iter().map(|&i| self.time[i]).collect();
+            (rows, t)
+        };
+        let spread = |rows: &[usize], values: Vec<DVec3>| -> Vec<DVec3> {
+            let mut full = vec![DVec3::ZERO; n];
+            let mut sampled = vec![false; n];
+            for (&i, v) in rows.iter().zip(values) {
+                full[i] = v;
+                sampled[i] = true;
+            }
+            fill_vec3(&self.time, &sampled, &mut full);
+            full
+        };
+        if self.vel_ned.is_none() && self.vel_body.is_none() {
+            let (rows, t) = own(Channel::Position);
+            if rows.len() >= 2 {
+                let d = Differentiator::new(&t, window.half_samples(&t));
+                let p: Vec<DVec3> = rows.iter().map(|&i| self.pos_ned[i]).collect();
+                self.vel_ned = Some(spread(&rows, d.apply_vec3(&p)));
+                self.derived.push(DERIVED_VEL_NED);
+            }
+        }
+        if let (None, Some(att)) = (&self.rates_body, &self.attitude) {
+            let (rows, t) = own(Channel::Attitude);
+            if rows.len() >= 2 {
+                let d = Differentiator::new(&t, window.half_samples(&t));
+                let a: Vec<_> = rows.iter().map(|&i| att[i]).collect();
+                self.rates_body = Some(spread(&rows, body_rates_from_attitude(&d, &a)));
+                self.derived.push(DERIVED_RATES_BODY);
             }
         }
     }

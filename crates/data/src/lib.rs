@@ -58,6 +58,7 @@ pub mod mapped;
 pub mod px4;
 mod read;
 pub mod report;
+pub mod sampling;
 pub mod ulog;
 mod vehicle;
 mod write;
@@ -76,6 +77,7 @@ pub use self::derive::{
 pub use self::import::{load, FlightReader, ImportError, LoadOptions, Loaded, READERS};
 pub use self::read::{parse, read};
 pub use self::report::ImportReport;
+pub use self::sampling::{Channel, Sampling};
 pub use self::vehicle::{Controls, UnknownVehicle, VehicleKind};
 pub use self::write::{to_csv_string, write, WriteError};
 
@@ -167,6 +169,9 @@ pub struct FlightData {
     /// Channels derived rather than read: [`DERIVED_VEL_NED`], [`DERIVED_VEL_BODY`],
     /// [`DERIVED_RATES_BODY`].
     pub derived: Vec<&'static str>,
+    /// Which rows are samples of each channel ([`mod@sampling`]): channels at their own
+    /// rates. Empty for a one-rate flight.
+    pub sampling: Sampling,
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -267,6 +272,20 @@ pub enum DataErrorKind {
         /// This row's time, s.
         current: f64,
     },
+    /// An empty time cell: every row is at a time.
+    #[error("empty: every row needs its time")]
+    EmptyTime,
+    /// Some cells of a channel's set empty and others not, in one row.
+    #[error("empty while `{given}` has a value: the columns of a channel ({channel}) are sampled together")]
+    PartlyEmpty {
+        /// The channel.
+        channel: &'static str,
+        /// A column of the set with a value in this row.
+        given: String,
+    },
+    /// A channel whose every cell is empty.
+    #[error("no samples: every cell is empty (leave the column out)")]
+    NoSamples,
 }
 
 impl fmt::Display for DataError {
@@ -414,6 +433,10 @@ impl FlightData {
         check_len("airspeed", self.airspeed.as_ref().map(Vec::len))?;
         check_len("accel_body", self.accel_body.as_ref().map(Vec::len))?;
         check_len("controls", self.controls.as_ref().map(Vec::len))?;
+        check_len(
+            "sampling",
+            (!self.sampling.is_all()).then(|| self.sampling.len()),
+        )?;
         for (i, t) in self.time.iter().enumerate() {
             if !t.is_finite() {
                 return Err(not_finite("time", i));

@@ -46,7 +46,7 @@ use super::read::flat_earth_ned;
 use super::report::{rate_text, ImportReport};
 use super::ulog::{UlogError, UlogErrorKind, UlogFile};
 use super::{FlightData, Metadata};
-use crate::{Controls, VehicleKind};
+use crate::{Channel, Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
 mod series;
@@ -216,7 +216,68 @@ pub fn from_ulog(
             rate_text(rate)
         ))));
     }
-    let grid: Vec<f64> = (0..n as usize).map(|k| t0 + k as f64 / rate).collect();
+    // The measured channels' series, fetched before the rows are laid out: the rows are
+    // their samples' times.
+    let vel = get("vehicle_local_position", &["vx", "vy", "vz"])
+        .ok()
+        .flatten()
+        .filter(|_| pos.topic == "vehicle_local_position");
+    let rates = match get("vehicle_angular_velocity", &["xyz[0]", "xyz[1]", "xyz[2]"])? {
+        Some(r) => Some((r, "xyz[0..3]")),
+        None => get("vehicle_attitude", &["rollspeed", "pitchspeed", "yawspeed"])
+            .ok()
+            .flatten()
+            .map(|r| (r, "rollspeed, pitchspeed, yawspeed")),
+    };
+    let airspeed = match get("airspeed", &["true_airspeed_m_s"])? {
+        Some(a) => Some(a),
+        None => get("airspeed_validated", &["true_airspeed_m_s"])?,
+    };
+    let accel = match get(
+        "sensor_combined",
+        &[
+            "accelerometer_m_s2[0]",
+            "accelerometer_m_s2[1]",
+            "accelerometer_m_s2[2]",
+        ],
+    )? {
+        Some(a) => Some((a, "accelerometer_m_s2[0..3]")),
+        None => {
+            get("vehicle_acceleration", &["xyz[0]", "xyz[1]", "xyz[2]"])?.map(|a| (a, "xyz[0..3]"))
+        }
+    };
+    // Each channel keeps its own samples over the span, at most `rate` a second (a faster
+    // topic is thinned to samples it has, never interpolated); the rows are their union.
+    let within = (t0, t1);
+    let own = |t: &[f64]| own_times(t, within, rate);
+    let covered = |s: &Series| covers(s, within);
+    let kept = OwnTimes {
+        position: own(&pos.t),
+        velocity: vel
+            .as_ref()
+            .filter(|v| covered(v))
+            .map_or_else(Vec::new, |v| own(&v.t)),
+        attitude: attitude.as_ref().map_or_else(|_| Vec::new(), |a| own(&a.t)),
+        rates: rates
+            .as_ref()
+            .filter(|r| covered(&r.0))
+            .map_or_else(Vec::new, |r| own(&r.0.t)),
+        airspeed: airspeed
+            .as_ref()
+            .filter(|a| covered(a))
+            .map_or_else(Vec::new, |a| own(&a.t)),
+        accel: accel
+            .as_ref()
+            .filter(|a| covered(&a.0))
+            .map_or_else(Vec::new, |a| own(&a.0.t)),
+    };
+    let grid = kept.union();
+    if grid.len() < 2 {
+        return Err(err(UlogErrorKind::Missing(format!(
+            "too short: fewer than two samples where position and attitude overlap ({})",
+            spans()
+        ))));
+    }
     let span = (t0, grid[grid.len() - 1]);
 
     let pos_ned: Vec<DVec3> = {
@@ -233,10 +294,7 @@ pub fn from_ulog(
     }
 
     // NED velocity, from the local position when it has it.
-    let vel = get("vehicle_local_position", &["vx", "vy", "vz"])
-        .ok()
-        .flatten();
-    if let (Some(v), true) = (vel, pos.topic == "vehicle_local_position") {
+    if let Some(v) = vel {
         v.check_all(file, &[Quantity::Vn, Quantity::Ve, Quantity::Vd])?;
         if use_channel(&mut report, "NED velocity", &v, "vx, vy, vz", span, "") {
             let c = v.linear(&grid);
@@ -296,13 +354,6 @@ pub fn from_ulog(
     }
 
     // Body rates.
-    let rates = match get("vehicle_angular_velocity", &["xyz[0]", "xyz[1]", "xyz[2]"])? {
-        Some(r) => Some((r, "xyz[0..3]")),
-        None => get("vehicle_attitude", &["rollspeed", "pitchspeed", "yawspeed"])
-            .ok()
-            .flatten()
-            .map(|r| (r, "rollspeed, pitchspeed, yawspeed")),
-    };
     match rates {
         Some((r, fields)) => {
             r.check_all(file, &[Quantity::P, Quantity::Q, Quantity::R])?;
@@ -326,10 +377,6 @@ pub fn from_ulog(
     }
 
     // Airspeed.
-    let airspeed = match get("airspeed", &["true_airspeed_m_s"])? {
-        Some(a) => Some(a),
-        None => get("airspeed_validated", &["true_airspeed_m_s"])?,
-    };
     match airspeed {
         Some(a) => {
             a.check_all(file, &[Quantity::Airspeed])?;
@@ -354,19 +401,6 @@ pub fn from_ulog(
     }
 
     // Accelerometer: the sensor's, else the estimator's; PX4's body axes are FRD already.
-    let accel = match get(
-        "sensor_combined",
-        &[
-            "accelerometer_m_s2[0]",
-            "accelerometer_m_s2[1]",
-            "accelerometer_m_s2[2]",
-        ],
-    )? {
-        Some(a) => Some((a, "accelerometer_m_s2[0..3]")),
-        None => {
-            get("vehicle_acceleration", &["xyz[0]", "xyz[1]", "xyz[2]"])?.map(|a| (a, "xyz[0..3]"))
-        }
-    };
     match accel {
         Some((a, fields)) => {
             a.check_all(file, &[Quantity::Ax, Quantity::Ay, Quantity::Az])?;
@@ -447,6 +481,7 @@ pub fn from_ulog(
         report.note("data appended after a crash were read");
     }
 
+    kept.mark(&grid, &mut data);
     data.time = grid.iter().map(|t| t - t0).collect();
     let zero_us = t_ref as f64 + t0 * 1e6;
     data.meta.source = Some(format!(
@@ -466,9 +501,88 @@ pub fn from_ulog(
     // when `import --out` writes it (derived channels: a jump of the positions is a speed).
     derived_in_range(&data, zero_us).map_err(|why| err(UlogErrorKind::BadValues(why)))?;
     report.samples = data.len();
-    report.rate_hz = Some(rate);
+    report.sampled = super::report::sampled_channels(&data);
+    report.rate_hz = data.sampling.is_all().then_some(rate);
     report.duration_s = data.duration();
     Ok((data, report))
+}
+
+/// The times of a topic's samples kept as the flight's samples: those within `(t0, t1)`, at
+/// most `rate` a second — of a faster topic, the first sample at or after each tick of a
+/// clock at `rate` from `t0` (so 50 Hz thinned to 20 Hz keeps 20 samples a second, not every
+/// third), each sample once.
+fn own_times(t: &[f64], (t0, t1): (f64, f64), rate: f64) -> Vec<f64> {
+    let period = 1.0 / rate;
+    let mut kept: Vec<f64> = Vec::new();
+    let mut next_tick = t0;
+    for &ti in t.iter().filter(|&&ti| ti >= t0 && ti <= t1) {
+        // A topic logged at the rate with jitter keeps every sample: a tick is due a tenth
+        // of a period early.
+        if ti >= next_tick - 0.1 * period {
+            kept.push(ti);
+            let ticks = ((ti - t0) / period + 0.1).floor() + 1.0;
+            next_tick = t0 + ticks * period;
+        }
+    }
+    kept
+}
+
+/// Whether `series` covers enough of `span` to be used ([`MIN_COVERAGE`]).
+fn covers(series: &Series, (t0, t1): (f64, f64)) -> bool {
+    let (a, b) = series.span();
+    (b.min(t1) - a.max(t0)).max(0.0) / (t1 - t0).max(f64::MIN_POSITIVE) >= MIN_COVERAGE
+}
+
+/// The sample times kept of each measured channel (empty: not used).
+struct OwnTimes {
+    position: Vec<f64>,
+    velocity: Vec<f64>,
+    attitude: Vec<f64>,
+    rates: Vec<f64>,
+    airspeed: Vec<f64>,
+    accel: Vec<f64>,
+}
+
+impl OwnTimes {
+    fn each(&self) -> [(Channel, &[f64]); 6] {
+        [
+            (Channel::Position, &self.position),
+            (Channel::Velocity, &self.velocity),
+            (Channel::Attitude, &self.attitude),
+            (Channel::Rates, &self.rates),
+            (Channel::Airspeed, &self.airspeed),
+            (Channel::Accelerometer, &self.accel),
+        ]
+    }
+
+    /// Every kept time, once, in order: the flight's rows.
+    fn union(&self) -> Vec<f64> {
+        let mut all: Vec<f64> = self
+            .each()
+            .iter()
+            .flat_map(|(_, t)| t.iter().copied())
+            .collect();
+        all.sort_by(f64::total_cmp);
+        all.dedup();
+        all
+    }
+
+    /// Marks in `data` which rows (`grid`) are samples of each channel it has.
+    fn mark(&self, grid: &[f64], data: &mut FlightData) {
+        for (channel, times) in self.each() {
+            let mut at = times.iter().peekable();
+            let sampled: Vec<bool> = grid
+                .iter()
+                .map(|g| {
+                    while at.next_if(|&&t| t < *g).is_some() {}
+                    at.next_if(|&&t| t == *g).is_some()
+                })
+                .collect();
+            if sampled.iter().any(|&s| s) {
+                data.sampling.set(channel, &sampled);
+            }
+        }
+    }
 }
 
 /// Attitude quaternions near unit length (normalised), with their times.

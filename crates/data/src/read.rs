@@ -19,6 +19,7 @@ use super::columns::{
     N_QUANTITIES, QUANTITIES,
 };
 use super::{DataError, DataErrorKind, FlightData, Metadata, EARTH_RADIUS_M};
+use crate::sampling::{Channel, Sampling};
 use crate::{Controls, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
@@ -71,7 +72,8 @@ pub fn parse(text: &str, name_for_errors: &str) -> Result<FlightData, DataError>
 
     let (meta, header_line, header_text) = read_metadata(&mut lines, &errors)?;
     let header = Header::parse(header_line, header_text, meta.vehicle, &errors)?;
-    let values = read_rows(lines, &header, &errors)?;
+    let mut values = read_rows(lines, &header, &errors)?;
+    values.fill(&header, &errors)?;
     let mut data = assemble(meta, &header, values);
     data.derive_missing();
     Ok(data)
@@ -392,13 +394,52 @@ fn map_columns(
 // Step 3: rows
 
 /// The values read, per quantity (indexed by [`Quantity`]), in SI units; empty for quantities
-/// no column gives.
-struct Values([Vec<f64>; N_QUANTITIES]);
+/// no column gives. A row whose cell was empty holds a placeholder until it is filled in
+/// ([`Values::fill`]), and `sampled` says which rows held a value.
+struct Values {
+    /// Per quantity, a value per row.
+    values: [Vec<f64>; N_QUANTITIES],
+    /// Per quantity, whether each row's cell held a value.
+    sampled: [Vec<bool>; N_QUANTITIES],
+}
 
 impl Values {
     /// Moves out the values of `q`.
     fn take(&mut self, q: Quantity) -> Vec<f64> {
-        std::mem::take(&mut self.0[q as usize])
+        std::mem::take(&mut self.values[q as usize])
+    }
+
+    /// The rows where `q`'s cell held a value.
+    fn sampled(&self, q: Quantity) -> &[bool] {
+        &self.sampled[q as usize]
+    }
+
+    /// Fills each empty cell of a read quantity from its column's values around it: controls
+    /// are held (an empty control cell means "unchanged"; before the first value, the first
+    /// value), attitude is left to [`assemble`] (angles go the short way round), the rest is
+    /// linear in time and held at the ends.
+    fn fill(&mut self, header: &Header, errors: &Errors) -> Result<(), DataError> {
+        let time = self.values[Quantity::Time as usize].clone();
+        for q in QUANTITIES {
+            let Some(column) = header.columns[q as usize] else {
+                continue;
+            };
+            let sampled = &self.sampled[q as usize];
+            if sampled.iter().all(|&s| s) {
+                continue;
+            }
+            if !sampled.iter().any(|&s| s) {
+                let name = header.names[column.index];
+                return Err(errors.at(header.line, Some(name), DataErrorKind::NoSamples));
+            }
+            let values = &mut self.values[q as usize];
+            if CONTROLS.contains(&q) {
+                crate::sampling::fill_held(sampled, values);
+            } else if !ATTITUDE.contains(&q) {
+                crate::sampling::fill_linear(&time, sampled, values);
+            }
+        }
+        Ok(())
     }
 
     /// Moves out three quantities as vectors.
@@ -411,6 +452,22 @@ impl Values {
             .collect()
     }
 }
+
+/// The sets of columns sampled together: a row gives all of a set or none of it.
+const SAMPLED_TOGETHER: [(&str, &[Quantity]); 6] = [
+    (
+        "position",
+        &[Quantity::North, Quantity::East, Quantity::Down],
+    ),
+    (
+        "geodetic position",
+        &[Quantity::Lat, Quantity::Lon, Quantity::Alt],
+    ),
+    ("attitude", &ATTITUDE),
+    ("NED velocity", &[Quantity::Vn, Quantity::Ve, Quantity::Vd]),
+    ("body velocity", &[Quantity::U, Quantity::V, Quantity::W]),
+    ("body rates", &[Quantity::P, Quantity::Q, Quantity::R]),
+];
 
 /// The data rows after the header: each cell of a column that gives a quantity parsed and
 /// scaled to SI. Blank and `#` lines are skipped; cells of unknown columns are not parsed.
@@ -432,6 +489,7 @@ fn read_rows<'t>(
         .collect();
     let time_col = header.columns[Quantity::Time as usize].map_or(0, |c| c.index);
     let mut values: [Vec<f64>; N_QUANTITIES] = std::array::from_fn(|_| Vec::new());
+    let mut sampled: [Vec<bool>; N_QUANTITIES] = std::array::from_fn(|_| Vec::new());
     let mut cells: Vec<&str> = Vec::with_capacity(names.len());
     let mut prev_time: Option<(f64, usize)> = None;
     for (n, l) in lines {
@@ -451,6 +509,15 @@ fn read_rows<'t>(
             ));
         }
         for &(q, column) in &used {
+            let empty = cells[column.index].trim().is_empty();
+            sampled[q].push(!empty);
+            if empty {
+                if QUANTITIES[q] == Quantity::Time {
+                    return Err(errors.at(n, Some(names[column.index]), DataErrorKind::EmptyTime));
+                }
+                values[q].push(0.0);
+                continue;
+            }
             let v = parse_cell(cells[column.index])
                 .map_err(|k| errors.at(n, Some(names[column.index]), k))?
                 * column.scale;
@@ -462,6 +529,8 @@ fn read_rows<'t>(
             }
             values[q].push(v);
         }
+        check_sampled_together(&sampled, header)
+            .map_err(|(column, kind)| errors.at(n, Some(column), kind))?;
         let t = values[Quantity::Time as usize]
             .last()
             .copied()
@@ -484,7 +553,34 @@ fn read_rows<'t>(
     if values[Quantity::Time as usize].is_empty() {
         return Err(errors.at(header.line, None, DataErrorKind::NoRows));
     }
-    Ok(Values(values))
+    Ok(Values { values, sampled })
+}
+
+/// In the row just read (the last of each `sampled`), every set of
+/// [`SAMPLED_TOGETHER`] columns is all given or all empty; else the first empty column and
+/// the error.
+fn check_sampled_together<'h>(
+    sampled: &[Vec<bool>; N_QUANTITIES],
+    header: &Header<'h>,
+) -> Result<(), (&'h str, DataErrorKind)> {
+    for (channel, set) in SAMPLED_TOGETHER {
+        let cells: Vec<(Quantity, bool)> = set
+            .iter()
+            .filter_map(|&q| sampled[q as usize].last().map(|&s| (q, s)))
+            .collect();
+        let given = cells.iter().find(|(_, s)| *s);
+        let empty = cells.iter().find(|(_, s)| !*s);
+        if let (Some(&(given, _)), Some(&(empty, _))) = (given, empty) {
+            let name =
+                |q: Quantity| header.columns[q as usize].map_or("", |c| header.names[c.index]);
+            let kind = DataErrorKind::PartlyEmpty {
+                channel,
+                given: name(given).to_string(),
+            };
+            return Err((name(empty), kind));
+        }
+    }
+    Ok(())
 }
 
 /// One cell as a finite number.
@@ -509,6 +605,8 @@ fn parse_cell(cell: &str) -> Result<f64, DataErrorKind> {
 /// ([`flat_earth_ned`]) and the metadata's origin is set to the first sample.
 fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightData {
     use Quantity as Q;
+    let sampling = sampling_of(header, &values);
+    let attitude_sampled = values.sampled(Q::Roll).to_vec();
     let time = values.take(Q::Time);
     let pos_ned = match header.dialect {
         Dialect::Wireflight => values.take_vec3([Q::North, Q::East, Q::Down]),
@@ -527,9 +625,12 @@ fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightDa
     };
     let mut opt_vec3 = |qs: [Quantity; 3]| header.has(qs[0]).then(|| values.take_vec3(qs));
     let attitude = opt_vec3([Q::Yaw, Q::Pitch, Q::Roll]).map(|v| {
-        v.into_iter()
+        let mut a: Vec<EulerZyx> = v
+            .into_iter()
             .map(|a| EulerZyx::new(a.x, a.y, a.z))
-            .collect()
+            .collect();
+        crate::sampling::fill_attitude(&time, &attitude_sampled, &mut a);
+        a
     });
     let vel_ned = opt_vec3([Q::Vn, Q::Ve, Q::Vd]);
     let vel_body = opt_vec3([Q::U, Q::V, Q::W]);
@@ -565,7 +666,31 @@ fn assemble(mut meta: Metadata, header: &Header, mut values: Values) -> FlightDa
         accel_body,
         controls,
         derived: Vec::new(),
+        sampling,
     }
+}
+
+/// Which rows are samples of each channel: those where its cells held values.
+fn sampling_of(header: &Header, values: &Values) -> Sampling {
+    use Quantity as Q;
+    let position = match header.dialect {
+        Dialect::Wireflight => Q::North,
+        Dialect::Jsbsim => Q::Lat,
+    };
+    let mut sampling = Sampling::all();
+    for (channel, q) in [
+        (Channel::Position, position),
+        (Channel::Velocity, Q::Vn),
+        (Channel::Attitude, Q::Roll),
+        (Channel::Rates, Q::P),
+        (Channel::Airspeed, Q::Airspeed),
+        (Channel::Accelerometer, Q::Ax),
+    ] {
+        if header.has(q) {
+            sampling.set(channel, values.sampled(q));
+        }
+    }
+    sampling
 }
 
 /// Geodetic positions (radians, radians, metres; at least one sample) as local NED about the
@@ -711,6 +836,121 @@ mod tests {
         }
         let text = format!("{head}0,0,0,0,0,0,490\n");
         assert!(parse(&text, "r.csv").is_ok());
+    }
+
+    /// A log with navigation at 5 Hz, attitude at 50 Hz and rates at 250 Hz, each at its
+    /// own times (the rows are the union of them), as a CSV with empty cells.
+    fn multi_rate_csv() -> String {
+        let mut s = String::from(
+            "# vehicle: fixed-wing\ntime_s,north_m,east_m,down_m,roll_deg,pitch_deg,yaw_deg,\
+             p_dps,q_dps,r_dps,throttle,elevator_deg,aileron_deg,rudder_deg\n",
+        );
+        for k in 0..=250 {
+            let t = f64::from(k) * 0.004;
+            let cell = |on: bool, v: String| if on { v } else { String::new() };
+            let nav = k % 50 == 0;
+            let att = k % 5 == 0;
+            let yaw = 170.0 + 40.0 * t; // through ±180°
+            s += &format!(
+                "{t},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+                cell(nav, format!("{}", 25.0 * t)),
+                cell(nav, format!("{}", 0.5 * t)),
+                cell(nav, "-200".into()),
+                cell(att, "0".into()),
+                cell(att, "2".into()),
+                cell(
+                    att,
+                    format!("{}", if yaw > 180.0 { yaw - 360.0 } else { yaw })
+                ),
+                "0",
+                "0",
+                "40",
+                cell(k == 0, "0.5".into()),
+                cell(
+                    k == 0 || k == 100,
+                    if k == 100 { "-3" } else { "-2" }.into()
+                ),
+                cell(k == 0, "0".into()),
+                cell(k == 0, "0".into()),
+            );
+        }
+        s
+    }
+
+    #[test]
+    fn channels_at_their_own_rates_are_read_at_their_own_times() {
+        let d = parse(&multi_rate_csv(), "m.csv").unwrap();
+        assert_eq!(d.len(), 251);
+        let s = &d.sampling;
+        assert_eq!(s.count(Channel::Position, d.len()), 6);
+        assert_eq!(s.count(Channel::Attitude, d.len()), 51);
+        assert_eq!(s.count(Channel::Rates, d.len()), 251);
+        assert!((s.rate_hz(Channel::Position, &d.time).unwrap() - 5.0).abs() < 1e-9);
+        assert!((s.rate_hz(Channel::Attitude, &d.time).unwrap() - 50.0).abs() < 1e-9);
+        // Every sample is where its file put it; between them, filled in and not a sample.
+        assert!(s.at(Channel::Position, 50) && !s.at(Channel::Position, 51));
+        assert_eq!(d.pos_ned[50], DVec3::new(5.0, 0.1, -200.0));
+        let mid = d.pos_ned[75];
+        assert!(
+            (mid.x - 7.5).abs() < 1e-9 && (mid.z + 200.0).abs() < 1e-12,
+            "{mid}"
+        );
+        // Attitude goes the short way through ±180°, not back round through 0.
+        let a = d.attitude.as_ref().unwrap();
+        assert!(a[57].yaw.abs() > 3.0, "{:?}", a[57]);
+        // An empty control cell holds the last value.
+        let c = d.controls.as_ref().unwrap();
+        assert!((c[99].elevator.to_degrees() + 2.0).abs() < 1e-12);
+        assert!((c[150].elevator.to_degrees() + 3.0).abs() < 1e-12);
+        // The velocity derived from 5 Hz positions is the positions' own slope.
+        let v = d.vel_ned.as_ref().unwrap();
+        assert!(d.is_derived(crate::DERIVED_VEL_NED));
+        assert!((v[125].x - 25.0).abs() < 1e-6, "{}", v[125]);
+    }
+
+    #[test]
+    fn a_multi_rate_file_round_trips_with_no_sample_invented() {
+        let d = parse(&multi_rate_csv(), "m.csv").unwrap();
+        let text = crate::to_csv_string(&d);
+        let nav_rows = text
+            .lines()
+            .filter(|l| l.split(',').nth(1) != Some(""))
+            .count();
+        assert_eq!(
+            nav_rows,
+            6 + 2,
+            "header, metadata and the six samples: {text:.300}"
+        );
+        let back = parse(&text, "back.csv").unwrap();
+        assert_eq!(back.sampling, d.sampling);
+        assert_eq!(back.time, d.time);
+        assert_eq!(back.pos_ned, d.pos_ned);
+    }
+
+    #[test]
+    fn empty_cells_are_checked() {
+        let head = "time_s,north_m,east_m,down_m,airspeed_mps\n";
+        let e = parse(&format!("{head}0,0,0,0,1\n,1,0,0,1\n"), "e.csv").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "e.csv: line 3, column `time_s`: empty: every row needs its time"
+        );
+        let e = parse(&format!("{head}0,0,0,0,1\n1,1,,0,1\n"), "e.csv").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "e.csv: line 3, column `east_m`: empty while `north_m` has a value: the columns \
+             of a channel (position) are sampled together"
+        );
+        let e = parse(&format!("{head}0,0,0,0,\n1,1,0,0,\n"), "e.csv").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "e.csv: line 1, column `airspeed_mps`: no samples: every cell is empty (leave the \
+             column out)"
+        );
+        let d = parse(&format!("{head}0,0,0,0,\n1,1,0,0,2\n2,,,,3\n"), "e.csv").unwrap();
+        assert_eq!(d.airspeed.as_deref(), Some(&[2.0, 2.0, 3.0][..]));
+        assert_eq!(d.pos_ned[2], DVec3::new(1.0, 0.0, 0.0));
+        assert!(!d.sampling.at(Channel::Airspeed, 0) && !d.sampling.at(Channel::Position, 2));
     }
 
     #[test]

@@ -5,6 +5,8 @@
 
 use std::fmt;
 
+use crate::{Channel, FlightData};
+
 /// One channel of an import: where it came from and what became of it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ChannelFound {
@@ -41,6 +43,83 @@ pub struct ImportReport {
     pub duration_s: f64,
     /// Anything doubtful.
     pub notes: Vec<String>,
+    /// Each measured channel of the flight data: its own samples and rate
+    /// ([`sampled_channels`]; filled in by [`crate::load`]).
+    pub sampled: Vec<ChannelSampled>,
+}
+
+/// A measured channel of flight data as read: how many of the rows are its own samples, at
+/// what rate, and how many rows were filled in between them (never measurements).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChannelSampled {
+    /// The channel.
+    pub channel: Channel,
+    /// Rows that are its samples.
+    pub samples: usize,
+    /// Median rate of its samples, Hz.
+    pub rate_hz: Option<f64>,
+    /// Rows filled in between its samples.
+    pub filled: usize,
+}
+
+/// Each measured channel of `data` (present and not derived): its samples, their rate and
+/// the rows filled in between.
+pub fn sampled_channels(data: &FlightData) -> Vec<ChannelSampled> {
+    let n = data.len();
+    let present = |channel: Channel| match channel {
+        Channel::Position => true,
+        Channel::Velocity => data.vel_ned.is_some() && !data.is_derived(crate::DERIVED_VEL_NED),
+        Channel::Attitude => data.attitude.is_some(),
+        Channel::Rates => data.rates_body.is_some() && !data.is_derived(crate::DERIVED_RATES_BODY),
+        Channel::Airspeed => data.airspeed.is_some(),
+        Channel::Accelerometer => data.accel_body.is_some(),
+    };
+    Channel::ALL
+        .into_iter()
+        .filter(|&c| present(c))
+        .map(|channel| {
+            let samples = data.sampling.count(channel, n);
+            ChannelSampled {
+                channel,
+                samples,
+                rate_hz: data.sampling.rate_hz(channel, &data.time),
+                filled: n - samples,
+            }
+        })
+        .collect()
+}
+
+/// The lines that say, per channel, its own samples when the flight's channels have their
+/// own rates (nothing for a one-rate flight): `    position  6 samples  5 Hz  filled in at
+/// 245 rows (not measurements)`.
+pub fn sampling_lines(sampled: &[ChannelSampled]) -> String {
+    if sampled.iter().all(|c| c.filled == 0) {
+        return String::new();
+    }
+    let name_w = sampled
+        .iter()
+        .map(|c| c.channel.name().len())
+        .max()
+        .unwrap_or(0);
+    let count_w = sampled
+        .iter()
+        .map(|c| c.samples.to_string().len())
+        .max()
+        .unwrap_or(0);
+    let mut out = String::from("  each channel at its own times:\n");
+    for c in sampled {
+        let rate = c.rate_hz.map_or_else(|| "–".to_string(), rate_text);
+        let filled = match c.filled {
+            0 => String::new(),
+            k => format!("  filled in at {k} rows between (not measurements)"),
+        };
+        out += &format!(
+            "    {:<name_w$}  {:>count_w$} samples  {rate:>7}{filled}\n",
+            c.channel.name(),
+            c.samples
+        );
+    }
+    out
 }
 
 impl ImportReport {
@@ -90,10 +169,24 @@ impl ImportReport {
             })).collect::<Vec<_>>(),
             "samples": self.samples,
             "rate_hz": self.rate_hz,
+            "sampled": sampled_json(&self.sampled),
             "duration_s": self.duration_s,
             "notes": self.notes,
         })
     }
+}
+
+/// [`ChannelSampled`]s as JSON: `[{"channel", "samples", "rate_hz", "filled"}]`.
+pub fn sampled_json(sampled: &[ChannelSampled]) -> serde_json::Value {
+    sampled
+        .iter()
+        .map(|c| {
+            serde_json::json!({
+                "channel": c.channel.name(), "samples": c.samples,
+                "rate_hz": c.rate_hz, "filled": c.filled,
+            })
+        })
+        .collect()
 }
 
 /// Text taken from a file, safe to print: control characters (ESC, CR, BEL, …, and the C1
@@ -185,7 +278,13 @@ impl fmt::Display for ImportReport {
                 line(f, [&r[0], &r[1], &r[2], &r[3], &r[4]])?;
             }
         }
+        let lines = sampling_lines(&self.sampled);
         match self.rate_hz {
+            _ if !lines.is_empty() => writeln!(
+                f,
+                "  flight data: {} rows (the times anything was sampled) over {:.1} s",
+                self.samples, self.duration_s
+            )?,
             Some(hz) => writeln!(
                 f,
                 "  flight data: {} samples at {} over {:.1} s",
@@ -199,6 +298,7 @@ impl fmt::Display for ImportReport {
                 self.samples, self.duration_s
             )?,
         }
+        f.write_str(&lines)?;
         for n in &self.notes {
             writeln!(f, "  note: {}", escape(n))?;
         }

@@ -13,7 +13,7 @@ use wireflight_fsio::FsError;
 use super::{
     DataError, FlightData, ValidationError, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED,
 };
-use crate::Controls;
+use crate::{Channel, Controls};
 use wireflight_geometry::euler::EulerZyx;
 
 /// Flight data that cannot be written: invalid, empty, not readable back, or an I/O error.
@@ -70,7 +70,8 @@ pub fn write(path: &Path, data: &FlightData) -> Result<(), WriteError> {
 
 /// The wireflight CSV text of `data`: metadata lines, the header, one row per sample. Writes
 /// the channels that are present and not [derived](FlightData::derived), angles in degrees,
-/// rates in deg/s, numbers in shortest round-trip form. Expects valid data
+/// rates in deg/s, numbers in shortest round-trip form; a row that is not a sample of a
+/// channel ([`FlightData::sampling`]) leaves the channel's cells empty. Expects valid data
 /// ([`FlightData::validate`]); missing entries of a short channel are written as `NaN`.
 pub fn to_csv_string(data: &FlightData) -> String {
     let mut s = String::new();
@@ -146,35 +147,56 @@ pub fn to_csv_string(data: &FlightData) -> String {
     s.push('\n');
 
     let nan3 = DVec3::splat(f64::NAN);
+    let sampled = |channel: Channel, i: usize| data.sampling.at(channel, i);
+    let mut row: Vec<Option<f64>> = Vec::with_capacity(header.len());
     for (i, t) in data.time.iter().enumerate() {
-        let mut row: Vec<f64> = Vec::with_capacity(header.len());
+        row.clear();
+        // A row that is not a sample of a channel leaves its cells empty: the value there
+        // was filled in between samples, not measured.
+        let mut cells = |on: bool, values: &[f64]| {
+            row.extend(values.iter().map(|&v| on.then_some(v)));
+        };
         let p = data.pos_ned.get(i).copied().unwrap_or(nan3);
-        row.extend([*t, p.x, p.y, p.z]);
+        cells(true, &[*t]);
+        cells(sampled(Channel::Position, i), &[p.x, p.y, p.z]);
         if let Some(a) = att {
             let e = a
                 .get(i)
                 .copied()
                 .unwrap_or(EulerZyx::new(f64::NAN, f64::NAN, f64::NAN));
-            row.extend([
-                e.roll.to_degrees(),
-                e.pitch.to_degrees(),
-                e.yaw.to_degrees(),
-            ]);
+            cells(
+                sampled(Channel::Attitude, i),
+                &[
+                    e.roll.to_degrees(),
+                    e.pitch.to_degrees(),
+                    e.yaw.to_degrees(),
+                ],
+            );
         }
-        for v in [vn, vb].into_iter().flatten() {
+        if let Some(v) = vn {
             let v = v.get(i).copied().unwrap_or(nan3);
-            row.extend([v.x, v.y, v.z]);
+            cells(sampled(Channel::Velocity, i), &[v.x, v.y, v.z]);
+        }
+        if let Some(v) = vb {
+            let v = v.get(i).copied().unwrap_or(nan3);
+            cells(true, &[v.x, v.y, v.z]);
         }
         if let Some(r) = rates {
             let r = r.get(i).copied().unwrap_or(nan3);
-            row.extend([r.x.to_degrees(), r.y.to_degrees(), r.z.to_degrees()]);
+            cells(
+                sampled(Channel::Rates, i),
+                &[r.x.to_degrees(), r.y.to_degrees(), r.z.to_degrees()],
+            );
         }
         if let Some(a) = air {
-            row.push(a.get(i).copied().unwrap_or(f64::NAN));
+            cells(
+                sampled(Channel::Airspeed, i),
+                &[a.get(i).copied().unwrap_or(f64::NAN)],
+            );
         }
         if let Some(a) = acc {
             let a = a.get(i).copied().unwrap_or(nan3);
-            row.extend([a.x, a.y, a.z]);
+            cells(sampled(Channel::Accelerometer, i), &[a.x, a.y, a.z]);
         }
         if let Some(c) = ctl {
             let c = c.get(i).copied().unwrap_or(Controls {
@@ -183,18 +205,23 @@ pub fn to_csv_string(data: &FlightData) -> String {
                 aileron: f64::NAN,
                 rudder: f64::NAN,
             });
-            row.extend([
-                c.throttle,
-                c.elevator.to_degrees(),
-                c.aileron.to_degrees(),
-                c.rudder.to_degrees(),
-            ]);
+            cells(
+                true,
+                &[
+                    c.throttle,
+                    c.elevator.to_degrees(),
+                    c.aileron.to_degrees(),
+                    c.rudder.to_degrees(),
+                ],
+            );
         }
         for (j, v) in row.iter().enumerate() {
             if j > 0 {
                 s.push(',');
             }
-            let _ = write!(s, "{v}");
+            if let Some(v) = v {
+                let _ = write!(s, "{v}");
+            }
         }
         s.push('\n');
     }

@@ -1,5 +1,7 @@
 //! Generating flights: fly a manoeuvre with a model (which may hold effects the output does not
-//! mention), sample it at the output rate, add measurement noise.
+//! mention), sample it at the output rate, add measurement noise — white, and optionally the
+//! wandering errors of a real log's sensors and navigation filter with each channel at its own
+//! rate ([`crate::sensor_errors`]).
 //!
 //! Determinism: the same model, spec and seed give the same file, bit for bit (ChaCha8 noise,
 //! fixed-step RK4, no wall-clock input).
@@ -11,9 +13,10 @@ use rand_distr::{Distribution, Normal};
 
 use super::autopilot::{Autopilot, Manoeuvre};
 use super::model::{Model, State, Vehicle};
+use super::sensor_errors::SensorErrors;
 use super::trim::{trim_level, TrimError};
 use super::turbulence::{GustField, GustTruth, Turbulence, TurbulenceError};
-use wireflight_data::{Controls, FlightData, Metadata, VehicleKind};
+use wireflight_data::{Channel, Controls, FlightData, Metadata, VehicleKind};
 use wireflight_geometry::euler::EulerZyx;
 
 /// Standard deviations of the Gaussian measurement noise per channel (the accelerometer's is
@@ -63,6 +66,10 @@ pub struct SimSpec {
     /// and the trim airspeed; recorded in the metadata as `turbulence`
     /// ([`GustTruth::to_record`]). None: calm air.
     pub turbulence: Option<Turbulence>,
+    /// The wandering errors of a real log's sensors and navigation filter, on top of the
+    /// white noise, each channel at its own rate ([`SensorErrors`]); recorded in the metadata
+    /// as `sensor_errors`. None: white noise alone, every channel at the output rate.
+    pub sensor_errors: Option<SensorErrors>,
 }
 
 impl SimSpec {
@@ -84,6 +91,7 @@ impl SimSpec {
             aircraft: None,
             listed_effects: Vec::new(),
             turbulence: None,
+            sensor_errors: None,
         }
     }
 }
@@ -185,6 +193,22 @@ pub enum SimulateError {
     /// Turbulence for a point mass, or a gust field that cannot be made.
     #[error("turbulence: {0}")]
     Turbulence(String),
+    /// A channel's rate (of the sensor errors) that is not the output rate divided by a whole
+    /// number.
+    #[error(
+        "sensor errors: {channel} at {} Hz: --rate {} Hz is not a whole multiple of it (a \
+         channel is sampled at every k-th output sample: give --rate a multiple of every \
+         channel's rate)",
+        num(*.channel_hz), num(*.rate_hz)
+    )]
+    ChannelRate {
+        /// The channel.
+        channel: Channel,
+        /// Its rate, Hz.
+        channel_hz: f64,
+        /// The output rate, Hz.
+        rate_hz: f64,
+    },
     /// The state became non-finite.
     #[error("the simulated flight diverged at t = {0:.2} s")]
     Diverged(f64),
@@ -307,6 +331,7 @@ pub fn simulate_bounded(
             });
         }
     }
+    let strides = channel_strides(spec)?;
     let kind = model.vehicle.kind();
     if spec.manoeuvre.is_point_mass() != (kind == VehicleKind::PointMass) {
         return Err(SimulateError::Manoeuvre {
@@ -410,9 +435,54 @@ pub fn simulate_bounded(
                 let key = super::turbulence::TRUTH_KEY.to_string();
                 (key, t.to_record())
             }))
+            .chain(spec.sensor_errors.as_ref().map(|e| {
+                let key = super::sensor_errors::TRUTH_KEY.to_string();
+                (key, e.to_record(spec.seed))
+            }))
             .collect(),
     };
-    Ok(truth.finish(model, meta, &spec.noise, spec.accelerometer, spec.seed))
+    let mut flight = truth.finish(model, meta, spec);
+    for (channel, stride) in strides {
+        let sampled: Vec<bool> = (0..flight.len()).map(|i| i % stride == 0).collect();
+        flight.keep_samples(channel, &sampled);
+    }
+    Ok(flight)
+}
+
+/// Each channel of the sensor errors that has its own rate, with the stride of its samples
+/// among the output samples (every `stride`-th, from the first).
+///
+/// # Errors
+/// A rate that is not the output rate divided by a whole number.
+fn channel_strides(spec: &SimSpec) -> Result<Vec<(Channel, usize)>, SimulateError> {
+    let Some(errors) = &spec.sensor_errors else {
+        return Ok(Vec::new());
+    };
+    let r = errors.rates();
+    let mut strides = Vec::new();
+    for (channel, hz) in [
+        (Channel::Position, r.position),
+        (Channel::Velocity, r.velocity),
+        (Channel::Attitude, r.attitude),
+        (Channel::Rates, r.rates),
+        (Channel::Airspeed, r.airspeed),
+        (Channel::Accelerometer, r.accel),
+    ] {
+        let Some(hz) = hz else { continue };
+        let k = spec.rate_hz / hz;
+        let whole = k.round();
+        if !(whole >= 1.0 && (k - whole).abs() <= 1e-9 * k) {
+            return Err(SimulateError::ChannelRate {
+                channel,
+                channel_hz: hz,
+                rate_hz: spec.rate_hz,
+            });
+        }
+        if whole > 1.0 {
+            strides.push((channel, whole as usize));
+        }
+    }
+    Ok(strides)
 }
 
 /// The option of a noise channel's level (`position` → `pos`, as in `--noise-pos`).
@@ -493,14 +563,8 @@ impl Recorder {
     /// What the sensors read of the flight (the model's measurement effects,
     /// [`crate::sensing`]), then noise added (controls are exact: they are what the aircraft
     /// was given), packaged.
-    fn finish(
-        self,
-        model: &Model,
-        meta: Metadata,
-        noise: &Noise,
-        accelerometer: Option<f64>,
-        seed: u64,
-    ) -> FlightData {
+    fn finish(self, model: &Model, meta: Metadata, spec: &SimSpec) -> FlightData {
+        let (noise, accelerometer, seed) = (&spec.noise, spec.accelerometer, spec.seed);
         let acc = accelerometer.unwrap_or(0.0);
         let fixed_wing = self.kind == VehicleKind::FixedWing;
         let mut d = FlightData {
@@ -515,8 +579,14 @@ impl Recorder {
             accel_body: (fixed_wing && accelerometer.is_some()).then_some(self.accel),
             controls: fixed_wing.then_some(self.controls),
             derived: Vec::new(),
+            sampling: Default::default(),
         };
         crate::sensing::sense(model, &mut d);
+        // The wandering errors draw from their own stream: the white noise below is the
+        // same with them or without.
+        if let Some(errors) = &spec.sensor_errors {
+            errors.apply(&mut d, seed);
+        }
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut gauss = |sigma: f64| -> f64 {
             // `simulate_limited` checked every σ finite and ≥ 0, and `Normal::new` fails for

@@ -451,6 +451,11 @@ pub struct SimulateArgs {
     /// each axis, m/s² (0: exact); without it the file has no accelerometer.
     #[arg(long, value_name = "M/S²", value_parser = noise_sigma)]
     pub noise_acc: Option<f64>,
+    /// The wandering errors of a real log, on top of the --noise-* white noise: a preset
+    /// (`independent`, `ekf-gnss`) or a TOML file; each channel at its own rate (the truth
+    /// is written to the file as `# sensor_errors:`; see docs/flight-model.md).
+    #[arg(long, value_name = "FILE.toml|PRESET")]
+    pub sensor_errors: Option<String>,
     /// Output and autopilot rate, Hz.
     #[arg(long, default_value_t = 50.0, value_parser = finite_f64)]
     pub rate: f64,

@@ -109,6 +109,11 @@ impl Flight {
         self.option("--turbulence-seed", seed)
     }
 
+    /// `--sensor-errors`: a preset or a TOML file.
+    pub fn sensor_errors(self, arg: impl Display) -> Self {
+        self.option("--sensor-errors", arg)
+    }
+
     /// Further arguments, as they are.
     pub fn extra(mut self, args: &[&str]) -> Self {
         self.options.extend(args.iter().map(|a| a.to_string()));

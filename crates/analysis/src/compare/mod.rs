@@ -530,50 +530,64 @@ fn compare_window(
         _ => prep.window_residuals(model, window, &x0, &mut scratch, &mut rows),
     }
     let chi2: f64 = rows.iter().map(|r| r * r).sum();
-    let per_sample = rows.len() / (window.1 - window.0).max(1);
-    let lag1_product: f64 = rows
-        .iter()
-        .zip(rows.iter().skip(per_sample))
-        .map(|(a, b)| a * b)
-        .sum();
-    let d = prep.data;
-    let m = prep.measured.for_vehicle(model);
-    let (start, end) = window;
-    let (mut sp, mut sv, mut sa, mut sr) = (0.0, 0.0, 0.0, 0.0);
-    for (k, i) in (start..end).enumerate() {
-        let p = &scratch.predicted[k];
-        sp += (p.pos_ned - d.pos_ned[i]).length_squared();
-        if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
-            sv += (p.vel_ned - v[i]).length_squared();
-        }
-        if let (true, Some(a)) = (m.attitude, &d.attitude) {
-            sa += attitude_error_at(p, &a[i], prep.attitude_trig.get(i)).powi(2);
-        }
-        if let (true, Some(w)) = (m.rates, &d.rates_body) {
-            sr += (p.rates - w[i]).length_squared();
-        }
-    }
-    let n = (end - start) as f64;
-    let errors = ChannelErrors {
-        position_m: (sp / n).sqrt(),
-        velocity_mps: m.velocity.then(|| (sv / n).sqrt()),
-        attitude_deg: m.attitude.then(|| (sa / n).sqrt()),
-        rate_dps: m.rates.then(|| (sr / n).sqrt().to_degrees()),
-    };
+    let (residuals, lag1_product) = prep.measured_rows(model, window, &rows);
+    let errors = window_errors(model, prep, window, &scratch.predicted);
     WindowOutcome {
         result: WindowResult {
-            t0: d.time[start],
-            t1: d.time[end - 1],
+            t0: prep.data.time[window.0],
+            t1: prep.data.time[window.1 - 1],
             samples: window,
             score: errors.score(),
             errors,
             start: x0,
             chi2,
-            residuals: rows.len(),
+            residuals,
             lag1_product,
         },
         predicted: std::mem::take(&mut scratch.predicted),
         fit: if keep_fit { fit } else { None },
+    }
+}
+
+/// The RMS errors of one window's predictions `predicted` (one per sample), each channel over
+/// its own samples.
+fn window_errors(
+    model: &Model,
+    prep: &Prepared,
+    (start, end): (usize, usize),
+    predicted: &[Predicted],
+) -> ChannelErrors {
+    let d = prep.data;
+    let m = prep.measured.for_vehicle(model);
+    let on = |channel: Channel, i: usize| d.sampling.at(channel, i);
+    let mut sums = [(0.0, 0.0); 4];
+    let mut add = |k: usize, e2: f64| {
+        sums[k].0 += e2;
+        sums[k].1 += 1.0;
+    };
+    for (p, i) in predicted.iter().zip(start..end) {
+        if on(Channel::Position, i) {
+            add(0, (p.pos_ned - d.pos_ned[i]).length_squared());
+        }
+        if let (true, Some(v), true) = (m.velocity, &d.vel_ned, on(Channel::Velocity, i)) {
+            add(1, (p.vel_ned - v[i]).length_squared());
+        }
+        if let (true, Some(a), true) = (m.attitude, &d.attitude, on(Channel::Attitude, i)) {
+            add(
+                2,
+                attitude_error_at(p, &a[i], prep.attitude_trig.get(i)).powi(2),
+            );
+        }
+        if let (true, Some(w), true) = (m.rates, &d.rates_body, on(Channel::Rates, i)) {
+            add(3, (p.rates - w[i]).length_squared());
+        }
+    }
+    let rms = |(s, n): (f64, f64)| (s / n.max(1.0)).sqrt();
+    ChannelErrors {
+        position_m: rms(sums[0]),
+        velocity_mps: m.velocity.then(|| rms(sums[1])),
+        attitude_deg: m.attitude.then(|| rms(sums[2])),
+        rate_dps: m.rates.then(|| rms(sums[3]).to_degrees()),
     }
 }
 

@@ -16,7 +16,9 @@
 
 use glam::DVec3;
 
-use wireflight_data::{unwrap_angles, FlightData};
+use std::borrow::Cow;
+
+use wireflight_data::{unwrap_angles, Channel, FlightData};
 
 /// Normalising constant of fourth-order differences of white noise: Σ binomial(4, k)² = 70.
 const DIFF4_VARIANCE: f64 = 70.0;
@@ -115,7 +117,11 @@ pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
     // Channels side by side: each is a median of every sample's difference, twice.
     let (((pos_axes, vel_axes), (att_axes, (rate_axes, airspeed_mps))), accel_axes) = rayon::join(
         || estimate_kinematics(d),
-        || d.accel_body.as_deref().map_or([0.0; 3], axes3),
+        || {
+            d.accel_body
+                .as_deref()
+                .map_or([0.0; 3], |a| axes3(&own(d, Channel::Accelerometer, a)))
+        },
     );
     NoiseEstimate {
         pos_axes,
@@ -129,15 +135,30 @@ pub fn estimate_noise(d: &FlightData) -> NoiseEstimate {
     .with_rms()
 }
 
+/// A channel's values at its own samples ([`wireflight_data::Sampling`]): values filled in
+/// between them would read as smooth, hiding the noise.
+fn own<'v, T: Copy>(d: &FlightData, channel: Channel, values: &'v [T]) -> Cow<'v, [T]> {
+    if d.sampling.is_complete(channel) {
+        Cow::Borrowed(values)
+    } else {
+        Cow::Owned(
+            d.sampling
+                .rows(channel, values.len())
+                .map(|i| values[i])
+                .collect(),
+        )
+    }
+}
+
 /// The noise of position, velocity, attitude, rates and airspeed.
 #[allow(clippy::type_complexity)]
 fn estimate_kinematics(d: &FlightData) -> (([f64; 3], [f64; 3]), ([f64; 3], ([f64; 3], f64))) {
     rayon::join(
         || {
             rayon::join(
-                || axes3(&d.pos_ned),
+                || axes3(&own(d, Channel::Position, &d.pos_ned)),
                 || match &d.vel_ned {
-                    Some(v) if !d.is_derived("vel_ned") => axes3(v),
+                    Some(v) if !d.is_derived("vel_ned") => axes3(&own(d, Channel::Velocity, v)),
                     _ => [0.0; 3],
                 },
             )
@@ -146,6 +167,7 @@ fn estimate_kinematics(d: &FlightData) -> (([f64; 3], [f64; 3]), ([f64; 3], ([f6
             rayon::join(
                 || match &d.attitude {
                     Some(att) => {
+                        let att = own(d, Channel::Attitude, att);
                         let angle = |k: usize| {
                             let a: Vec<f64> =
                                 att.iter().map(|e| [e.roll, e.pitch, e.yaw][k]).collect();
@@ -160,10 +182,16 @@ fn estimate_kinematics(d: &FlightData) -> (([f64; 3], [f64; 3]), ([f64; 3], ([f6
                 || {
                     rayon::join(
                         || match &d.rates_body {
-                            Some(w) if !d.is_derived("rates_body") => axes3(w),
+                            Some(w) if !d.is_derived("rates_body") => {
+                                axes3(&own(d, Channel::Rates, w))
+                            }
                             _ => [0.0; 3],
                         },
-                        || d.airspeed.as_deref().map_or(0.0, robust_noise),
+                        || {
+                            d.airspeed
+                                .as_deref()
+                                .map_or(0.0, |a| robust_noise(&own(d, Channel::Airspeed, a)))
+                        },
                     )
                 },
             )

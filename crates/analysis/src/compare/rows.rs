@@ -4,36 +4,100 @@
 use super::attitude::attitude_residuals;
 use super::predict::Predicted;
 use super::Prepared;
+use wireflight_data::Channel;
 use wireflight_flight::model::Model;
 
 impl Prepared<'_> {
     /// Append the weighted residual rows of sample `i` for prediction `p`.
+    ///
+    /// The layout is the same at every sample ([`Self::residual_layout`]); a row that is not a
+    /// sample of a channel ([`wireflight_data::Sampling`]) has zeros for it: a value filled
+    /// in between samples is not a measurement.
     pub(crate) fn residual_rows(&self, model: &Model, i: usize, p: &Predicted, out: &mut Vec<f64>) {
         let d = self.data;
         let m = self.measured.for_vehicle(model);
+        let on = |channel: Channel| d.sampling.weight(channel, i);
         let [wp, wv, wa, wr] = &self.weights;
-        let e = p.pos_ned - d.pos_ned[i];
+        let e = (p.pos_ned - d.pos_ned[i]) * on(Channel::Position);
         out.extend([e.x * wp[0], e.y * wp[1], e.z * wp[2]]);
         if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
-            let e = p.vel_ned - v[i];
+            let e = (p.vel_ned - v[i]) * on(Channel::Velocity);
             out.extend([e.x * wv[0], e.y * wv[1], e.z * wv[2]]);
         }
         if let (true, Some(a)) = (m.attitude, &d.attitude) {
             let e = attitude_residuals(p, &a[i], self.attitude_trig.get(i));
-            out.extend([e[0] * wa[0], e[1] * wa[1], e[2] * wa[2]]);
+            let w = on(Channel::Attitude);
+            out.extend([e[0] * wa[0] * w, e[1] * wa[1] * w, e[2] * wa[2] * w]);
         }
         if let (true, Some(w)) = (m.rates, &d.rates_body) {
-            let e = p.rates - w[i];
+            let e = (p.rates - w[i]) * on(Channel::Rates);
             out.extend([e.x * wr[0], e.y * wr[1], e.z * wr[2]]);
         }
         if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
-            out.push((p.airspeed() - s[i]) * self.airspeed_weight);
+            out.push((p.airspeed() - s[i]) * self.airspeed_weight * on(Channel::Airspeed));
         }
         if let (true, Some(a)) = (m.accel, &d.accel_body) {
-            let e = p.specific_force - a[i];
+            let e = (p.specific_force - a[i]) * on(Channel::Accelerometer);
             let w = &self.accel_weights;
             out.extend([e.x * w[0], e.y * w[1], e.z * w[2]]);
         }
+    }
+
+    /// The channel of each residual row of a sample, in [`Self::residual_rows`]' order.
+    pub(crate) fn residual_layout(&self, model: &Model) -> Vec<Channel> {
+        let d = self.data;
+        let m = self.measured.for_vehicle(model);
+        let mut layout = vec![Channel::Position; 3];
+        for (on, channel, axes) in [
+            (m.velocity && d.vel_ned.is_some(), Channel::Velocity, 3),
+            (m.attitude && d.attitude.is_some(), Channel::Attitude, 3),
+            (m.rates && d.rates_body.is_some(), Channel::Rates, 3),
+            (m.airspeed && d.airspeed.is_some(), Channel::Airspeed, 1),
+            (m.accel && d.accel_body.is_some(), Channel::Accelerometer, 3),
+        ] {
+            if on {
+                layout.extend(std::iter::repeat_n(channel, axes));
+            }
+        }
+        layout
+    }
+
+    /// Of the residual rows `rows` of `window` ([`Self::residual_rows`] per sample): how
+    /// many are measurements, and Σ r_k·r_k+1 over consecutive samples of each residual
+    /// channel (consecutive samples of the channel, where it has its own rate).
+    pub(crate) fn measured_rows(
+        &self,
+        model: &Model,
+        (start, end): (usize, usize),
+        rows: &[f64],
+    ) -> (usize, f64) {
+        let per_sample = rows.len() / (end - start).max(1);
+        let sampling = &self.data.sampling;
+        if sampling.is_all() || per_sample == 0 {
+            let lag1 = rows
+                .iter()
+                .zip(rows.iter().skip(per_sample))
+                .map(|(a, b)| a * b)
+                .sum();
+            return (rows.len(), lag1);
+        }
+        let layout = self.residual_layout(model);
+        let (mut count, mut lag1) = (0, 0.0);
+        for (j, &channel) in layout.iter().enumerate().take(per_sample) {
+            let mut previous: Option<f64> = None;
+            for (k, i) in (start..end).enumerate() {
+                if !sampling.at(channel, i) {
+                    continue;
+                }
+                let r = rows[k * per_sample + j];
+                count += 1;
+                if let Some(p) = previous {
+                    lag1 += p * r;
+                }
+                previous = Some(r);
+            }
+        }
+        (count, lag1)
     }
 
     /// The change of the residual rows over `span` (laid out as `out`, [`Self::residual_rows`]
@@ -69,10 +133,11 @@ impl Prepared<'_> {
         let [wp, wv, _, _] = &self.weights;
         let t0 = d.time[start];
         out.fill(0.0);
+        let on = |channel: Channel, i: usize| d.sampling.weight(channel, i);
         for (rows, i) in out.chunks_exact_mut(count).zip(start..end) {
-            rows[axis] = wp[axis] * (d.time[i] - t0);
+            rows[axis] = wp[axis] * (d.time[i] - t0) * on(Channel::Position, i);
             if velocity {
-                rows[3 + axis] = wv[axis];
+                rows[3 + axis] = wv[axis] * on(Channel::Velocity, i);
             }
         }
         true

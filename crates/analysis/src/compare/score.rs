@@ -10,6 +10,7 @@ use super::start::param_count;
 use super::{
     AxisError, ChannelErrors, Comparison, Prediction, Prepared, WindowOutcome, WindowResult,
 };
+use wireflight_data::Channel;
 use wireflight_flight::model::{AirData, Model};
 use wireflight_geometry::euler::EulerZyx;
 
@@ -126,15 +127,28 @@ fn axis_errors(model: &Model, prep: &Prepared, p: &Prediction) -> Vec<AxisError>
             .collect(),
         _ => Vec::new(),
     };
-    let mut axes: Vec<(&'static str, &'static str, &'static str, Term)> = Vec::new();
+    // Each axis with the channels its measurement needs sampled (both for α and β).
+    let mut axes: Vec<(&'static str, &'static str, &'static str, Term, [Channel; 2])> = Vec::new();
     for (k, axis) in ["north", "east", "down"].into_iter().enumerate() {
         let term = move |j: usize, i: usize| p.pos_ned[j][k] - d.pos_ned[i][k];
-        axes.push(("position", axis, "m", Box::new(term)));
+        axes.push((
+            "position",
+            axis,
+            "m",
+            Box::new(term),
+            [Channel::Position; 2],
+        ));
     }
     if let (true, Some(v)) = (m.velocity, &d.vel_ned) {
         for (k, axis) in ["north", "east", "down"].into_iter().enumerate() {
             let term = move |j: usize, i: usize| p.vel_ned[j][k] - v[i][k];
-            axes.push(("velocity", axis, "m/s", Box::new(term)));
+            axes.push((
+                "velocity",
+                axis,
+                "m/s",
+                Box::new(term),
+                [Channel::Velocity; 2],
+            ));
         }
     }
     if let (true, Some(a)) = (m.attitude, &d.attitude) {
@@ -143,39 +157,70 @@ fn axis_errors(model: &Model, prep: &Prepared, p: &Prediction) -> Vec<AxisError>
             let term = move |j: usize, i: usize| {
                 wrap(angle(&p.attitude[j], k) - angle(&a[i], k)).to_degrees()
             };
-            axes.push(("attitude", axis, "deg", Box::new(term)));
+            axes.push((
+                "attitude",
+                axis,
+                "deg",
+                Box::new(term),
+                [Channel::Attitude; 2],
+            ));
         }
     }
     if let (true, Some(w)) = (m.rates, &d.rates_body) {
         for (k, axis) in ["p", "q", "r"].into_iter().enumerate() {
             let term = move |j: usize, i: usize| (p.rates[j][k] - w[i][k]).to_degrees();
-            axes.push(("rates", axis, "deg/s", Box::new(term)));
+            axes.push(("rates", axis, "deg/s", Box::new(term), [Channel::Rates; 2]));
         }
     }
     if let (true, Some(s)) = (m.airspeed, &d.airspeed) {
         let term = move |j: usize, i: usize| p.air[j].airspeed - s[i];
-        axes.push(("air", "airspeed", "m/s", Box::new(term)));
+        axes.push((
+            "air",
+            "airspeed",
+            "m/s",
+            Box::new(term),
+            [Channel::Airspeed; 2],
+        ));
     }
     if let (true, Some(a)) = (m.accel, &d.accel_body) {
         for (k, axis) in ["x", "y", "z"].into_iter().enumerate() {
             let term = move |j: usize, i: usize| p.specific_force[j][k] - a[i][k];
-            axes.push(("accel", axis, "m/s^2", Box::new(term)));
+            axes.push((
+                "accel",
+                axis,
+                "m/s^2",
+                Box::new(term),
+                [Channel::Accelerometer; 2],
+            ));
         }
     }
     if !measured_air.is_empty() {
         let air = &measured_air;
         let alpha = move |j: usize, _: usize| (p.air[j].alpha - air[j].alpha).to_degrees();
         let beta = move |j: usize, _: usize| (p.air[j].beta - air[j].beta).to_degrees();
-        axes.push(("air", "alpha", "deg", Box::new(alpha)));
-        axes.push(("air", "beta", "deg", Box::new(beta)));
+        axes.push((
+            "air",
+            "alpha",
+            "deg",
+            Box::new(alpha),
+            [Channel::Velocity, Channel::Attitude],
+        ));
+        axes.push((
+            "air",
+            "beta",
+            "deg",
+            Box::new(beta),
+            [Channel::Velocity, Channel::Attitude],
+        ));
     }
     axes.par_iter()
-        .filter_map(|(channel, axis, unit, term)| {
+        .filter_map(|(channel, axis, unit, term, needs)| {
             let (mut s, mut s2, mut n) = (0.0, 0.0, 0.0);
             for v in p
                 .index
                 .iter()
                 .enumerate()
+                .filter(|&(_, &i)| needs.iter().all(|&c| d.sampling.at(c, i)))
                 .map(|(j, &i)| term(j, i))
                 .filter(|v| v.is_finite())
             {

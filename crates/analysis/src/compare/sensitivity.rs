@@ -16,7 +16,7 @@ use super::predict::{controls_at, sample_steps};
 use super::sensors::{airspeed_gain, attitude_read, delay_weights};
 use super::start::{param_count, state_of, step_of};
 use super::Prepared;
-use wireflight_data::Controls;
+use wireflight_data::{Channel, Controls};
 use wireflight_flight::linear::{free_columns, propagate, transition, ErrorMatrix, ERROR_MAX};
 use wireflight_flight::model::{Model, State, Vehicle};
 
@@ -362,6 +362,27 @@ impl Prepared<'_> {
                         *t = (k, c * jf[a][k]);
                     }
                     row(&terms[..n]);
+                }
+            }
+        }
+        if !d.sampling.is_all() {
+            // A row that is not a sample of a channel has no residual, so no derivative
+            // ([`Prepared::residual_rows`]).
+            let mut k = 0;
+            for (on, channel, axes) in [
+                (true, Channel::Position, 3),
+                (velocity, Channel::Velocity, 3),
+                (fixed_wing && attitude, Channel::Attitude, 3),
+                (fixed_wing && rates, Channel::Rates, 3),
+                (fixed_wing && airspeed, Channel::Airspeed, 1),
+                (fixed_wing && accel, Channel::Accelerometer, 3),
+            ] {
+                if on {
+                    let w = d.sampling.weight(channel, i);
+                    for r in &mut out[k..k + axes] {
+                        r.iter_mut().for_each(|v| *v *= w);
+                    }
+                    k += axes;
                 }
             }
         }

@@ -39,7 +39,7 @@ use wireflight_flight::numeric::chi2_quantile;
 
 use crate::identify::equation_error::EeSample;
 use wireflight_data::derive::{Differentiator, Window};
-use wireflight_data::{Controls, FlightData};
+use wireflight_data::{Channel, Controls, FlightData};
 use wireflight_flight::model::State;
 
 /// The family-wise false-alarm rate of the selection (split over every candidate of every axis).
@@ -200,7 +200,11 @@ pub fn discover(model: &Model, data: &FlightData) -> Result<Discovery, DiscoverE
     // acceleration there too, but its share of a smoothed regressor is small beside the
     // regressor's own excursions, and a regressor read anywhere else is attenuated where it
     // changes fast (read 0.4 s away, a yawing moment ∝ r·δt was taken for one ∝ q̄·q̂·r̂).
-    let rows = regression_rows(n_all, half);
+    let translation = match series.accelerometer {
+        true => Channel::Accelerometer,
+        false => Channel::Velocity,
+    };
+    let rows = regression_rows(data, half, &[Channel::Rates, translation]);
     let n = rows.len();
     let mass = jm.mass_kg;
     let mut targets: [Vec<f64>; 6] = std::array::from_fn(|_| Vec::with_capacity(n));
@@ -332,12 +336,16 @@ fn select_terms(
     }
 }
 
-/// The rows of the regression: every sample whose smoothing window (`half` samples each
-/// side) lies inside the flight's `n_all`, strided to at most [`MAX_SAMPLES`].
-fn regression_rows(n_all: usize, half: usize) -> Vec<usize> {
-    let inside = n_all.saturating_sub(2 * half);
-    let stride = (inside / MAX_SAMPLES).max(1);
-    (half..half + inside).step_by(stride).collect()
+/// The rows of the regression: every sample of the `measured` channels (their own samples,
+/// where a channel has its own rate: a row filled in between is no measurement) whose
+/// smoothing window (`half` samples each side) lies inside the flight, strided to at most
+/// [`MAX_SAMPLES`].
+fn regression_rows(data: &FlightData, half: usize, measured: &[Channel]) -> Vec<usize> {
+    let inside: Vec<usize> = (half..data.len().saturating_sub(half))
+        .filter(|&i| measured.iter().all(|&c| data.sampling.at(c, i)))
+        .collect();
+    let stride = (inside.len() / MAX_SAMPLES).max(1);
+    inside.into_iter().step_by(stride).collect()
 }
 
 /// Every sample's measured accelerations (body velocity's derivative or the specific force;

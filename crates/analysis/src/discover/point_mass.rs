@@ -19,7 +19,7 @@
 //! that what is found is a term the same point mass takes (`--add 'term:Y=k*qbar*beta'`).
 
 use wireflight_data::derive::{Differentiator, Window};
-use wireflight_data::{Controls, FlightData};
+use wireflight_data::{Channel, Controls, FlightData};
 use wireflight_flight::expr::{Axis, Var, VarValues, N_VARS};
 use wireflight_flight::model::{Model, State};
 
@@ -92,7 +92,7 @@ pub(super) fn discover(model: &Model, data: &FlightData) -> Result<Discovery, Di
             measured.iter().zip(&model).map(|(a, b)| a - b).collect()
         })
         .collect();
-    let rows = regression_rows(n_all, half);
+    let rows = regression_rows(data, half, &[Channel::Velocity]);
     // The NED acceleration lacking at each row, turned to the row's flight-path axes.
     let mut targets: [Vec<f64>; 3] = std::array::from_fn(|_| Vec::with_capacity(rows.len()));
     for &i in &rows {

@@ -57,7 +57,7 @@ use super::Mat;
 use rayon::prelude::*;
 
 use crate::compare::{combined, controls_at, CompareConfig, Measured, NoiseEstimate, SIGMA_MIN};
-use wireflight_data::FlightData;
+use wireflight_data::{Channel, FlightData};
 use wireflight_flight::linear::skew;
 use wireflight_flight::model::{Model, State, Vehicle};
 use wireflight_flight::turbulence::{DrydenIntensity, TurbulenceLevel};
@@ -820,6 +820,29 @@ impl<'d> FlightFilter<'d> {
         fit_flights(&[(self, *gusts)], model, set, theta0, scales, None)
     }
 
+    /// Of the filter's rows (`self.rows`, with innovations `nu`), those measured at sample
+    /// `i`: the rows, their innovations, and how many.
+    fn sampled_rows(&self, i: usize, nu: &[f64; ROWS]) -> ([usize; ROWS], [f64; ROWS], usize) {
+        let sampling = &self.data.sampling;
+        let (mut here, mut nu_here, mut p) = ([0; ROWS], [0.0; ROWS], 0);
+        for (r, &row) in self.rows.iter().enumerate() {
+            let channel = match row {
+                0..3 => Channel::Position,
+                3..6 => Channel::Velocity,
+                6..9 => Channel::Attitude,
+                9..12 => Channel::Rates,
+                12 => Channel::Airspeed,
+                _ => Channel::Accelerometer,
+            };
+            if sampling.at(channel, i) {
+                here[p] = row;
+                nu_here[p] = nu[r];
+                p += 1;
+            }
+        }
+        (here, nu_here, p)
+    }
+
     /// The measured rows at sample `i`.
     fn measurement(&self, i: usize) -> Measurement {
         let d = self.data;
@@ -856,7 +879,6 @@ impl<'d> FlightFilter<'d> {
         mut white: Option<&mut Vec<f64>>,
     ) -> Pass {
         let d = self.data;
-        let p = self.rows.len();
         let dryden = DrydenFilters::new(gusts, self.airspeed_mps, self.span_m);
         let att = d.attitude.as_ref().map(|a| a[start]).unwrap_or_default();
         let rates = d.rates_body.as_ref().map(|r| r[start]).unwrap_or_default();
@@ -970,7 +992,13 @@ impl<'d> FlightFilter<'d> {
                     y.rows[row] - pred[row]
                 };
             }
-            let Some(update) = kalman_update(&hmat, &self.rows, &self.noise, &nu[..p], &mut cov)
+            // The rows measured at this sample: a channel at its own rate is updated at its
+            // own samples only (a value filled in between is not a measurement).
+            let (here, nu, p) = self.sampled_rows(i, &nu);
+            if p == 0 {
+                continue;
+            }
+            let Some(update) = kalman_update(&hmat, &here[..p], &self.noise, &nu[..p], &mut cov)
             else {
                 out.finite = false;
                 break;
@@ -981,7 +1009,7 @@ impl<'d> FlightFilter<'d> {
             if let Some(w) = white.as_deref_mut() {
                 w.extend_from_slice(&update.white[..p]);
             }
-            for (r, &row) in self.rows.iter().enumerate() {
+            for (r, &row) in here[..p].iter().enumerate() {
                 let v = (nu[r] / self.noise[row]).powi(2);
                 squares += v;
                 out.rows_noise_units[row] += v;

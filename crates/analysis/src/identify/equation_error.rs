@@ -12,7 +12,7 @@ use super::Prior;
 use crate::free::{set_values, values, Free};
 use crate::lm::newton_trial;
 use wireflight_data::derive::{Differentiator, Window};
-use wireflight_data::{Controls, FlightData};
+use wireflight_data::{Channel, Controls, FlightData};
 use wireflight_flight::model::{Model, State};
 
 /// At most this many samples of each flight enter the regression (evenly strided).
@@ -167,7 +167,13 @@ pub(crate) fn ee_samples(d: &FlightData) -> Vec<EeSample> {
     };
     let dw = diff.apply_vec3(rates);
     let stride = ((n - 2 * half) / EE_SAMPLES).max(1);
+    // Where the rates (and the accelerometer) have their own rates, only their own samples.
+    let measured_at = |i: usize| {
+        d.sampling.at(Channel::Rates, i)
+            && (accel.is_none() || d.sampling.at(Channel::Accelerometer, i))
+    };
     (half..n - half)
+        .filter(|&i| measured_at(i))
         .step_by(stride)
         .filter_map(|i| {
             let x = State::measured(d.pos_ned[i], vb[i], att[i], rates[i], &controls[i]);

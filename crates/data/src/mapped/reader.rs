@@ -10,7 +10,8 @@ use super::ColumnMap;
 use crate::columns::Quantity;
 use crate::read::{flat_earth_ned, line_of, parse_metadata, text_lines};
 use crate::report::ImportReport;
-use crate::{Controls, DataError, DataErrorKind, FlightData, Metadata};
+use crate::sampling::{fill_attitude, fill_held, fill_linear};
+use crate::{Channel, Controls, DataError, DataErrorKind, FlightData, Metadata};
 use wireflight_geometry::euler::EulerZyx;
 
 /// A CSV that cannot be read through its column map.
@@ -138,6 +139,8 @@ pub fn parse(
     }
     // Rows.
     let mut values: Vec<Vec<f64>> = vec![Vec::new(); map.entries.len()];
+    // Per entry, whether each row's cell held a value (an empty cell: not sampled then).
+    let mut sampled: Vec<Vec<bool>> = vec![Vec::new(); map.entries.len()];
     let time_k = map
         .entries
         .iter()
@@ -168,6 +171,15 @@ pub fn parse(
         }
         for (k, e) in map.entries.iter().enumerate() {
             let cell = unquote(cells[index[k]]);
+            let empty = cell.trim().is_empty();
+            sampled[k].push(!empty);
+            if empty {
+                if k == time_k {
+                    return Err(at(n, Some(&e.column), DataErrorKind::EmptyTime));
+                }
+                values[k].push(0.0);
+                continue;
+            }
             let v = match cell.parse::<f64>() {
                 Ok(v) if v.is_finite() => v,
                 Ok(_) => {
@@ -217,6 +229,7 @@ pub fn parse(
             }
             values[k].push(v);
         }
+        sampled_together(map, &sampled).map_err(|(column, kind)| at(n, Some(column), kind))?;
         let t = values[time_k][values[time_k].len() - 1];
         if let Some((previous, previous_line)) = prev {
             if t <= previous {
@@ -236,6 +249,27 @@ pub fn parse(
     if values[time_k].is_empty() {
         return Err(at(header_line, None, DataErrorKind::NoRows));
     }
+    let time = values[time_k].clone();
+    for (k, e) in map.entries.iter().enumerate() {
+        let s = &sampled[k];
+        if !s.contains(&false) {
+            continue;
+        }
+        if !s.contains(&true) {
+            return Err(at(header_line, Some(&e.column), DataErrorKind::NoSamples));
+        }
+        match e.quantity {
+            "throttle" | "elevator" | "aileron" | "rudder" => fill_held(s, &mut values[k]),
+            "roll" | "pitch" | "yaw" => {} // the short way round, once they are angles
+            _ => fill_linear(&time, s, &mut values[k]),
+        }
+    }
+    let sampled_of = |q: &str| {
+        map.entries
+            .iter()
+            .position(|e| e.quantity == q)
+            .map(|k| sampled[k].clone())
+    };
     let take = |q: &str| -> Option<Vec<f64>> {
         map.entries
             .iter()
@@ -276,15 +310,36 @@ pub fn parse(
     };
     let mut data = FlightData::new(meta, time, pos_ned);
     data.attitude = vec3("yaw", "pitch", "roll").map(|v| {
-        v.into_iter()
+        let mut a: Vec<EulerZyx> = v
+            .into_iter()
             .map(|a| EulerZyx::new(a.x, a.y, a.z))
-            .collect()
+            .collect();
+        if let Some(s) = sampled_of("roll") {
+            fill_attitude(&data.time, &s, &mut a);
+        }
+        a
     });
     data.vel_ned = vec3("vn", "ve", "vd");
     data.vel_body = vec3("u", "v", "w");
     data.rates_body = vec3("p", "q", "r");
     data.airspeed = take("airspeed");
     data.accel_body = vec3("ax", "ay", "az");
+    let position = ["lat", "north", "height"]
+        .into_iter()
+        .find(|q| map.has(q))
+        .unwrap_or("north");
+    for (channel, q) in [
+        (Channel::Position, position),
+        (Channel::Velocity, "vn"),
+        (Channel::Attitude, "roll"),
+        (Channel::Rates, "p"),
+        (Channel::Airspeed, "airspeed"),
+        (Channel::Accelerometer, "ax"),
+    ] {
+        if let Some(s) = sampled_of(q) {
+            data.sampling.set(channel, &s);
+        }
+    }
     data.controls = match (
         take("throttle"),
         take("elevator"),
@@ -376,7 +431,46 @@ pub fn parse(
     }
     report.samples = n;
     report.duration_s = data.duration();
+    report.sampled = crate::report::sampled_channels(&data);
     Ok((data, report))
+}
+
+/// The sets of quantities sampled together: in one row, all of a set's cells hold values or
+/// none does.
+const SAMPLED_TOGETHER: [(&str, &[&str]); 6] = [
+    ("position", &["north", "east", "down", "height"]),
+    ("geodetic position", &["lat", "lon", "alt"]),
+    ("attitude", &["roll", "pitch", "yaw"]),
+    ("NED velocity", &["vn", "ve", "vd"]),
+    ("body velocity", &["u", "v", "w"]),
+    ("body rates", &["p", "q", "r"]),
+];
+
+/// In the row just read (the last of each `sampled`), every set of [`SAMPLED_TOGETHER`]
+/// quantities is all given or all empty; else the first empty column and the error.
+fn sampled_together<'m>(
+    map: &'m ColumnMap,
+    sampled: &[Vec<bool>],
+) -> Result<(), (&'m str, DataErrorKind)> {
+    for (channel, set) in SAMPLED_TOGETHER {
+        let cells: Vec<(usize, bool)> = map
+            .entries
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| set.contains(&e.quantity))
+            .filter_map(|(k, _)| sampled[k].last().map(|&s| (k, s)))
+            .collect();
+        let given = cells.iter().find(|c| c.1);
+        let empty = cells.iter().find(|c| !c.1);
+        if let (Some(&(given, _)), Some(&(empty, _))) = (given, empty) {
+            let kind = DataErrorKind::PartlyEmpty {
+                channel,
+                given: map.entries[given].column.clone(),
+            };
+            return Err((map.entries[empty].column.as_str(), kind));
+        }
+    }
+    Ok(())
 }
 
 /// A cell or name trimmed, with surrounding double quotes removed.

@@ -3,6 +3,7 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use glam::DVec3;
 
 use super::*;
+use crate::Channel;
 
 #[test]
 fn inline_maps_with_units_numbers_and_offsets() {
@@ -89,6 +90,53 @@ fn reads_mapped_rows() {
     let text = report.to_string();
     assert!(text.contains("time      ms [ms] -1"), "{text}");
     assert!(text.contains("1 column not mapped"), "{text}");
+}
+
+#[test]
+fn empty_cells_are_channels_not_sampled_then() {
+    let map = ColumnMap::parse(
+        "time=t,north=n,east=e,height=h,roll=r:deg,pitch=p:deg,yaw=y:deg,\
+         throttle=th,elevator=el,aileron=ai,rudder=ru",
+    )
+    .unwrap();
+    // A logger's export: position at its own rate, attitude at another, commands as set.
+    let head = "t;n;e;h;r;p;y;th;el;ai;ru\n";
+    let text = format!(
+        "{head}0;0;0;10;0;0;170;0.5;0;0;0\n0.1;;;;;;;;;;\n\
+         0.2;2;0;10;0;0;-170;0.6;;;\n0.3;;;;0;0;-150;;;;\n"
+    );
+    let (d, report) = parse(&text, "m.csv", &map).unwrap();
+    assert_eq!(d.sampling.count(Channel::Position, 4), 2);
+    assert_eq!(d.sampling.count(Channel::Attitude, 4), 3);
+    assert_eq!(d.pos_ned[1], DVec3::new(1.0, 0.0, -10.0));
+    // Heading filled the short way through ±180°, throttle held.
+    assert!(d.attitude.as_ref().unwrap()[1].yaw.to_degrees().abs() > 179.9);
+    let c = d.controls.as_ref().unwrap();
+    assert_eq!([c[1].throttle, c[3].throttle], [0.5, 0.6]);
+    assert!(
+        report.to_string().contains("each channel at its own times"),
+        "{report}"
+    );
+    // A set partly empty, the time empty, a column never given: the file, line and column.
+    for (rows, want) in [
+        (
+            "0;0;;10;0;0;0;0;0;0;0\n",
+            "m.csv: line 2, column `e`: empty while `n` has a value",
+        ),
+        (
+            ";0;0;10;0;0;0;0;0;0;0\n",
+            "m.csv: line 2, column `t`: empty",
+        ),
+        (
+            "0;0;0;10;0;0;0;;0;0;0\n1;0;0;10;0;0;0;;0;0;0\n",
+            "m.csv: line 1, column `th`: no samples",
+        ),
+    ] {
+        let e = parse(&format!("{head}{rows}"), "m.csv", &map)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(want), "{e}");
+    }
 }
 
 #[test]

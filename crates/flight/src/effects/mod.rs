@@ -469,34 +469,7 @@ impl EffectInfo {
 }
 
 /// A channel a flight records: what a measurement effect changes ([`Effect::channels`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Channel {
-    /// Position, NED.
-    Position,
-    /// Velocity, NED.
-    Velocity,
-    /// Attitude angles.
-    Attitude,
-    /// Body rates.
-    Rates,
-    /// Airspeed.
-    Airspeed,
-    /// Specific force, body axes.
-    Accelerometer,
-}
-
-impl std::fmt::Display for Channel {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Channel::Position => "position",
-            Channel::Velocity => "velocity",
-            Channel::Attitude => "attitude (roll, pitch, yaw)",
-            Channel::Rates => "body rates",
-            Channel::Airspeed => "airspeed",
-            Channel::Accelerometer => "accelerometer",
-        })
-    }
-}
+pub use wireflight_data::Channel;
 
 /// What the sensors read at one sample, as the model predicts it: the channels a flight
 /// records, in the data's frames. Measurement effects change it ([`Effect::measure`]).

@@ -91,8 +91,10 @@ fn build_series(ctx: &PlotContext) -> Vec<Vec<Series>> {
     let segs = |f: &dyn Fn(&Prediction, usize) -> f64| {
         let f = |p: &Prediction, k: usize, _: usize| f(p, k);
         (
-            window_segments(d, ctx.before, &f),
-            after.map(|a| window_segments(d, a, &f)).unwrap_or_default(),
+            window_segments(d, ctx.before, &[], &f),
+            after
+                .map(|a| window_segments(d, a, &[], &f))
+                .unwrap_or_default(),
         )
     };
 

@@ -43,7 +43,7 @@ use self::residual_axes::draw_residual_axes;
 use self::residuals::draw_residuals;
 use self::style::{render_png, Root};
 use wireflight_analysis::compare::{Comparison, Prediction};
-use wireflight_data::FlightData;
+use wireflight_data::{Channel, FlightData};
 use wireflight_fsio::{FsError, StagedDir};
 
 /// Why the plots could not be written. Every error names the directory or the file.
@@ -417,18 +417,22 @@ fn prediction_windows(cmp: &Comparison) -> Vec<(usize, usize, usize)> {
 type Segments = Vec<Vec<(f64, f64)>>;
 
 /// Per compared window, the points `(t, f(prediction, k, i))` of its prediction, `k` indexing
-/// the prediction and `i` the data sample it predicts.
+/// the prediction and `i` the data sample it predicts, at the rows that are samples of every
+/// channel of `measured` (a row filled in between a channel's samples is no measurement).
 fn window_segments(
     data: &FlightData,
     cmp: &Comparison,
+    measured: &[Channel],
     f: &dyn Fn(&Prediction, usize, usize) -> f64,
 ) -> Segments {
     let p = &cmp.prediction;
+    let sampled = |i: usize| measured.iter().all(|&c| data.sampling.at(c, i));
     prediction_windows(cmp)
         .into_iter()
         .map(|(_, k0, len)| {
             (k0..k0 + len)
                 .filter(|&k| k < p.index.len() && p.index[k] < data.len())
+                .filter(|&k| sampled(p.index[k]))
                 .map(|k| (data.time[p.index[k]], f(p, k, p.index[k])))
                 .collect()
         })

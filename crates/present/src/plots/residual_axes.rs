@@ -15,7 +15,7 @@ use super::style::{
 };
 use super::{window_segments, CanvasError, PlotContext, Segments};
 use wireflight_analysis::compare::{estimate_noise, Comparison, Prediction};
-use wireflight_data::FlightData;
+use wireflight_data::{Channel, FlightData};
 use wireflight_flight::model::air_angles;
 
 /// One axis's residual: predicted − measured at prediction index `k` of sample `i`.
@@ -28,6 +28,21 @@ struct Axis<'f> {
     unit: &'static str,
     residual: Residual<'f>,
     noise: Option<f64>,
+}
+
+impl Axis<'_> {
+    /// The channels whose samples the residual reads: α and β the velocity and the attitude.
+    fn measured(&self) -> &'static [Channel] {
+        match (self.channel, self.axis) {
+            ("position", _) => &[Channel::Position],
+            ("velocity", _) => &[Channel::Velocity],
+            ("attitude", _) => &[Channel::Attitude],
+            ("rates", _) => &[Channel::Rates],
+            ("accel", _) => &[Channel::Accelerometer],
+            ("air", "airspeed") => &[Channel::Airspeed],
+            _ => &[Channel::Velocity, Channel::Attitude],
+        }
+    }
 }
 
 /// An angle difference wrapped to (−π, π].
@@ -235,10 +250,11 @@ pub(super) fn draw_residual_axes(root: &Root, ctx: &PlotContext) -> Result<(), C
             row += 1;
             col = 0;
         }
-        let before = window_segments(d, ctx.before, a.residual.as_ref());
+        let measured = a.measured();
+        let before = window_segments(d, ctx.before, measured, a.residual.as_ref());
         let after = ctx
             .after
-            .map(|(c, _)| window_segments(d, c, a.residual.as_ref()))
+            .map(|(c, _)| window_segments(d, c, measured, a.residual.as_ref()))
             .unwrap_or_default();
         let h = half_height(&[&before, &after], a.noise);
         let last_row = row + 1 == channels.len();

@@ -13,6 +13,7 @@ use super::style::{
 };
 use super::{window_segments, CanvasError, PlotContext, Segments};
 use wireflight_analysis::compare::{estimate_noise, Comparison, Prediction};
+use wireflight_data::Channel;
 use wireflight_draw::figures::three_figures;
 use wireflight_flight::numeric::attitude_error_deg;
 
@@ -69,11 +70,12 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), Canva
     // |error| of a 3-axis quantity with independent noise σ per axis has RMS √3·σ.
     let s3 = 3f64.sqrt();
     type ErrFn<'f> = Box<dyn Fn(&Prediction, usize, usize) -> f64 + 'f>;
-    let mut channels: Vec<(&str, &str, ErrFn, Option<f64>)> = vec![(
+    let mut channels: Vec<(&str, &str, ErrFn, Option<f64>, Channel)> = vec![(
         "position error |Δp|",
         "error (m)",
         Box::new(|p: &Prediction, k, i| (p.pos_ned[k] - d.pos_ned[i]).length()),
         Some(s3 * noise.pos_m),
+        Channel::Position,
     )];
     if let (true, Some(v)) = (ctx.has_vel, &d.vel_ned) {
         channels.push((
@@ -81,6 +83,7 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), Canva
             "error (m/s)",
             Box::new(move |p: &Prediction, k, i| (p.vel_ned[k] - v[i]).length()),
             (!d.is_derived("vel_ned")).then_some(s3 * noise.vel_mps),
+            Channel::Velocity,
         ));
     }
     if let (true, Some(att)) = (ctx.has_att, &d.attitude) {
@@ -89,6 +92,7 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), Canva
             "error (°)",
             Box::new(move |p: &Prediction, k, i| attitude_error_deg(&p.attitude[k], &att[i])),
             Some(s3 * noise.att_rad.to_degrees()),
+            Channel::Attitude,
         ));
     }
 
@@ -131,12 +135,13 @@ pub(super) fn draw_residuals(root: &Root, ctx: &PlotContext) -> Result<(), Canva
     .draw(&areas[0], ctx, x_desc(0), &worst)?;
 
     // One channel per row.
-    for (row, (caption, unit, f, noise_level)) in channels.iter().enumerate() {
+    for (row, (caption, unit, f, noise_level, channel)) in channels.iter().enumerate() {
         let row = row + 1;
-        let b = window_segments(d, ctx.before, f.as_ref());
+        let measured = [*channel];
+        let b = window_segments(d, ctx.before, &measured, f.as_ref());
         let a = ctx
             .after
-            .map(|(c, _)| window_segments(d, c, f.as_ref()))
+            .map(|(c, _)| window_segments(d, c, &measured, f.as_ref()))
             .unwrap_or_default();
         let values: Vec<f64> = b.iter().chain(&a).flatten().map(|p| p.1).collect();
         let noise_level = noise_level.filter(|v| *v > 0.0 && v.is_finite());
