@@ -19,7 +19,7 @@ pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
             Some(r) => r.to_json(),
             None => serde_json::json!({
                 "file": args.flight.display().to_string(),
-                "format": "wireflight CSV",
+                "format": crate::data::CSV_FORMAT,
                 "samples": data.len(),
                 "duration_s": data.duration(),
                 "sampled": crate::data::report::sampled_json(&sampled_channels(&data)),

@@ -3,7 +3,7 @@
 //! unexplained — the gusts and the added numbers through the filter-error method.
 //!
 //! This is the whole decision of `wireflight compare`, returned as one finished
-//! [`Assessment`] that the caller only prints ([`crate::report::assessment`]) or writes
+//! [`Assessment`] that the caller only prints ([`crate::report::assessment_text`]) or writes
 //! (plots, frames, a model file, a report page).
 
 use wireflight_data::FlightData;

@@ -81,6 +81,9 @@ pub use self::sampling::{Channel, Sampling};
 pub use self::vehicle::{Controls, UnknownVehicle, VehicleKind};
 pub use self::write::{to_csv_string, write, WriteError};
 
+/// The name of the project's CSV format in reports.
+pub const CSV_FORMAT: &str = "wireflight CSV";
+
 /// Standard gravity g0, m/s².
 pub const G0: f64 = 9.80665;
 

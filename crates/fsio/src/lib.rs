@@ -538,9 +538,9 @@ pub fn write_dir_atomic(
 }
 
 /// An output directory written as a whole: files go into a temporary directory beside it
-/// (`.NAME.wireflight.tmp-PID`), and [`commit`](Self::commit) moves them into place. Dropped without a
-/// commit (an error on the way), the temporary directory is removed and the destination is
-/// untouched.
+/// (`.NAME.wireflight.tmp-PID`), and [`commit_merge`](Self::commit_merge) or
+/// [`commit_replace`](Self::commit_replace) moves them into place. Dropped without a commit
+/// (an error on the way), the temporary directory is removed and the destination is untouched.
 #[derive(Debug)]
 pub struct StagedDir {
     dest: PathBuf,

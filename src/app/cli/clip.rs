@@ -98,7 +98,7 @@ pub struct ClipArgs {
     #[arg(long, value_enum)]
     pub op: Option<PolygonOp>,
     /// weiler-atherton: print the result as JSON instead of the summary line:
-    /// {"polygons": [[[x, y], ...], ...], "pieces": [{"outer": 0, "holes": [1]}], "area": A}.
+    /// `{"polygons": [[[x, y], ...], ...], "pieces": [{"outer": 0, "holes": [1]}], "area": A}`.
     #[arg(long)]
     pub json: bool,
     /// weiler-atherton: draw subject (blue), clip polygon (orange) and result (green) to this

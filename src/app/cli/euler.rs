@@ -68,7 +68,7 @@ pub struct EulerArgs {
     #[arg(long)]
     pub radians: bool,
     /// What to print: the matrix, the quaternion, or the angles in another convention
-    /// (SEQ[,extrinsic]); by default all of them in the input convention.
+    /// (`SEQ[,extrinsic]`); by default all of them in the input convention.
     #[arg(long, value_name = "matrix|quat|SEQ[,extrinsic]", value_parser = parse_euler_target, conflicts_with = "picture")]
     pub to: Option<EulerTarget>,
     /// Machine-readable output on stdout: matrix, quaternion, angles_deg, gimbal_lock, ...

@@ -8,7 +8,7 @@
 //! outline (counter-clockwise), then each of its holes (clockwise), each as a polygon of its own.
 //! Every problem is reported as `FILE:LINE: problem` before anything is written; a polygon
 //! that is not simple is refused with the two edges (by the lines of their ends) and the point
-//! where they meet. `--demo` writes the clipping lab's pictures instead ([`demo`]).
+//! where they meet. `--demo` writes the clipping lab's pictures instead (`demo`).
 
 mod demo;
 

@@ -1,7 +1,7 @@
 //! `wireflight view`: the fly-through window.
 //!
 //! This module is the I/O shell — winit window and events, the wgpu surface ([`surface`]), the
-//! egui HUD, files. Everything it shows comes from a [`Session`](session::Session) of
+//! egui HUD, files. Everything it shows comes from a [`session::Session`] of
 //! [`wireflight_draw::flythrough`] (in `--compare` mode with the compare panel of
 //! [`wireflight_present::flythrough`] as its model panel), which is pure: model → transform →
 //! clip (on the CPU, Blinn) → draw, one way.

@@ -34,7 +34,7 @@ pub struct Predicted {
     /// Air density, kg/m³ (zero for a point mass).
     pub rho: f64,
     /// What the airspeed sensor reads, m/s: the length of the air-relative velocity, changed
-    /// by the model's measurement effects ([`apply_sensors`]).
+    /// by the model's measurement effects (`apply_sensors`).
     pub airspeed: f64,
     /// What the accelerometer reads (specific force, body axes), m/s²: predicted only where
     /// the data have an accelerometer (zero elsewhere).
@@ -103,14 +103,14 @@ pub fn read_out(model: &Model, t: f64, x: &State) -> Predicted {
 
 /// Fly `model` from `x0` at sample `start` through the samples `start..end`, writing one
 /// prediction per sample into `out` and, into `states`, the state after every step the
-/// tangent-linear flight takes ([`sample_steps`]): after every integration step and at every
+/// tangent-linear flight takes (`sample_steps`): after every integration step and at every
 /// sample (both cleared; `states` begins with `x0`). Samples closer together than `max_dt`
 /// are flown in one integration step across them ([`Model::step_held`], its end no more than
 /// `max_dt` after its start), and the states at the samples inside it are read from the
 /// step's stages: the integration steps no longer double with the data rate. A diverging
 /// model holds its last finite prediction (scored as the large error it is) and its states
 /// stop there. The predictions are what the sensors read, under the model's measurement
-/// effects ([`apply_sensors`]); the states are the truth.
+/// effects (`apply_sensors`); the states are the truth.
 pub fn fly_window(
     model: &Model,
     d: &FlightData,

@@ -514,7 +514,7 @@ fn rank(ranking: &mut [Candidate]) {
 
 /// The numbers of the aircraft's set that the score test says could still explain a
 /// significant part of `model`'s misfit on `prep` — the screen `diagnose` runs before it
-/// fits any ([`could_be_significant`]) — best first. What `compare` checks before it calls
+/// fits any (`could_be_significant`) — best first. What `compare` checks before it calls
 /// an error near the noise "at the floor". Empty for a point mass.
 pub fn promising_numbers(model: &Model, prep: &Prepared, cfg: &DiagnoseConfig) -> Vec<KeyScore> {
     if prep.windows.is_empty() {

@@ -9,7 +9,7 @@
 //! (with the causes kept, if any), the intensities are reported with their ±, and every
 //! number of the causes kept is fitted again through the filter, so that it no longer
 //! carries the gusts' bias — the gusts and the numbers in turn until neither moves the other
-//! ([`settle`]). A steady wind, a sensor bias or a wrong number stay what they are:
+//! (`settle`). A steady wind, a sensor bias or a wrong number stay what they are:
 //! they are causes output error finds and keeps, and the filter refits them.
 //!
 //! In turbulence output error may keep nothing: the gusts' response hides a wrong number from

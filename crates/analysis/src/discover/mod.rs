@@ -97,7 +97,7 @@ pub struct FoundTerm {
     pub rms_after: f64,
     /// The likelihood ratio of its admission.
     pub likelihood_ratio: f64,
-    /// Held-out parts of the flight where it lowered the error, of [`FOLDS`].
+    /// Held-out parts of the flight where it lowered the error, of `FOLDS`.
     pub folds_better: usize,
     /// A physical reading of it.
     pub reading: String,

@@ -11,7 +11,7 @@
 //!   not determine stays where it was instead of wandering along a valley of the misfit, and
 //!   its posterior σ stays near the prior's: such numbers are reported as *not identified*.
 //!   The prior adds s²·Σ((θ − θ₀)/σ₀)² to the misfit, s² the residuals' variance in noise
-//!   units ([`residual_scale`]): 1 when the model fits to the noise, where it moves nothing
+//!   units (`residual_scale`): 1 when the model fits to the noise, where it moves nothing
 //!   the data determine; large when the model's structure is wrong, where a number must not
 //!   run off to absorb what no number of the model can.
 //! * **Equation error** as a fast starting point: the measured body accelerations and angular

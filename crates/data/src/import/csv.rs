@@ -10,7 +10,7 @@ pub(super) struct CsvReader;
 
 impl FlightReader for CsvReader {
     fn name(&self) -> &'static str {
-        "wireflight CSV"
+        crate::CSV_FORMAT
     }
 
     fn claims(&self, _: &Path, _: &[u8], _: &LoadOptions) -> bool {

@@ -157,7 +157,7 @@ pub struct PlotInfo {
     pub data_name: Option<String>,
     /// The "before" model, e.g. `fixed-wing aerosonde baseline` (default: "model").
     pub model_name: Option<String>,
-    /// Noise floor of the total score ([`super::compare::noise_floor`]), drawn on the
+    /// Noise floor of the total score ([`wireflight_analysis::compare::noise_floor`]), drawn on the
     /// window-score panel.
     pub noise_floor: Option<f64>,
     /// The window length the comparison was asked for, s (`--window`): the subtitles say

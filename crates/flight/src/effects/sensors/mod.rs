@@ -1,12 +1,13 @@
 //! Measurement effects: what is wrong with the sensors rather than with the airplane.
 //!
-//! They act on what the model predicts the sensors *read* ([`Effect::measure`],
-//! [`Effect::nav_delay`]), never on the flight: every hook of the dynamics keeps its default,
-//! and [`Effect::is_measurement`] says so, so the equations of motion skip them. The
+//! They act on what the model predicts the sensors *read* ([`Effect::measure`](super::Effect::measure),
+//! [`Effect::nav_delay`](super::Effect::nav_delay)), never on the flight: every hook of the
+//! dynamics keeps its default, and [`Effect::is_measurement`](super::Effect::is_measurement)
+//! says so, so the equations of motion skip them. The
 //! comparison flies the model, then applies them to its readings; a diagnosis screens and fits
 //! them like any other effect, and joins them with physical causes.
 //!
-//! [`Effect::measure`] must be affine in each channel it changes (a bias, a scale factor, a
+//! [`Effect::measure`](super::Effect::measure) must be affine in each channel it changes (a bias, a scale factor, a
 //! fixed misalignment): the comparison's linearisation takes the change of a reading per
 //! unit change of the truth from two evaluations.
 
