@@ -22,6 +22,28 @@ use crate::present::track::model_track;
 /// Bad data or model, bad effects, plot or output errors.
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let (gif_out, model_out) = outputs(args)?;
+    let inputs = crate::app::workbench::flight_inputs(
+        std::slice::from_ref(&args.flight),
+        ("--reference", &args.reference),
+        args.model.model.as_deref(),
+    );
+    crate::app::outputs::refuse_inputs_as_outputs(
+        &inputs,
+        &[
+            ("--out", args.out.as_deref()),
+            ("--report", args.report.as_deref()),
+        ]
+        .into_iter()
+        .filter_map(|(o, p)| p.map(|p| (o, p)))
+        .collect::<Vec<_>>(),
+        &[
+            ("--plots", args.plots.as_deref()),
+            ("--frames-dir", args.frames_dir.as_deref()),
+        ]
+        .into_iter()
+        .filter_map(|(o, p)| p.map(|p| (o, p)))
+        .collect::<Vec<_>>(),
+    )?;
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     // A model also flown on the references must not read the test flight's record there.

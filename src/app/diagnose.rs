@@ -28,6 +28,19 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     if let Some(report) = &args.report {
         check_report(report)?;
     }
+    let inputs = crate::app::workbench::flight_inputs(
+        std::slice::from_ref(&args.flight),
+        ("--reference", &args.reference),
+        args.model.model.as_deref(),
+    );
+    let outputs: Vec<(&str, &std::path::Path)> = [
+        ("--out", args.out.as_deref()),
+        ("--report", args.report.as_deref()),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| p.map(|p| (o, p)))
+    .collect();
+    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &outputs, &[])?;
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     let (base, declared, config) = model_and_candidates(args, &data, !references.is_empty())?;

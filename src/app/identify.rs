@@ -24,6 +24,14 @@ use crate::flight::params::keys;
 /// # Errors
 /// Bad data, model or keys; a point mass; a flight too short for a window.
 pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
+    let inputs = crate::app::workbench::flight_inputs(
+        &args.flight,
+        ("--validate", &args.validate),
+        args.model.model.as_deref(),
+    );
+    if let Some(out) = &args.out {
+        crate::app::outputs::refuse_inputs_as_outputs(&inputs, &[("--out", out)], &[])?;
+    }
     // Every file through the one reader of the commands (CSV, ULog, column maps), as compare.
     let flights: Vec<FlightData> = args
         .flight

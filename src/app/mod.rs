@@ -13,6 +13,7 @@ pub mod discover;
 pub mod euler;
 pub mod identify;
 pub mod import;
+pub(crate) mod outputs;
 pub mod render;
 pub mod simulate;
 pub mod view;

@@ -21,6 +21,19 @@ use glam::Vec4;
 /// # Errors
 /// Bad mesh files, unknown output format, GPU failures with `--backend gpu`, write errors.
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    let mut inputs: Vec<(&str, &std::path::Path)> =
+        vec![("--mesh", std::path::Path::new(&args.mesh))];
+    if let Some(f) = &args.flight {
+        inputs.push(("--flight", f));
+    }
+    let outputs: Vec<(&str, &std::path::Path)> =
+        args.out.iter().map(|o| ("--out", o.as_path())).collect();
+    let dirs: Vec<(&str, &std::path::Path)> = args
+        .frames_dir
+        .iter()
+        .map(|d| ("--frames-dir", d.as_path()))
+        .collect();
+    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &outputs, &dirs)?;
     let mesh_name = mesh_name(args)?;
     let mesh = crate::draw::mesh_files::load_named(&mesh_name)?;
     let viewport = Viewport {

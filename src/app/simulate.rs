@@ -18,6 +18,19 @@ use crate::flight::turbulence::Turbulence;
 /// Bad model or effect specs, a manoeuvre for the other vehicle, no trim, divergence, write
 /// errors.
 pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
+    let mut inputs: Vec<(&str, &std::path::Path)> = Vec::new();
+    if let Some(m) = &args.model {
+        inputs.push(("--model", m));
+    }
+    for (option, arg) in [
+        ("--aircraft", Some(&args.aircraft)),
+        ("--sensor-errors", args.sensor_errors.as_ref()),
+    ] {
+        if let Some(a) = arg {
+            inputs.push((option, std::path::Path::new(a.as_str())));
+        }
+    }
+    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &[("--out", &args.out)], &[])?;
     let (spec, truth) = model_specs(args)?;
     let listed: Vec<String> = spec.effects.iter().map(EffectSpec::to_arg).collect();
     let origin = Origin {

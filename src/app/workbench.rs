@@ -6,27 +6,60 @@ use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
 
 /// The `--reference` flights, read as the test flight is and each checked to be one
-/// ([`crate::analysis::reference::check_reference`]): refused with the reason otherwise.
+/// ([`crate::analysis::reference::check_reference`]): refused with the reason otherwise. The
+/// test flight under another name (a spelling, a link, a byte-identical copy) is refused: a
+/// flight judged against itself is always normal. A reference given twice is used once,
+/// with a note.
 pub(crate) fn load_references(
     paths: &[std::path::PathBuf],
     flight: &std::path::Path,
     data: &crate::data::FlightData,
     how: &crate::app::cli::DataArgs,
 ) -> anyhow::Result<Vec<(String, crate::data::FlightData)>> {
-    paths
+    let one_flight = |a: &std::path::Path, b: &std::path::Path| {
+        a == b || crate::fsio::is_same_file(a, b) || crate::fsio::same_contents(a, b)
+    };
+    let mut taken: Vec<&std::path::Path> = Vec::new();
+    let mut out = Vec::new();
+    for p in paths {
+        if one_flight(p, flight) {
+            anyhow::bail!(
+                "{}: the test flight cannot be its own reference (it is {}: the same file or a \
+                 byte-identical copy)",
+                crate::app::shown(p),
+                crate::app::shown(flight)
+            );
+        }
+        if let Some(first) = taken.iter().find(|q| one_flight(p, q)) {
+            eprintln!(
+                "wireflight: note: --reference {} is {} again (the same file or a \
+                 byte-identical copy): used once",
+                crate::app::shown(p),
+                crate::app::shown(first)
+            );
+            continue;
+        }
+        taken.push(p);
+        let r = crate::app::data::load_flight(p, how)?;
+        let name = crate::app::shown(p).to_string();
+        crate::analysis::reference::check_reference(data, &r, &name)?;
+        out.push((name, r));
+    }
+    Ok(out)
+}
+
+/// The input files of a workbench command, each with its option: the flights, the reference
+/// (or held-out) flights, the model file.
+pub(crate) fn flight_inputs<'a>(
+    flights: &'a [std::path::PathBuf],
+    (others_option, others): (&'static str, &'a [std::path::PathBuf]),
+    model: Option<&'a std::path::Path>,
+) -> Vec<(&'static str, &'a std::path::Path)> {
+    flights
         .iter()
-        .map(|p| {
-            if p == flight {
-                anyhow::bail!(
-                    "{}: the test flight cannot be its own reference",
-                    crate::app::shown(p)
-                );
-            }
-            let r = crate::app::data::load_flight(p, how)?;
-            let name = crate::app::shown(p).to_string();
-            crate::analysis::reference::check_reference(data, &r, &name)?;
-            Ok((name, r))
-        })
+        .map(|p| ("--flight", p.as_path()))
+        .chain(others.iter().map(|p| (others_option, p.as_path())))
+        .chain(model.map(|m| ("--model", m)))
         .collect()
 }
 

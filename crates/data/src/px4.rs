@@ -1,7 +1,7 @@
 //! PX4 flight logs as [`FlightData`]: the topics a flight needs, taken out of a ULog file
-//! ([`super::ulog`]), cleaned, and resampled onto one uniform time base.
+//! ([`super::ulog`]), cleaned, each kept at its own samples' times.
 //!
-//! | channel | topic and fields | resampling |
+//! | channel | topic and fields | between its samples |
 //! |---|---|---|
 //! | position | `vehicle_local_position` `x, y, z` (NED about `ref_lat, ref_lon, ref_alt`); without it `vehicle_global_position` `lat, lon, alt`, then `vehicle_gps_position` (`lat, lon, alt` in 1e-7°, mm, or `latitude_deg, longitude_deg, altitude_msl_m`), made local NED about the first sample on a flat earth | linear |
 //! | NED velocity | `vehicle_local_position` `vx, vy, vz` | linear |
@@ -17,22 +17,25 @@
 //! output) are reported but not used: which output drives which surface is in the mixer, not
 //! the log.
 //!
-//! The time base runs over the span where position and attitude both have samples, at
-//! [`UlogOptions::rate_hz`] or a round rate ([`nice_rate`]) not above the faster of the
-//! position's and the attitude's median rates (at most [`DEFAULT_MAX_RATE_HZ`]);
-//! time 0 is its first sample, whose ULog time stamp is kept in the metadata as
-//! `ulog_time_zero_us`. Another channel is used when it covers at least
-//! [`MIN_COVERAGE`] of that span (held at its ends); otherwise it is left out and the report
-//! says so. Samples with a zero time stamp or non-finite values are dropped; samples out of time
+//! The flight runs over the span where position and attitude both have samples. Each
+//! measured channel keeps its own samples there, at most [`UlogOptions::rate_hz`] of them a
+//! second — by default a round rate ([`nice_rate`]) not above the faster of the position's
+//! and the attitude's median rates (at most [`DEFAULT_MAX_RATE_HZ`]); a faster topic is
+//! thinned to samples it has, never interpolated. The flight's rows are the union of those
+//! times, and each row says which channels it is a sample of ([`crate::Sampling`]); between
+//! its samples a channel is filled in as the table says. Time 0 is the first row, whose ULog
+//! time stamp is kept in the metadata as `ulog_time_zero_us`. A channel other than position
+//! and attitude is used when it covers at least [`MIN_COVERAGE`] of that span (held at its
+//! ends); otherwise it is left out and the report says so. Samples with a zero time stamp or non-finite values are dropped; samples out of time
 //! order are sorted and noted (more than 1 % of a topic's is an error: not a time series),
 //! repeated time stamps keep the last; a time stamp more than 1e9 s from the log's start is an
 //! error. Values are held to the CSV reader's ranges (positions ±1e8 m, velocities ±1e5 m/s,
 //! rates ±1e4 rad/s, accelerations ±50 g, latitude, longitude, altitude, surfaces ±90°), derived channels too, the
 //! error naming the topic, field and time stamp. Attitude is used only when at least half its
-//! quaternions are near unit length (the report says how many are). The time base may hold
-//! at most [`MAX_SAMPLES_PER_SAMPLE`] samples per position and attitude sample of the log (at
-//! least [`MIN_SAMPLES_BOUND`]): a time stamp moved far from the others is refused, not
-//! interpolated into millions of samples. The origin (latitude, longitude,
+//! quaternions are near unit length (the report says how many are). The span may hold at
+//! most [`MAX_SAMPLES_PER_SAMPLE`] intervals of the rate per position and attitude sample of
+//! the log (at least [`MIN_SAMPLES_BOUND`]): a time stamp moved far from the others is
+//! refused, not bridged by a straight line over hours. The origin (latitude, longitude,
 //! altitude) comes from the local position's reference when it is global, else from the first
 //! global sample. `MAV_TYPE` 1 (fixed wing) with attitude and controls makes the data
 //! `vehicle: fixed-wing`; other vehicle types leave the vehicle to `--vehicle`.
@@ -200,9 +203,9 @@ pub fn from_ulog(
             format!("; the longest gap: {g:.1} s after {at:.3} s in {topic}")
         });
         return Err(err(UlogErrorKind::BadValues(format!(
-            "{:.0} s at {} would be {n:.0} samples, more than {MAX_SAMPLES_PER_SAMPLE} for each \
+            "{:.0} s at {} spans {n:.0} samples, more than {MAX_SAMPLES_PER_SAMPLE} for each \
              of the {held} position and attitude samples the log holds ({bound}): a time stamp \
-             far from the others, or too high a resampling rate? ({}{gap})",
+             far from the others, or too high a rate? ({}{gap})",
             t1 - t0,
             rate_text(rate),
             spans()
@@ -210,8 +213,8 @@ pub fn from_ulog(
     }
     if n > MAX_SAMPLES as f64 {
         return Err(err(UlogErrorKind::BadValues(format!(
-            "{:.0} s at {} would be {n:.0} samples, more than {MAX_SAMPLES}: choose a lower \
-             resampling rate",
+            "{:.0} s at {} spans {n:.0} samples, more than {MAX_SAMPLES}: choose a lower \
+             rate (--resample)",
             t1 - t0,
             rate_text(rate)
         ))));
@@ -296,7 +299,7 @@ pub fn from_ulog(
     // NED velocity, from the local position when it has it.
     if let Some(v) = vel {
         v.check_all(file, &[Quantity::Vn, Quantity::Ve, Quantity::Vd])?;
-        if use_channel(&mut report, "NED velocity", &v, "vx, vy, vz", span, "") {
+        if use_channel(&mut report, "NED velocity", &v, "vx, vy, vz", within, "") {
             let c = v.linear(&grid);
             data.vel_ned = Some(
                 (0..grid.len())
@@ -357,7 +360,7 @@ pub fn from_ulog(
     match rates {
         Some((r, fields)) => {
             r.check_all(file, &[Quantity::P, Quantity::Q, Quantity::R])?;
-            if use_channel(&mut report, "body rates", &r, fields, span, "") {
+            if use_channel(&mut report, "body rates", &r, fields, within, "") {
                 let c = r.linear(&grid);
                 data.rates_body = Some(
                     (0..grid.len())
@@ -391,7 +394,7 @@ pub fn from_ulog(
                 "airspeed",
                 &a,
                 "true_airspeed_m_s",
-                span,
+                within,
                 &note,
             ) {
                 data.airspeed = Some(a.linear(&grid).swap_remove(0));
@@ -404,7 +407,7 @@ pub fn from_ulog(
     match accel {
         Some((a, fields)) => {
             a.check_all(file, &[Quantity::Ax, Quantity::Ay, Quantity::Az])?;
-            if use_channel(&mut report, "accelerometer", &a, fields, span, "") {
+            if use_channel(&mut report, "accelerometer", &a, fields, within, "") {
                 let c = a.linear(&grid);
                 data.accel_body = Some(
                     (0..grid.len())
@@ -528,9 +531,14 @@ fn own_times(t: &[f64], (t0, t1): (f64, f64), rate: f64) -> Vec<f64> {
 }
 
 /// Whether `series` covers enough of `span` to be used ([`MIN_COVERAGE`]).
-fn covers(series: &Series, (t0, t1): (f64, f64)) -> bool {
+fn covers(series: &Series, span: (f64, f64)) -> bool {
+    coverage(series, span) >= MIN_COVERAGE
+}
+
+/// The fraction of `span` that `series` covers.
+fn coverage(series: &Series, (t0, t1): (f64, f64)) -> f64 {
     let (a, b) = series.span();
-    (b.min(t1) - a.max(t0)).max(0.0) / (t1 - t0).max(f64::MIN_POSITIVE) >= MIN_COVERAGE
+    (b.min(t1) - a.max(t0)).max(0.0) / (t1 - t0).max(f64::MIN_POSITIVE)
 }
 
 /// The sample times kept of each measured channel (empty: not used).
@@ -1024,7 +1032,7 @@ fn use_channel(
     note: &str,
 ) -> bool {
     let (a, b) = series.span();
-    let covered = (b.min(t1) - a.max(t0)).max(0.0) / (t1 - t0).max(f64::MIN_POSITIVE);
+    let covered = coverage(series, (t0, t1));
     let source = format!("{} {fields}", series.topic);
     let used = covered >= MIN_COVERAGE;
     let note = if used {

@@ -176,6 +176,63 @@ pub fn read_text(path: &Path) -> std::io::Result<String> {
     })
 }
 
+/// Whether `a` and `b` name one file on disk, under any spelling, symbolic link or hard link
+/// (the same device and inode). False when either cannot be looked at.
+pub fn is_same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        (Ok(x), Ok(y)) => same_identity(&x, &y, a, b),
+        _ => false,
+    }
+}
+
+#[cfg(unix)]
+fn same_identity(x: &std::fs::Metadata, y: &std::fs::Metadata, _: &Path, _: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt;
+    x.dev() == y.dev() && x.ino() == y.ino()
+}
+
+#[cfg(not(unix))]
+fn same_identity(_: &std::fs::Metadata, _: &std::fs::Metadata, a: &Path, b: &Path) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+}
+
+/// Whether `a` and `b` are regular files holding the same bytes: a copy is the same data
+/// under another name. Read in chunks, the sizes compared first; false when either cannot
+/// be read.
+pub fn same_contents(a: &Path, b: &Path) -> bool {
+    let (Ok(mut x), Ok(mut y)) = (open_regular(a), open_regular(b)) else {
+        return false;
+    };
+    match (x.metadata(), y.metadata()) {
+        (Ok(mx), Ok(my)) if mx.len() == my.len() => {}
+        _ => return false,
+    }
+    let (mut bx, mut by) = (vec![0u8; 1 << 16], vec![0u8; 1 << 16]);
+    loop {
+        let (Ok(n), Ok(m)) = (read_full(&mut x, &mut bx), read_full(&mut y, &mut by)) else {
+            return false;
+        };
+        if n != m || bx[..n] != by[..m] {
+            return false;
+        }
+        if n < bx.len() {
+            return true;
+        }
+    }
+}
+
+/// Reads until `buf` is full or the end: the bytes read.
+fn read_full(r: &mut impl std::io::Read, buf: &mut [u8]) -> std::io::Result<usize> {
+    let mut n = 0;
+    while n < buf.len() {
+        match r.read(&mut buf[n..])? {
+            0 => break,
+            k => n += k,
+        }
+    }
+    Ok(n)
+}
+
 /// The memory this process may still allocate, bytes, as far as the system says: the least of
 /// `MemAvailable` (`/proc/meminfo`) and the room left under the control group's limit (cgroup
 /// v2 `memory.max` − `memory.current`, or v1 `memory.limit_in_bytes` − `memory.usage_in_bytes`).

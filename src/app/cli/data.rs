@@ -18,9 +18,10 @@ pub struct DataArgs {
     /// (e.g. `time=t_us:us,north=x,east=y,down=z,roll=phi:deg,…`) or a .toml file.
     #[arg(long, value_name = "MAP|FILE.toml", value_parser = parse_columns)]
     pub columns: Option<ColumnMap>,
-    /// PX4 ULog: resample onto this rate, Hz [default: a round rate (50, 25, 20, 10, 5, 2, 1)
-    /// not above the position's and attitude's]. Refused for a CSV, whose samples are used
-    /// as they are.
+    /// PX4 ULog: keep at most this many samples a second of each topic, Hz (a faster topic is
+    /// thinned to samples it has, each at its own time) [default: a round rate (50, 25, 20,
+    /// 10, 5, 2, 1) not above the position's and attitude's]. Refused for a CSV, whose samples
+    /// are used as they are.
     #[arg(long, value_name = "HZ", value_parser = resample_rate)]
     pub resample: Option<f64>,
     /// PX4 ULog: surface deflection of a full (±1) PX4 roll/pitch/yaw command, degrees, in

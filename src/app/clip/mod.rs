@@ -52,6 +52,22 @@ fn timed<E: Copy, P>(
 /// Unreadable or oversized input, a malformed line (`FILE:LINE: problem`), an algorithm that
 /// does not apply to the input's kind, an unwritable output.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
+    let inputs: Vec<(&str, &std::path::Path)> = [
+        ("--input", args.input.as_deref()),
+        ("--subject", args.subject.as_deref()),
+        ("--clip", args.clip.as_deref()),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| p.map(|p| (o, p)))
+    .collect();
+    let outputs: Vec<(&str, &std::path::Path)> = [
+        ("--out", Some(args.output.as_path())),
+        ("--picture", args.picture.as_deref()),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| p.map(|p| (o, p)))
+    .collect();
+    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &outputs, &[])?;
     if args.algo == Algo::WeilerAtherton {
         return polygons::run(args);
     }

@@ -73,3 +73,105 @@ fn control_characters_from_input_are_escaped_in_messages() {
         "{err}"
     );
 }
+
+/// No output may be an input: the flight under its own name, another spelling or a hard
+/// link, for every command that writes over a file it reads; an output directory replaced
+/// whole that holds an input. Refused before any work, the input left as it was.
+#[test]
+fn an_output_that_is_an_input_is_refused_and_the_input_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let f = flight(d, "f.csv", &[]);
+    let before = std::fs::read(&f).unwrap();
+    std::fs::hard_link(&f, d.join("linked.csv")).unwrap();
+    // The flight under the names of other outputs: a page, a model file.
+    std::fs::hard_link(&f, d.join("f.html")).unwrap();
+    std::fs::hard_link(&f, d.join("m.toml")).unwrap();
+    std::fs::create_dir(d.join("sub")).unwrap();
+    for (args, words) in [
+        (
+            vec!["import", "--flight", "f.csv", "--out", "f.csv"],
+            vec!["f.csv", "--out names the --flight file"],
+        ),
+        (
+            vec!["import", "--flight", "f.csv", "--out", "./sub/../f.csv"],
+            vec!["--out names the --flight file (as f.csv)"],
+        ),
+        (
+            vec!["import", "--flight", "f.csv", "--out", "linked.csv"],
+            vec!["linked.csv", "--out names the --flight file"],
+        ),
+        (
+            vec!["compare", "--flight", "f.html", "--report", "f.html"],
+            vec!["f.html", "--report names the --flight file"],
+        ),
+        (
+            vec!["compare", "--flight", "f.csv", "--report", "f.html"],
+            vec!["--report names the --flight file (as f.csv)"],
+        ),
+        (
+            vec!["diagnose", "--flight", "f.csv", "--out", "m.toml"],
+            vec!["--out names the --flight file (as f.csv)"],
+        ),
+        (
+            vec!["simulate", "--model", "f.csv", "--out", "f.csv"],
+            vec!["--out names the --model file"],
+        ),
+        (
+            vec!["render", "--flight", "f.csv", "--frames-dir", "."],
+            vec!["--frames-dir is replaced whole", "f.csv"],
+        ),
+        (
+            vec!["compare", "--flight", "f.csv", "--plots", "."],
+            vec!["--plots is replaced whole"],
+        ),
+    ] {
+        let o = run(&args, d);
+        assert_refused(&o, &words);
+        assert_eq!(
+            std::fs::read(&f).unwrap(),
+            before,
+            "{args:?} changed the flight"
+        );
+    }
+}
+
+/// The test flight as its own reference under any name — a spelling, a link, a byte-identical
+/// copy — is refused: judged against itself a flight is always normal. The same reference
+/// twice is used once, with a note.
+#[test]
+fn a_flight_is_never_its_own_reference_and_a_reference_counts_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let f = flight(d, "q.csv", &["--hidden", "aircraft:c_m_q=-20"]);
+    std::fs::copy(&f, d.join("copy.csv")).unwrap();
+    std::os::unix::fs::symlink(&f, d.join("sym.csv")).unwrap();
+    for reference in ["./q.csv", "copy.csv", "sym.csv"] {
+        let o = run(
+            &["diagnose", "--flight", "q.csv", "--reference", reference],
+            d,
+        );
+        assert_refused(&o, &[reference, "cannot be its own reference"]);
+    }
+    let r = flight(d, "r.csv", &["--seed", "2"]);
+    std::fs::copy(&r, d.join("r2.csv")).unwrap();
+    let o = run(
+        &[
+            "compare",
+            "--flight",
+            "q.csv",
+            "--reference",
+            "r.csv",
+            "--reference",
+            "r2.csv",
+            "--json",
+        ],
+        d,
+    );
+    assert_ok(&o);
+    assert!(
+        stderr(&o).contains("--reference r2.csv is r.csv again"),
+        "{}",
+        stderr(&o)
+    );
+}
