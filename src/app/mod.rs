@@ -77,6 +77,7 @@ where
     }
     crate::fsio::set_input_limits(crate::fsio::InputLimits {
         max_file_bytes: cli.max_input_mb.saturating_mul(1 << 20),
+        max_config_bytes: cli.max_config_mb.saturating_mul(1 << 20),
         allow_external_uris: cli.allow_external_uris,
     });
     crate::draw::progress::set_quiet(cli.quiet);

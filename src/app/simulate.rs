@@ -54,6 +54,14 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
     let max_bytes = crate::fsio::available_memory().map_or(u64::MAX, |free| free / 10 * 9);
     let flight = simulate_bounded(&model, &sim, args.max_samples, max_bytes)?;
     drop(progress);
+    if flight.duration() + 0.5 / args.rate < args.duration && manoeuvre != Manoeuvre::Ballistic {
+        eprintln!(
+            "wireflight: note: the aircraft reached the ground (the origin's altitude, {} m) at \
+             t = {:.2} s; the flight ends there",
+            args.altitude,
+            flight.duration()
+        );
+    }
     data::write(&args.out, &flight)?;
     println!("{}", summary(args, &spec, manoeuvre, &listed, &flight));
     Ok(())

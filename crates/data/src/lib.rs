@@ -221,6 +221,14 @@ pub enum DataErrorKind {
         /// Why the value is rejected (quoting it).
         reason: String,
     },
+    /// A metadata key the data read given twice: which value was meant is not known.
+    #[error("metadata `{key}` is given twice (first on line {first_line}): give it once")]
+    RepeatedMetadata {
+        /// The key.
+        key: String,
+        /// The line of its first value.
+        first_line: usize,
+    },
     /// Two columns with the same name, or two giving the same quantity.
     #[error("duplicate column: it gives the same quantity as column {first_index} `{first}`")]
     DuplicateColumn {

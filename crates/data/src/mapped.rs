@@ -395,7 +395,7 @@ impl ColumnMap {
                 file: Some(value.to_string()),
                 problem,
             };
-            let text = wireflight_fsio::read_text(std::path::Path::new(value))
+            let text = wireflight_fsio::read_config_text(std::path::Path::new(value))
                 .map_err(|e| in_file(MapProblem::Unreadable(e)))?;
             return Self::from_toml(&text).map_err(|e| in_file(e.problem));
         }

@@ -54,8 +54,9 @@ pub fn read(path: &Path) -> Result<FlightData, DataError> {
 ///
 /// Rules: blank lines are skipped anywhere; `#` lines before the header are metadata
 /// (`# key: value`; `#` lines without a colon are comments), `#` lines after it are comments;
-/// cells are separated by commas and trimmed; unknown columns are ignored; a metadata key given
-/// twice keeps the last value.
+/// cells are separated by commas and trimmed; unknown columns are ignored; a metadata key the
+/// reader uses (`vehicle`, `aircraft`, the origin, `mass_kg`, `reference_area_m2`, `source`)
+/// given twice is an error, other keys are kept in file order.
 ///
 /// # Errors
 /// [`DataError`]: bad metadata values, no header, no rows, duplicate or missing required
@@ -139,6 +140,7 @@ fn read_metadata<'t>(
     errors: &Errors,
 ) -> Result<(Metadata, usize, &'t str), DataError> {
     let mut meta = Metadata::default();
+    let mut seen = Vec::new();
     let mut last_line = 0;
     for (n, l) in lines {
         last_line = n;
@@ -146,7 +148,7 @@ fn read_metadata<'t>(
             continue;
         }
         if let Some(rest) = l.strip_prefix('#') {
-            parse_metadata(rest, &mut meta).map_err(|k| errors.at(n, None, k))?;
+            parse_metadata(rest, &mut meta, (n, &mut seen)).map_err(|k| errors.at(n, None, k))?;
             continue;
         }
         return Ok((meta, n, l));
@@ -154,14 +156,41 @@ fn read_metadata<'t>(
     Err(errors.at(last_line.max(1), None, DataErrorKind::Empty))
 }
 
-/// One metadata line (after the `#`).
-pub(super) fn parse_metadata(rest: &str, meta: &mut Metadata) -> Result<(), DataErrorKind> {
+/// One metadata line (after the `#`), on `line`; `seen` holds the keys the reader uses that
+/// earlier lines gave, with their lines.
+///
+/// # Errors
+/// A bad value, or a key the reader uses given a second time (which was meant is not known).
+pub(super) fn parse_metadata(
+    rest: &str,
+    meta: &mut Metadata,
+    (line, seen): (usize, &mut Vec<(String, usize)>),
+) -> Result<(), DataErrorKind> {
     let Some((key, value)) = rest.split_once(':') else {
         return Ok(()); // a comment
     };
     let (key, value) = (key.trim(), value.trim());
     if key.is_empty() {
         return Ok(());
+    }
+    const USED: [&str; 8] = [
+        "vehicle",
+        "aircraft",
+        "latitude_deg",
+        "longitude_deg",
+        "altitude_m",
+        "mass_kg",
+        "reference_area_m2",
+        "source",
+    ];
+    if USED.contains(&key) {
+        if let Some((_, first_line)) = seen.iter().find(|(k, _)| k == key) {
+            return Err(DataErrorKind::RepeatedMetadata {
+                key: key.to_string(),
+                first_line: *first_line,
+            });
+        }
+        seen.push((key.to_string(), line));
     }
     let bad = |reason: String| DataErrorKind::BadMetadata {
         key: key.to_string(),
@@ -764,6 +793,19 @@ mod tests {
         assert!(e.to_string().contains("glider"), "{e}");
         let e = parse("# altitude_m: inf\n", "m.csv").unwrap_err();
         assert!(e.to_string().contains("finite"), "{e}");
+        // A key the reader uses, given twice: which was meant is not known.
+        let e = parse("# aircraft: a\n# note: x\n# aircraft: b\n", "m.csv").unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "m.csv: line 3: metadata `aircraft` is given twice (first on line 1): give it once"
+        );
+        // Other keys are kept, in file order.
+        let d = parse(
+            "# note: a\n# note: b\ntime_s,north_m,east_m,down_m\n0,0,0,0\n",
+            "m.csv",
+        )
+        .unwrap();
+        assert_eq!(d.meta.other.len(), 2);
     }
 
     #[test]

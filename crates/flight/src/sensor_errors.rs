@@ -473,11 +473,12 @@ impl SensorErrors {
     /// # Errors
     /// The file cannot be read, or its text is refused ([`parse`](Self::parse)).
     pub fn load(path: &Path) -> Result<Self, SensorErrorsError> {
-        let text =
-            wireflight_fsio::read_text(path).map_err(|source| SensorErrorsError::Unreadable {
+        let text = wireflight_fsio::read_config_text(path).map_err(|source| {
+            SensorErrorsError::Unreadable {
                 path: path.to_path_buf(),
                 source,
-            })?;
+            }
+        })?;
         Self::parse(&text, &path.display().to_string())
     }
 

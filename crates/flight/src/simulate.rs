@@ -232,7 +232,8 @@ pub const DEFAULT_MAX_SAMPLES: u64 = 2_000_000;
 const STEPS_PER_SAMPLE_LIMIT: u64 = 10;
 
 /// Fly `spec` with `model` and return the (noisy) recorded flight; at most
-/// [`DEFAULT_MAX_SAMPLES`] samples (see [`simulate_limited`]).
+/// [`DEFAULT_MAX_SAMPLES`] samples (see [`simulate_limited`]). The ground is the origin's
+/// altitude: a flight that reaches it (down > 0) ends at that sample, shorter than asked.
 ///
 /// # Errors
 /// As [`simulate_limited`].
@@ -406,6 +407,9 @@ pub fn simulate_bounded(
                 // until the next sample, as the controls column records them).
                 let accel = model.specific_force(t, &x, &cmd);
                 truth.push_fixed_wing(t, &x, air.airspeed, cmd, accel);
+                if x.pos_ned().z > 0.0 {
+                    break; // on the ground (the origin's altitude): the flight ends here
+                }
                 let next = model.advance(t, &x, &cmd, t + dt_out, max_dt);
                 if !next.is_finite() {
                     return Err(model

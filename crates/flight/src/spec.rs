@@ -59,6 +59,14 @@ pub enum SpecError {
         /// The spec it is in.
         spec: String,
     },
+    /// A parameter given twice in one spec: which value was meant is not known.
+    #[error("`{key}` is given twice in `{spec}`: give each parameter once")]
+    RepeatedParameter {
+        /// The parameter.
+        key: String,
+        /// The spec it is in.
+        spec: String,
+    },
     /// A `k=v` that is not one.
     #[error("`{item}` in `{spec}` is not name=value")]
     NotNameValue {
@@ -283,9 +291,26 @@ fn parse_values(spec: &str, rest: &str) -> Result<Vec<(String, f64)>, SpecError>
             });
         };
         let value = finite_value(spec, k, v)?;
-        params.push((k.trim().to_string(), value));
+        push_once(&mut params, k.trim(), value, spec)?;
     }
     Ok(params)
+}
+
+/// Appends `key = value` to `params`, refusing a key already there.
+fn push_once(
+    params: &mut Vec<(String, f64)>,
+    key: &str,
+    value: f64,
+    spec: &str,
+) -> Result<(), SpecError> {
+    if params.iter().any(|(k, _)| k == key) {
+        return Err(SpecError::RepeatedParameter {
+            key: key.to_string(),
+            spec: spec.to_string(),
+        });
+    }
+    params.push((key.to_string(), value));
+    Ok(())
 }
 
 /// `v` as a finite number, or the error naming it, its key and the spec.
@@ -349,6 +374,12 @@ impl EffectSpec {
             let Some((k, v)) = kv.split_once('=') else {
                 if aircraft {
                     let key = crate::params::keys::find(kv).ok_or_else(|| not_aircraft(kv))?;
+                    if fit.iter().any(|f| f == key.name) {
+                        return Err(SpecError::RepeatedParameter {
+                            key: kv.to_string(),
+                            spec: text.to_string(),
+                        });
+                    }
                     fit.push(key.name.to_string());
                     continue;
                 }
@@ -361,7 +392,7 @@ impl EffectSpec {
                 return Err(not_aircraft(k.trim()));
             }
             let value = finite_value(text, k, v)?;
-            params.push((k.trim().to_string(), value));
+            push_once(&mut params, k.trim(), value, text)?;
         }
         if aircraft && params.is_empty() && fit.is_empty() {
             return Err(SpecError::NoAircraftParameter(text.to_string()));
@@ -493,10 +524,11 @@ impl ModelSpec {
     /// Unreadable file, bad TOML, unknown keys, effects or parameters — naming the file and
     /// the field.
     pub fn load(path: &Path) -> Result<Self, SpecError> {
-        let text = wireflight_fsio::read_text(path).map_err(|source| SpecError::Unreadable {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let text =
+            wireflight_fsio::read_config_text(path).map_err(|source| SpecError::Unreadable {
+                path: path.to_path_buf(),
+                source,
+            })?;
         let mut spec = Self::from_toml(&text).map_err(|e| SpecError::BadFile {
             path: path.to_path_buf(),
             source: Box::new(e),
@@ -776,6 +808,25 @@ fn field_type(field: &'static str, expected: &'static str) -> SpecError {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_parameter_given_twice_is_refused_not_overwritten() {
+        for (spec, key) in [
+            ("wind:north_mps=1,north_mps=3", "north_mps"),
+            ("nav_delay:delay_s=0.5, delay_s=0.1", "delay_s"),
+            ("aircraft:c_m_q=-20,c_m_q=-10", "c_m_q"),
+            ("aircraft:c_m_q,c_m_q", "c_m_q"),
+            ("term(m=k*q):k=1,k=2", "k"),
+        ] {
+            let e = EffectSpec::parse(spec).unwrap_err();
+            assert!(
+                matches!(&e, SpecError::RepeatedParameter { key: k, .. } if k == key),
+                "{spec}: {e}"
+            );
+            assert!(e.to_string().contains("is given twice"), "{e}");
+        }
+        assert!(EffectSpec::parse("wind:north_mps=1,east_mps=3").is_ok());
+    }
 
     #[test]
     fn model_file_with_effect_parameters() {

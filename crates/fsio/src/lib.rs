@@ -65,11 +65,18 @@ macro_rules! refuse_unless {
 /// Default largest input file, MiB (`--max-input-mb`).
 pub const DEFAULT_MAX_INPUT_MB: u64 = 1024;
 
+/// Default largest configuration file (model, parameter set, column map, sensor errors),
+/// MiB (`--max-config-mb`): such files are a few kB, and a TOML reader may take several
+/// times a file's size in memory.
+pub const DEFAULT_MAX_CONFIG_MB: u64 = 16;
+
 /// What input files may be: set once at start-up from the command line.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct InputLimits {
     /// Largest file read, bytes.
     pub max_file_bytes: u64,
+    /// Largest configuration file read ([`read_config_text`]), bytes.
+    pub max_config_bytes: u64,
     /// Whether a glTF file may name buffers outside its own directory (absolute paths,
     /// `file://` URIs, `..`).
     pub allow_external_uris: bool,
@@ -79,17 +86,20 @@ impl Default for InputLimits {
     fn default() -> Self {
         Self {
             max_file_bytes: DEFAULT_MAX_INPUT_MB << 20,
+            max_config_bytes: DEFAULT_MAX_CONFIG_MB << 20,
             allow_external_uris: false,
         }
     }
 }
 
 static MAX_FILE_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_INPUT_MB << 20);
+static MAX_CONFIG_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_CONFIG_MB << 20);
 static ALLOW_EXTERNAL_URIS: AtomicBool = AtomicBool::new(false);
 
 /// Set the input limits of this process (the command line does, once).
 pub fn set_input_limits(limits: InputLimits) {
     MAX_FILE_BYTES.store(limits.max_file_bytes, Ordering::Relaxed);
+    MAX_CONFIG_BYTES.store(limits.max_config_bytes, Ordering::Relaxed);
     ALLOW_EXTERNAL_URIS.store(limits.allow_external_uris, Ordering::Relaxed);
 }
 
@@ -97,6 +107,7 @@ pub fn set_input_limits(limits: InputLimits) {
 pub fn input_limits() -> InputLimits {
     InputLimits {
         max_file_bytes: MAX_FILE_BYTES.load(Ordering::Relaxed),
+        max_config_bytes: MAX_CONFIG_BYTES.load(Ordering::Relaxed),
         allow_external_uris: ALLOW_EXTERNAL_URIS.load(Ordering::Relaxed),
     }
 }
@@ -136,16 +147,24 @@ pub fn open_regular(path: &Path) -> std::io::Result<std::fs::File> {
 /// The OS error, or `InvalidInput` saying that the path is not a regular file or is larger than
 /// the limit (and how to raise it). The message does not repeat the path.
 pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
+    read_bounded(
+        path,
+        MAX_FILE_BYTES.load(Ordering::Relaxed),
+        "--max-input-mb",
+    )
+}
+
+/// [`read_bytes`] with the limit `limit` bytes, which `option` raises.
+fn read_bounded(path: &Path, limit: u64, option: &str) -> std::io::Result<Vec<u8>> {
     use std::io::{Error, ErrorKind};
     let file = open_regular(path)?;
     let meta = file.metadata()?;
-    let limit = MAX_FILE_BYTES.load(Ordering::Relaxed);
     let too_big = |size: u64| {
         Error::new(
             ErrorKind::InvalidInput,
             format!(
                 "the file is {size} bytes, more than the limit of {limit} bytes (raise it with \
-                 --max-input-mb)"
+                 {option})"
             ),
         )
     };
@@ -166,7 +185,23 @@ pub fn read_bytes(path: &Path) -> std::io::Result<Vec<u8>> {
 /// # Errors
 /// As [`read_bytes`], and `InvalidData` naming the line of the first byte that is not UTF-8.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
-    String::from_utf8(read_bytes(path)?).map_err(|e| {
+    utf8(read_bytes(path)?)
+}
+
+/// A configuration file (a model, parameter set, column map or sensor-error spec) as UTF-8
+/// text: [`read_text`] under [`InputLimits::max_config_bytes`] (`--max-config-mb`), far
+/// below the limit of flight data.
+///
+/// # Errors
+/// As [`read_text`].
+pub fn read_config_text(path: &Path) -> std::io::Result<String> {
+    let limit = MAX_CONFIG_BYTES.load(Ordering::Relaxed);
+    utf8(read_bounded(path, limit, "--max-config-mb")?)
+}
+
+/// Bytes as UTF-8 text, or `InvalidData` naming the line of the first byte that is not.
+fn utf8(bytes: Vec<u8>) -> std::io::Result<String> {
+    String::from_utf8(bytes).map_err(|e| {
         let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let line = good.iter().filter(|&&b| b == b'\n').count() + 1;
         std::io::Error::new(

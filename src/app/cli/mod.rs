@@ -40,6 +40,11 @@ pub struct Cli {
     #[arg(long, global = true, help_heading = GLOBAL, value_name = "MIB", default_value_t = crate::fsio::DEFAULT_MAX_INPUT_MB,
           value_parser = clap::value_parser!(u64).range(1..=1 << 24))]
     pub max_input_mb: u64,
+    /// Largest configuration file read (model, parameter set, column map, sensor-error
+    /// spec), MiB.
+    #[arg(long, global = true, help_heading = GLOBAL, value_name = "MIB", default_value_t = crate::fsio::DEFAULT_MAX_CONFIG_MB,
+          value_parser = clap::value_parser!(u64).range(1..=1 << 20))]
+    pub max_config_mb: u64,
     /// Let a glTF file read buffers outside its own directory (absolute paths, `file://`
     /// URIs, `..`); by default they are refused.
     #[arg(long, global = true, help_heading = GLOBAL)]

@@ -23,6 +23,10 @@ use crate::app::cli::{ClipArgs, PolygonOp};
 use crate::draw::render::{LineBatch, LineScene, Rgba, Segment2};
 use crate::geometry::clip::weiler_atherton::{self, Piece, PolygonError, Which};
 
+/// Largest coordinate of a polygon's vertex: products of two (areas, crossings) must stay
+/// finite, and (1e150)² = 1e300 does.
+pub const MAX_COORDINATE: f64 = 1e150;
+
 /// A problem with a polygon file: the file and the line (none: the file as a whole).
 #[derive(Debug, thiserror::Error)]
 #[error("{}{}: {problem}", path.display(), line.map_or_else(String::new, |l| format!(":{l}")))]
@@ -70,39 +74,8 @@ pub fn parse(text: &str, path: &Path) -> Result<Vec<FilePolygon>, PolygonFileErr
             }
             continue;
         }
-        let fields: Vec<&str> = row.split(',').map(str::trim).collect();
-        if fields.len() != 2 {
-            let hint = if row.contains(';') {
-                " (separate the values with commas, not `;`)"
-            } else {
-                ""
-            };
-            return Err(err(
-                Some(line),
-                format!("expected 2 values (x,y), found {}{hint}", fields.len()),
-            ));
-        }
-        let mut xy = [0f64; 2];
-        for (i, (slot, field)) in xy.iter_mut().zip(&fields).enumerate() {
-            let name = ["x", "y"][i];
-            let v: f64 = field.parse().map_err(|_| {
-                err(
-                    Some(line),
-                    format!("column {} ({name}): `{field}` is not a number", i + 1),
-                )
-            })?;
-            if !v.is_finite() {
-                return Err(err(
-                    Some(line),
-                    format!(
-                        "column {} ({name}): `{field}` is not a finite number",
-                        i + 1
-                    ),
-                ));
-            }
-            *slot = v;
-        }
-        current.vertices.push(DVec2::from_array(xy));
+        let xy = vertex(row).map_err(|problem| err(Some(line), problem))?;
+        current.vertices.push(xy);
         current.lines.push(line);
     }
     if !current.vertices.is_empty() {
@@ -210,6 +183,40 @@ fn rings(pieces: &[Piece]) -> (Vec<&[DVec2]>, Vec<PieceRings>) {
     (rings, index)
 }
 
+/// One `x,y` row as a vertex, or what is wrong with it.
+fn vertex(row: &str) -> Result<DVec2, String> {
+    let fields: Vec<&str> = row.split(',').map(str::trim).collect();
+    if fields.len() != 2 {
+        let hint = if row.contains(';') {
+            " (separate the values with commas, not `;`)"
+        } else {
+            ""
+        };
+        return Err(format!(
+            "expected 2 values (x,y), found {}{hint}",
+            fields.len()
+        ));
+    }
+    let mut xy = [0f64; 2];
+    for (i, (slot, field)) in xy.iter_mut().zip(&fields).enumerate() {
+        let column = format!("column {} ({})", i + 1, ["x", "y"][i]);
+        let v: f64 = field
+            .parse()
+            .map_err(|_| format!("{column}: `{field}` is not a number"))?;
+        if !v.is_finite() {
+            return Err(format!("{column}: `{field}` is not a finite number"));
+        }
+        if v.abs() > MAX_COORDINATE {
+            return Err(format!(
+                "{column}: `{field}` is beyond ±1e150 (areas and crossings of such coordinates \
+                 overflow: rescale the polygons)"
+            ));
+        }
+        *slot = v;
+    }
+    Ok(DVec2::from_array(xy))
+}
+
 /// The output file's text: one `x,y` a line, a blank line between polygons.
 pub fn format_polygons(rings: &[&[DVec2]]) -> String {
     let mut out = String::new();
@@ -218,7 +225,7 @@ pub fn format_polygons(rings: &[&[DVec2]]) -> String {
             out.push('\n');
         }
         for v in *ring {
-            let _ = writeln!(out, "{},{}", v.x, v.y);
+            let _ = writeln!(out, "{},{}", number(v.x), number(v.y));
         }
     }
     out
@@ -233,7 +240,11 @@ fn format_json(rings: &[&[DVec2]], index: &[PieceRings], area: f64) -> String {
             .map(|r| {
                 format!(
                     "[{}]",
-                    join(r.iter().map(|v| format!("[{}, {}]", v.x, v.y)).collect())
+                    join(
+                        r.iter()
+                            .map(|v| format!("[{}, {}]", number(v.x), number(v.y)))
+                            .collect(),
+                    )
                 )
             })
             .collect(),
@@ -249,7 +260,19 @@ fn format_json(rings: &[&[DVec2]], index: &[PieceRings], area: f64) -> String {
             })
             .collect(),
     );
+    let area = number(area);
     format!("{{\"polygons\": [{polygons}], \"pieces\": [{pieces}], \"area\": {area}}}")
+}
+
+/// A coordinate or an area as written out: Rust's shortest round-trip digits, in scientific
+/// notation beyond 1e16 or below 1e-5 (never 300 digits of `1e300`); read back, the same
+/// number.
+fn number(v: f64) -> String {
+    if v != 0.0 && (v.abs() >= 1e16 || v.abs() < 1e-5) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
 }
 
 /// Picture size, pixels.

@@ -83,3 +83,63 @@ proptest! {
         }
     }
 }
+
+/// Weiler–Atherton's coordinates are held to ±1e150 where they enter (`FILE:LINE`): beyond, an
+/// area or a crossing overflows and the JSON would carry `NaN` or `inf`, which is no JSON.
+#[test]
+fn polygon_coordinates_beyond_1e150_are_refused_at_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("unit.txt"), "0,0\n1,0\n1,1\n0,1\n").unwrap();
+    let square = |s: &str| format!("-{s},-{s}\n{s},-{s}\n{s},{s}\n-{s},{s}\n");
+    std::fs::write(d.join("huge.txt"), square("1.7e308")).unwrap();
+    let o = run(
+        &[
+            "clip",
+            "--algo",
+            "weiler-atherton",
+            "--op",
+            "difference",
+            "--subject",
+            "huge.txt",
+            "--clip",
+            "unit.txt",
+            "--json",
+            "--out",
+            "x.json",
+        ],
+        d,
+    );
+    assert_refused(&o, &["huge.txt:1", "beyond ±1e150"]);
+    assert!(!d.join("x.json").exists());
+    std::fs::write(d.join("big.txt"), square("1e150")).unwrap();
+    let o = run(
+        &[
+            "clip",
+            "--algo",
+            "weiler-atherton",
+            "--op",
+            "difference",
+            "--subject",
+            "big.txt",
+            "--clip",
+            "unit.txt",
+            "--json",
+            "--out",
+            "x.json",
+        ],
+        d,
+    );
+    assert_ok(&o);
+    let json = crate::support::cli::stdout(&o);
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let area = v["area"].as_f64().expect("a finite area");
+    assert!((area / 4e300 - 1.0).abs() < 1e-9, "{area}");
+    // Numbers that size are written as 1e150, not 151 digits, and read back the same.
+    assert!(
+        json.contains("[-1e150, -1e150]") && json.len() < 400,
+        "{json}"
+    );
+    let text = std::fs::read_to_string(d.join("x.json")).unwrap();
+    assert!(text.starts_with("-1e150,-1e150\n"), "{text}");
+}

@@ -127,3 +127,36 @@ fn replacing_an_output_keeps_its_mode_and_writes_through_a_link() {
         .mode();
     assert_eq!(mode & 0o777, 0o600);
 }
+
+/// A configuration file (model, parameter set, column map, sensor errors) past
+/// `--max-config-mb` (16 MiB) is refused by its size before it is read: a TOML reader takes
+/// several times a file's size in memory, and such files are a few kB.
+#[test]
+fn a_huge_configuration_file_is_refused_by_its_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let big = std::fs::File::create(d.join("big.toml")).unwrap();
+    big.set_len(17 << 20).unwrap(); // sparse: nothing is written
+    for args in [
+        vec!["simulate", "--model", "big.toml", "--out", "x.csv"],
+        vec!["simulate", "--aircraft", "big.toml", "--out", "x.csv"],
+        vec!["simulate", "--sensor-errors", "big.toml", "--out", "x.csv"],
+    ] {
+        let o = run(&args, d);
+        assert_refused(&o, &["big.toml", "--max-config-mb"]);
+    }
+    let o = run(
+        &[
+            "--max-config-mb",
+            "32",
+            "simulate",
+            "--model",
+            "big.toml",
+            "--out",
+            "x.csv",
+        ],
+        d,
+    );
+    assert!(!crate::support::cli::stderr(&o).contains("--max-config-mb"));
+    assert!(!d.join("x.csv").exists());
+}

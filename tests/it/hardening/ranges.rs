@@ -750,3 +750,38 @@ fn cr_line_endings_are_line_ends() {
         d,
     ));
 }
+
+/// A simulated flight ends where it reaches the ground (the origin's altitude), with a note,
+/// instead of flying on below it: none of its samples but the last is under the ground.
+#[test]
+fn a_simulated_flight_ends_on_the_ground() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for args in [
+        ["--height", "1", "--rate", "50"],
+        ["--height", "200", "--rate", "0.5"],
+    ] {
+        let mut line = vec![
+            "simulate",
+            "--manoeuvre",
+            "flight-test",
+            "--duration",
+            "600",
+        ];
+        line.extend(args);
+        line.extend(["--out", "low.csv"]);
+        let o = run(&line, d);
+        assert_ok(&o);
+        assert!(
+            crate::support::cli::stderr(&o)
+                .contains("reached the ground (the origin's altitude, 0 m)"),
+            "{args:?}: {}",
+            crate::support::cli::stderr(&o)
+        );
+        let f = wireflight::data::read(&d.join("low.csv")).unwrap();
+        let n = f.len();
+        assert!(f.duration() < 600.0, "{args:?}");
+        assert!(f.pos_ned[..n - 1].iter().all(|p| p.z <= 0.0), "{args:?}");
+        assert!(f.pos_ned[n - 1].z > 0.0, "{args:?}");
+    }
+}

@@ -87,6 +87,7 @@ pub fn parse(
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let mut lines = text_lines(text).enumerate().map(|(i, l)| (i + 1, l.trim()));
     // Metadata, then the header.
+    let mut seen = Vec::new();
     let mut meta = Metadata::default();
     let mut header = None;
     let mut last = 1;
@@ -96,7 +97,7 @@ pub fn parse(
             continue;
         }
         if let Some(rest) = l.strip_prefix('#') {
-            parse_metadata(rest, &mut meta).map_err(|k| at(n, None, k))?;
+            parse_metadata(rest, &mut meta, (n, &mut seen)).map_err(|k| at(n, None, k))?;
             continue;
         }
         header = Some((n, l));

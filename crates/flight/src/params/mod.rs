@@ -236,11 +236,12 @@ impl FixedWingParams {
         if path.extension().is_none() && !path.exists() {
             return Err(ParamSetError::Unknown(name_or_path.to_string()));
         }
-        let text =
-            wireflight_fsio::read_text(path).map_err(|source| ParamSetError::Unreadable {
+        let text = wireflight_fsio::read_config_text(path).map_err(|source| {
+            ParamSetError::Unreadable {
                 path: path.to_path_buf(),
                 source,
-            })?;
+            }
+        })?;
         Self::from_toml(&text, &path.display().to_string())
     }
 
