@@ -196,9 +196,9 @@ pub enum MapProblem {
     /// The map's file could not be read.
     #[error("cannot read: {0}")]
     Unreadable(std::io::Error),
-    /// The TOML form is not TOML, or has unknown keys.
+    /// The TOML form is not TOML, or has unknown keys: where and what, in one bounded line.
     #[error("{0}")]
-    Toml(toml::de::Error),
+    Toml(String),
     /// A delimiter that is not one character.
     #[error("delimiter `{0}` must be one character")]
     Delimiter(String),
@@ -452,7 +452,8 @@ impl ColumnMap {
             scale: Option<f64>,
             offset: Option<f64>,
         }
-        let file: File = toml::from_str(text).map_err(MapProblem::Toml)?;
+        let file: File = toml::from_str(text)
+            .map_err(|e| MapProblem::Toml(crate::format::toml_problem(text, &e)))?;
         let mut map = ColumnMap::default();
         if let Some(d) = file.delimiter {
             let mut chars = d.chars();

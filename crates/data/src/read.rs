@@ -618,10 +618,10 @@ fn parse_cell(cell: &str) -> Result<f64, DataErrorKind> {
     match c.parse::<f64>() {
         Ok(v) if v.is_finite() => Ok(v),
         Ok(_) => Err(DataErrorKind::NonFinite {
-            value: c.to_string(),
+            value: crate::format::excerpt(c),
         }),
         Err(_) => Err(DataErrorKind::NonNumeric {
-            value: c.to_string(),
+            value: crate::format::excerpt(c),
         }),
     }
 }

@@ -122,9 +122,10 @@ pub enum SpecError {
         #[source]
         source: Box<SpecError>,
     },
-    /// Model-file text that is not TOML.
-    #[error(transparent)]
-    Toml(#[from] toml::de::Error),
+    /// Model-file text that is not TOML: where, and what the TOML reader says (one bounded
+    /// line).
+    #[error("{0}")]
+    Toml(String),
     /// No `vehicle` field.
     #[error("missing field `vehicle` (point-mass or fixed-wing)")]
     MissingVehicle,
@@ -286,14 +287,19 @@ fn parse_values(spec: &str, rest: &str) -> Result<Vec<(String, f64)>, SpecError>
     for kv in rest.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let Some((k, v)) = kv.split_once('=') else {
             return Err(SpecError::NotNameValue {
-                item: kv.to_string(),
-                spec: spec.to_string(),
+                item: shown(kv),
+                spec: shown(spec),
             });
         };
         let value = finite_value(spec, k, v)?;
         push_once(&mut params, k.trim(), value, spec)?;
     }
     Ok(params)
+}
+
+/// Text from a spec as its errors quote it: an excerpt (a 100 kB `--add` is not echoed whole).
+fn shown(text: &str) -> String {
+    wireflight_data::format::excerpt(text)
 }
 
 /// Appends `key = value` to `params`, refusing a key already there.
@@ -305,8 +311,8 @@ fn push_once(
 ) -> Result<(), SpecError> {
     if params.iter().any(|(k, _)| k == key) {
         return Err(SpecError::RepeatedParameter {
-            key: key.to_string(),
-            spec: spec.to_string(),
+            key: shown(key),
+            spec: shown(spec),
         });
     }
     params.push((key.to_string(), value));
@@ -320,9 +326,9 @@ fn finite_value(spec: &str, k: &str, v: &str) -> Result<f64, SpecError> {
         .ok()
         .filter(|x: &f64| x.is_finite())
         .ok_or_else(|| SpecError::NotFinite {
-            value: v.to_string(),
-            key: k.to_string(),
-            spec: spec.to_string(),
+            value: shown(v),
+            key: shown(k),
+            spec: shown(spec),
         })
 }
 
@@ -348,7 +354,7 @@ impl EffectSpec {
             let inner = head.trim().strip_prefix(TERM_LONG).unwrap_or("");
             let Some(inner) = inner.strip_suffix(')') else {
                 return Err(SpecError::Term {
-                    spec: text.to_string(),
+                    spec: shown(text),
                     column: head.trim_end().chars().count() + 1,
                     problem: crate::expr::Problem::Unclosed,
                 });
@@ -362,11 +368,11 @@ impl EffectSpec {
         };
         let aircraft = name == AIRCRAFT;
         if !aircraft && find(name).is_none() {
-            return Err(SpecError::UnknownEffect(name.to_string()));
+            return Err(SpecError::UnknownEffect(shown(name)));
         }
         let not_aircraft = |key: &str| SpecError::NotAircraftParameter {
-            key: key.to_string(),
-            spec: text.to_string(),
+            key: shown(key),
+            spec: shown(text),
         };
         let mut params = Vec::new();
         let mut fit = Vec::new();
@@ -376,16 +382,16 @@ impl EffectSpec {
                     let key = crate::params::keys::find(kv).ok_or_else(|| not_aircraft(kv))?;
                     if fit.iter().any(|f| f == key.name) {
                         return Err(SpecError::RepeatedParameter {
-                            key: kv.to_string(),
-                            spec: text.to_string(),
+                            key: shown(kv),
+                            spec: shown(text),
                         });
                     }
                     fit.push(key.name.to_string());
                     continue;
                 }
                 return Err(SpecError::NotNameValue {
-                    item: kv.to_string(),
-                    spec: text.to_string(),
+                    item: shown(kv),
+                    spec: shown(text),
                 });
             };
             if aircraft && crate::params::keys::find(k.trim()).is_none() {
@@ -395,7 +401,7 @@ impl EffectSpec {
             push_once(&mut params, k.trim(), value, text)?;
         }
         if aircraft && params.is_empty() && fit.is_empty() {
-            return Err(SpecError::NoAircraftParameter(text.to_string()));
+            return Err(SpecError::NoAircraftParameter(shown(text)));
         }
         Ok(Self {
             name: name.to_string(),
@@ -413,12 +419,12 @@ impl EffectSpec {
         params: Vec<(String, f64)>,
     ) -> Result<Self, SpecError> {
         let term = Term::parse(term_text).map_err(|e| SpecError::Term {
-            spec: text.to_string(),
+            spec: shown(text),
             column: lead + e.column,
             problem: e.problem,
         })?;
         Self::of_term(&term, params).map_err(|error| SpecError::TermRegistry {
-            spec: text.to_string(),
+            spec: shown(text),
             error,
         })
     }
@@ -542,7 +548,9 @@ impl ModelSpec {
     /// # Errors
     /// As [`load`](Self::load), without the file name.
     pub fn from_toml(text: &str) -> Result<Self, SpecError> {
-        let table: toml::Table = text.parse()?;
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e| SpecError::Toml(wireflight_data::format::toml_problem(text, &e)))?;
         let vehicle: VehicleKind = match table.get("vehicle") {
             Some(toml::Value::String(s)) => s.parse()?,
             Some(_) => return Err(field_type("vehicle", "be a string")),

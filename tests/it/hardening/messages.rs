@@ -146,3 +146,41 @@ fn no_blank_images_from_huge_angles_or_scales() {
         }
     }
 }
+
+/// Text from input is quoted in an excerpt, never whole: a TOML error on a 300 000-character
+/// line, a 100 kB `--add`, a 5 MB CSV cell give messages of a few hundred bytes that still
+/// say where and what.
+#[test]
+fn long_input_is_quoted_in_an_excerpt() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let long = "a".repeat(300_000);
+    std::fs::write(
+        d.join("long.toml"),
+        format!("vehicle = \"fixed-wing\"\naircraft = \"{long}\n"),
+    )
+    .unwrap();
+    let o = run(&["simulate", "--model", "long.toml", "--out", "x.csv"], d);
+    assert_refused(
+        &o,
+        &["long.toml", "line 2, column 300013", "invalid basic string"],
+    );
+    assert!(stderr(&o).len() < 1000, "{} bytes", stderr(&o).len());
+    let add = "w".repeat(100_000);
+    let o = run(&["simulate", "--add", add.as_str(), "--out", "x.csv"], d);
+    assert_refused(&o, &["unknown effect", "more characters"]);
+    assert!(stderr(&o).len() < 2000, "{} bytes", stderr(&o).len());
+    let value = format!("wind:north_mps={}x", "1".repeat(100_000));
+    let o = run(&["simulate", "--add", value.as_str(), "--out", "x.csv"], d);
+    assert_refused(&o, &["north_mps", "not a finite number"]);
+    assert!(stderr(&o).len() < 1000, "{} bytes", stderr(&o).len());
+    let cell = "z".repeat(5_000_000);
+    std::fs::write(
+        d.join("cell.csv"),
+        format!("time_s,north_m,east_m,down_m\n0,0,0,0\n1,{cell},0,0\n"),
+    )
+    .unwrap();
+    let o = run(&["import", "--flight", "cell.csv"], d);
+    assert_refused(&o, &["cell.csv: line 3, column `north_m`", "not a number"]);
+    assert!(stderr(&o).len() < 1000, "{} bytes", stderr(&o).len());
+}

@@ -188,7 +188,7 @@ pub fn parse(
                         n,
                         Some(&e.column),
                         DataErrorKind::NonFinite {
-                            value: cell.to_string(),
+                            value: crate::format::excerpt(cell),
                         },
                     ))
                 }
@@ -197,7 +197,7 @@ pub fn parse(
                         n,
                         Some(&e.column),
                         DataErrorKind::NonNumeric {
-                            value: cell.to_string(),
+                            value: crate::format::excerpt(cell),
                         },
                     ))
                 }

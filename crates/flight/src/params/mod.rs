@@ -30,13 +30,12 @@ pub enum ParamSetError {
         source: std::io::Error,
     },
     /// TOML syntax, a missing or unknown key, a value of the wrong type.
-    #[error("{origin}: bad parameter set")]
+    #[error("{origin}: bad parameter set: {problem}")]
     Toml {
         /// The file (or name) of the set.
         origin: String,
-        /// What the TOML reader says.
-        #[source]
-        source: toml::de::Error,
+        /// What the TOML reader says, with the line and column, in one bounded line.
+        problem: String,
     },
     /// A number outside its key's range ([`keys::KEYS`]), or not finite.
     #[error("{origin}: {table}.{name} = {value} is outside its range [{lo:e}, {hi:e}] {unit}")]
@@ -192,9 +191,9 @@ impl FixedWingParams {
     /// TOML syntax errors, missing or unknown keys, non-finite or non-physical values
     /// (mass, inertias, areas, span, chord, density must be > 0).
     pub fn from_toml(text: &str, origin: &str) -> Result<Self, ParamSetError> {
-        let p: FixedWingParams = toml::from_str(text).map_err(|source| ParamSetError::Toml {
+        let p: FixedWingParams = toml::from_str(text).map_err(|e| ParamSetError::Toml {
             origin: origin.to_string(),
-            source,
+            problem: wireflight_data::format::toml_problem(text, &e),
         })?;
         // Every number within its key's range (the ranges `--add aircraft:KEY` fits within):
         // positive sizes, finite coefficients.

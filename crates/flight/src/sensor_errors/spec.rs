@@ -403,7 +403,7 @@ pub(super) fn parse_toml(text: &str, file: &str) -> Result<Model, SensorErrorsEr
         text.parse()
             .map_err(|e: toml::de::Error| SensorErrorsError::Toml {
                 file: file.to_string(),
-                message: e.to_string().trim_end().to_string(),
+                message: wireflight_data::format::toml_problem(text, &e),
             })?;
     let name = match table.remove("model") {
         Some(toml::Value::String(s)) => s,
