@@ -27,7 +27,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         ("--reference", &args.reference),
         args.model.model.as_deref(),
     );
-    crate::app::outputs::refuse_inputs_as_outputs(
+    crate::app::outputs::check_outputs(
         &inputs,
         &[
             ("--out", args.out.as_deref()),

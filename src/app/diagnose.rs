@@ -40,7 +40,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     .into_iter()
     .filter_map(|(o, p)| p.map(|p| (o, p)))
     .collect();
-    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &outputs, &[])?;
+    crate::app::outputs::check_outputs(&inputs, &outputs, &[])?;
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     let (base, declared, config) = model_and_candidates(args, &data, !references.is_empty())?;

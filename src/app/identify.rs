@@ -30,7 +30,7 @@ pub fn run(args: &IdentifyArgs) -> anyhow::Result<()> {
         args.model.model.as_deref(),
     );
     if let Some(out) = &args.out {
-        crate::app::outputs::refuse_inputs_as_outputs(&inputs, &[("--out", out)], &[])?;
+        crate::app::outputs::check_outputs(&inputs, &[("--out", out)], &[])?;
     }
     // Every file through the one reader of the commands (CSV, ULog, column maps), as compare.
     let flights: Vec<FlightData> = args

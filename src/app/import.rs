@@ -11,11 +11,7 @@ use crate::data::{load, Loaded};
 /// The reader's error (naming the file and where in it), write errors.
 pub fn run(args: &ImportArgs) -> anyhow::Result<()> {
     if let Some(out) = &args.out {
-        crate::app::outputs::refuse_inputs_as_outputs(
-            &[("--flight", &args.flight)],
-            &[("--out", out)],
-            &[],
-        )?;
+        crate::app::outputs::check_outputs(&[("--flight", &args.flight)], &[("--out", out)], &[])?;
     }
     let Loaded { data, report } = load(&args.flight, &args.data.options())?;
     if let Some(out) = &args.out {

@@ -33,7 +33,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         .iter()
         .map(|d| ("--frames-dir", d.as_path()))
         .collect();
-    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &outputs, &dirs)?;
+    crate::app::outputs::check_outputs(&inputs, &outputs, &dirs)?;
     let mesh_name = mesh_name(args)?;
     let mesh = crate::draw::mesh_files::load_named(&mesh_name)?;
     let viewport = Viewport {

@@ -30,7 +30,7 @@ pub fn run(args: &SimulateArgs) -> anyhow::Result<()> {
             inputs.push((option, std::path::Path::new(a.as_str())));
         }
     }
-    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &[("--out", &args.out)], &[])?;
+    crate::app::outputs::check_outputs(&inputs, &[("--out", &args.out)], &[])?;
     let (spec, truth) = model_specs(args)?;
     let listed: Vec<String> = spec.effects.iter().map(EffectSpec::to_arg).collect();
     let origin = Origin {

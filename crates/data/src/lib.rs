@@ -84,6 +84,10 @@ pub use self::write::{to_csv_string, write, WriteError};
 /// The name of the project's CSV format in reports.
 pub const CSV_FORMAT: &str = "wireflight CSV";
 
+/// Most columns a flight-data header may have: logs have tens to a few thousand; more is
+/// not a log, and its column names alone would take many times the file's size in memory.
+pub const MAX_COLUMNS: usize = 100_000;
+
 /// Standard gravity g0, m/s².
 pub const G0: f64 = 9.80665;
 
@@ -220,6 +224,12 @@ pub enum DataErrorKind {
         key: String,
         /// Why the value is rejected (quoting it).
         reason: String,
+    },
+    /// A header with more columns than any flight log has.
+    #[error("the header has {count} columns, more than {MAX_COLUMNS} (is this a flight log?)")]
+    TooManyColumns {
+        /// The columns of the header.
+        count: usize,
     },
     /// A metadata key the data read given twice: which value was meant is not known.
     #[error("metadata `{key}` is given twice (first on line {first_line}): give it once")]

@@ -267,6 +267,10 @@ impl<'t> Header<'t> {
         vehicle: Option<VehicleKind>,
         errors: &Errors,
     ) -> Result<Self, DataError> {
+        let count = text.matches(',').count() + 1;
+        if count > crate::MAX_COLUMNS {
+            return Err(errors.at(line, None, DataErrorKind::TooManyColumns { count }));
+        }
         let names = split_header(text);
         let dialect = Dialect::detect(&names);
         let columns = map_columns(line, &names, dialect, errors)?;

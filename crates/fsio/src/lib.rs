@@ -298,7 +298,33 @@ pub fn available_memory() -> Option<u64> {
             take(limit.saturating_sub(usage));
         }
     }
+    // The process's own address-space limit (`ulimit -v`), less what it maps already: an
+    // allocation past it aborts however much memory the machine has.
+    if let Some(room) = address_space_room(|p| read(p)) {
+        take(room);
+    }
     best
+}
+
+/// Room left under the soft `RLIMIT_AS` (none when unlimited or unknown): the limit less
+/// the process's virtual size (`/proc/self/statm`, pages).
+fn address_space_room(read: impl Fn(&str) -> Option<String>) -> Option<u64> {
+    let mut limit = libc::rlimit {
+        rlim_cur: 0,
+        rlim_max: 0,
+    };
+    // SAFETY: `getrlimit` writes the limit into the struct it is given.
+    if unsafe { libc::getrlimit(libc::RLIMIT_AS, &mut limit) } != 0
+        || limit.rlim_cur == libc::RLIM_INFINITY
+    {
+        return None;
+    }
+    // SAFETY: `sysconf` only reads a configuration value.
+    let page = u64::try_from(unsafe { libc::sysconf(libc::_SC_PAGESIZE) }).unwrap_or(4096);
+    let mapped = read("/proc/self/statm")
+        .and_then(|t| t.split_whitespace().next()?.parse::<u64>().ok())
+        .map_or(0, |pages| pages.saturating_mul(page));
+    Some(limit.rlim_cur.saturating_sub(mapped))
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -476,8 +502,9 @@ fn parent_dir(path: &Path) -> &Path {
     }
 }
 
-/// What a path that is not a regular file is, in words.
-fn describe(meta: &std::fs::Metadata) -> &'static str {
+/// What a path that is not a regular file is, in words: `a device`, `a FIFO`, `a socket`,
+/// `a directory`.
+pub fn describe(meta: &std::fs::Metadata) -> &'static str {
     let t = meta.file_type();
     #[cfg(unix)]
     {

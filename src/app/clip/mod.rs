@@ -60,14 +60,19 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     .into_iter()
     .filter_map(|(o, p)| p.map(|p| (o, p)))
     .collect();
-    let outputs: Vec<(&str, &std::path::Path)> = [
-        ("--out", Some(args.output.as_path())),
-        ("--picture", args.picture.as_deref()),
-    ]
-    .into_iter()
-    .filter_map(|(o, p)| p.map(|p| (o, p)))
-    .collect();
-    crate::app::outputs::refuse_inputs_as_outputs(&inputs, &outputs, &[])?;
+    // `--demo` writes a directory of pictures into --out; otherwise --out is a file.
+    let out = ("--out", args.output.as_path());
+    let (files, dirs) = if args.demo {
+        (None, Some(out))
+    } else {
+        (Some(out), None)
+    };
+    let outputs: Vec<(&str, &std::path::Path)> = files
+        .into_iter()
+        .chain(args.picture.as_deref().map(|p| ("--picture", p)))
+        .collect();
+    let dirs: Vec<(&str, &std::path::Path)> = dirs.into_iter().collect();
+    crate::app::outputs::check_outputs(&inputs, &outputs, &dirs)?;
     if args.algo == Algo::WeilerAtherton {
         return polygons::run(args);
     }

@@ -89,7 +89,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         .into_iter()
         .filter_map(|(o, p)| p.map(|p| (o, p)))
         .collect();
-        crate::app::outputs::refuse_inputs_as_outputs(&inputs, &[("--screenshot", shot)], &[])?;
+        crate::app::outputs::check_outputs(&inputs, &[("--screenshot", shot)], &[])?;
         if OutputFormat::of(shot)? != OutputFormat::Png {
             bail!(
                 "{}: screenshots are PNG files (use a .png name)",

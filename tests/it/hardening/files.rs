@@ -160,3 +160,106 @@ fn a_huge_configuration_file_is_refused_by_its_size() {
     assert!(!crate::support::cli::stderr(&o).contains("--max-config-mb"));
     assert!(!d.join("x.csv").exists());
 }
+
+/// Every output is checked before any work: an output that cannot be written (a directory
+/// where a page goes) stops the run before another output is written.
+#[test]
+fn outputs_are_checked_before_any_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    flight(d, "q.csv", &[]);
+    std::fs::create_dir(d.join("isdir.html")).unwrap();
+    let o = run(
+        &[
+            "diagnose",
+            "--flight",
+            "q.csv",
+            "--out",
+            "m.toml",
+            "--report",
+            "isdir.html",
+        ],
+        d,
+    );
+    assert_refused(
+        &o,
+        &[
+            "isdir.html",
+            "--report writes a file, and this is a directory",
+        ],
+    );
+    assert!(
+        !d.join("m.toml").exists(),
+        "m.toml written before the refusal"
+    );
+    let o = run(
+        &[
+            "compare",
+            "--flight",
+            "q.csv",
+            "--report",
+            "no/such/dir/r.html",
+        ],
+        d,
+    );
+    assert_refused(&o, &["--report: no directory no/such/dir to write it in"]);
+    std::fs::write(d.join("plots"), "a file").unwrap();
+    let o = run(&["compare", "--flight", "q.csv", "--plots", "plots"], d);
+    assert_refused(
+        &o,
+        &["--plots writes a directory: it exists and is not a directory"],
+    );
+}
+
+/// A header of more columns than any log has is refused by counting its separators, before
+/// its names are taken apart (30 million names would take gigabytes).
+#[test]
+fn a_header_of_millions_of_columns_is_refused_before_it_is_split() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let mut text = String::from("time_s,north_m,east_m,down_m");
+    text.push_str(&",x".repeat(200_000));
+    text.push('\n');
+    std::fs::write(d.join("wide.csv"), &text).unwrap();
+    let o = run(&["import", "--flight", "wide.csv"], d);
+    assert_refused(
+        &o,
+        &["wide.csv: line 1", "200004 columns, more than 100000"],
+    );
+    let o = run(
+        &[
+            "import",
+            "--flight",
+            "wide.csv",
+            "--columns",
+            "time=time_s,north=north_m,east=east_m,down=down_m",
+        ],
+        d,
+    );
+    assert_refused(&o, &["wide.csv: line 1", "more than 100000"]);
+}
+
+/// `simulate` bounds its flight by the process's address-space limit (`ulimit -v`) as well
+/// as by the machine's free memory: refused before any work, never an abort.
+#[test]
+fn simulate_respects_the_address_space_limit() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 2000000 && exec {} simulate --max-samples 10000000 --duration 199999 --out x.csv",
+            env!("CARGO_BIN_EXE_wireflight")
+        ))
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_refused(
+        &o,
+        &[
+            "samples",
+            "MiB is free",
+            "--max-samples does not raise this bound",
+        ],
+    );
+    assert!(!dir.path().join("x.csv").exists());
+}

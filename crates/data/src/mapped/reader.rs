@@ -115,6 +115,14 @@ pub fn parse(
             ','
         }
     });
+    let count = header_text.matches(delimiter).count() + 1;
+    if count > crate::MAX_COLUMNS {
+        return Err(at(
+            header_line,
+            None,
+            DataErrorKind::TooManyColumns { count },
+        ));
+    }
     let names: Vec<&str> = header_text.split(delimiter).map(unquote).collect();
     // Each entry's column index.
     let mut index = Vec::with_capacity(map.entries.len());
