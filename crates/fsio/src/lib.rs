@@ -642,6 +642,9 @@ pub fn write_dir_atomic(
              new or empty directory",
             dir.display()
         );
+        if !empty {
+            only_listed_files(dir, marker)?;
+        }
     }
     let staged = StagedDir::new(dir)?;
     for (file, bytes) in files {
@@ -654,6 +657,33 @@ pub fn write_dir_atomic(
     }
     // The marker vouches for the directory as a whole (its files are this command's).
     staged.commit_replace(|_| true)
+}
+
+/// Refuses a directory holding a file its `marker` does not list (the first tab-separated
+/// field of each line that is not a `#` comment): a file the user put there beside an earlier
+/// run's outputs would be lost when the directory is replaced.
+fn only_listed_files(dir: &Path, marker: &str) -> Result<(), FsError> {
+    let listing =
+        read_text(&dir.join(marker)).map_err(|e| FsError::io(&dir.join(marker), "read", e))?;
+    let listed: HashSet<&str> = listing
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .filter_map(|l| l.split('\t').next())
+        .chain([marker])
+        .collect();
+    let entries = std::fs::read_dir(dir).map_err(|e| FsError::io(dir, "read", e))?;
+    for entry in entries {
+        let entry = entry.map_err(|e| FsError::io(dir, "read", e))?;
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        refuse_unless!(
+            listed.contains(name.as_ref()),
+            "{}: holds `{name}`, which its `{marker}` does not list (not an output of this \
+             command); the directory is replaced as a whole, so name a new or empty one",
+            dir.display()
+        );
+    }
+    Ok(())
 }
 
 /// An output directory written as a whole: files go into a temporary directory beside it
@@ -821,10 +851,19 @@ impl Drop for StagedDir {
 mod tests {
     use super::*;
 
+    /// Files named `names`, each holding its name; a marker `m.txt` among them lists the
+    /// others, one a line, as the commands' markers do.
     fn files(names: &[&str]) -> Vec<(String, Vec<u8>)> {
+        let listing: String = names.iter().map(|n| format!("{n}\tpicture\n")).collect();
         names
             .iter()
-            .map(|n| (n.to_string(), n.as_bytes().to_vec()))
+            .map(|n| {
+                let bytes = match *n {
+                    "m.txt" => format!("# a marker\n{listing}").into_bytes(),
+                    _ => n.as_bytes().to_vec(),
+                };
+                (n.to_string(), bytes)
+            })
             .collect()
     }
 
@@ -849,6 +888,11 @@ mod tests {
         assert_eq!(std::fs::read(out.join("3.png")).unwrap(), b"3.png");
         // No temporaries beside it.
         assert_eq!(listing(&root.path().join("a/b")), ["out"]);
+        // A file the marker does not list (the user's) is not replaced with the rest.
+        std::fs::write(out.join("mine.png"), b"mine").unwrap();
+        let err = write_dir_atomic(&out, &files(&["m.txt", "4.png"]), "m.txt").unwrap_err();
+        assert!(format!("{err:#}").contains("holds `mine.png`"), "{err:#}");
+        assert_eq!(listing(&out), ["3.png", "m.txt", "mine.png"]);
         // An empty directory is fine too.
         let empty = root.path().join("empty");
         std::fs::create_dir(&empty).unwrap();

@@ -263,3 +263,45 @@ fn simulate_respects_the_address_space_limit() {
     );
     assert!(!dir.path().join("x.csv").exists());
 }
+
+/// A directory an earlier run wrote (its marker file there) that now also holds a file of the
+/// user's is refused, not replaced: the marker lists the files the run wrote, and only those
+/// may be lost.
+#[test]
+fn a_marked_directory_holding_the_users_files_is_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (args, marker) in [
+        (
+            vec![
+                "clip",
+                "--algo",
+                "weiler-atherton",
+                "--demo",
+                "--out",
+                "pics",
+            ],
+            "wireflight-clip-demo.txt",
+        ),
+        (
+            vec![
+                "euler", "--seq", "zyx", "--angles", "30,60,45", "--steps", "--out", "pics2",
+            ],
+            "wireflight-euler.txt",
+        ),
+    ] {
+        let out = d.join(args[args.len() - 1]);
+        assert_ok(&run(&args, d));
+        assert!(out.join(marker).is_file());
+        // Run again over its own outputs: fine.
+        assert_ok(&run(&args, d));
+        // With a file of the user's beside them: refused, the file kept.
+        std::fs::write(out.join("mine.png"), "my picture").unwrap();
+        let o = run(&args, d);
+        assert_refused(&o, &["holds `mine.png`", marker]);
+        assert_eq!(
+            std::fs::read_to_string(out.join("mine.png")).unwrap(),
+            "my picture"
+        );
+    }
+}

@@ -638,6 +638,11 @@ proptest! {
             if (d1 - d2).abs() > 1e-4 * scale || rounding > 1e-5 * scale {
                 continue;
             }
+            // A step absorbed by rounding inside (k + 7e14): the value does not move at all,
+            // so the differences say nothing of the derivative.
+            if at(coeffs[j] + 2.0 * h) == at(coeffs[j] - 2.0 * h) {
+                continue;
+            }
             prop_assert!((g[j] - d1).abs() <= 1e-3 * scale, "{}: d/d{} = {} but differences give {}", src, e.coefficients()[j], g[j], d1);
         }
     }
