@@ -183,6 +183,23 @@ fn rings(pieces: &[Piece]) -> (Vec<&[DVec2]>, Vec<PieceRings>) {
     (rings, index)
 }
 
+/// Refuses a polygon of more than `max` vertices, before the quadratic work.
+fn within_vertex_limit(polygons: &[FilePolygon], path: &Path, max: u64) -> anyhow::Result<()> {
+    for (i, p) in polygons.iter().enumerate() {
+        let n = p.vertices.len() as u64;
+        if n > max {
+            bail!(
+                "{}: polygon {} has {n} vertices, more than --max-vertices {max} (Weiler–\
+                 Atherton's checks take time growing with the square of the vertices: 20 000 \
+                 take about 2 s, 40 000 about 8 s; raise it to wait longer)",
+                path.display(),
+                i + 1
+            );
+        }
+    }
+    Ok(())
+}
+
 /// One `x,y` row as a vertex, or what is wrong with it.
 fn vertex(row: &str) -> Result<DVec2, String> {
     let fields: Vec<&str> = row.split(',').map(str::trim).collect();
@@ -375,6 +392,9 @@ pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
     let op = args.op.unwrap_or(PolygonOp::Intersection);
     let subjects = load(subject_path, args.max_bytes)?;
     let clips = load(clip_path, args.max_bytes)?;
+    for (polygons, path) in [(&subjects, subject_path), (&clips, clip_path)] {
+        within_vertex_limit(polygons, path, args.max_vertices)?;
+    }
     for (i, s) in subjects.iter().enumerate() {
         validate(s, i + 1, Which::Subject, subject_path)?;
     }

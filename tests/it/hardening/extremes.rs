@@ -143,3 +143,46 @@ fn polygon_coordinates_beyond_1e150_are_refused_at_input() {
     let text = std::fs::read_to_string(d.join("x.json")).unwrap();
     assert!(text.starts_with("-1e150,-1e150\n"), "{text}");
 }
+
+/// Weiler–Atherton's checks are quadratic in a polygon's vertices: a polygon past
+/// `--max-vertices` (20 000, about 2 s) is refused at once, naming the file and polygon,
+/// rather than running for minutes; the option raises it.
+#[test]
+fn a_polygon_past_the_vertex_limit_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let n = 20_001;
+    let circle: String = (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            format!("{},{}\n", a.cos(), a.sin())
+        })
+        .collect();
+    std::fs::write(d.join("circle.txt"), circle).unwrap();
+    std::fs::write(d.join("square.txt"), "0,0\n2,0\n2,2\n0,2\n").unwrap();
+    let args = [
+        "clip",
+        "--algo",
+        "weiler-atherton",
+        "--subject",
+        "circle.txt",
+        "--clip",
+        "square.txt",
+        "--out",
+        "o.txt",
+    ];
+    let started = Instant::now();
+    let o = run(&args, d);
+    assert_refused(
+        &o,
+        &["circle.txt: polygon 1 has 20001 vertices, more than --max-vertices 20000"],
+    );
+    assert!(
+        started.elapsed() < Duration::from_secs(10),
+        "{:?}",
+        started.elapsed()
+    );
+    let mut raised = args.to_vec();
+    raised.extend(["--max-vertices", "30000"]);
+    assert_ok(&run(&raised, d));
+}
