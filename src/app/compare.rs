@@ -27,22 +27,17 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         ("--reference", &args.reference),
         args.model.model.as_deref(),
     );
-    crate::app::outputs::check_outputs(
+    use crate::app::outputs::{check_outputs, given};
+    check_outputs(
         &inputs,
-        &[
+        &given(&[
             ("--out", args.out.as_deref()),
             ("--report", args.report.as_deref()),
-        ]
-        .into_iter()
-        .filter_map(|(o, p)| p.map(|p| (o, p)))
-        .collect::<Vec<_>>(),
-        &[
+        ]),
+        &given(&[
             ("--plots", args.plots.as_deref()),
             ("--frames-dir", args.frames_dir.as_deref()),
-        ]
-        .into_iter()
-        .filter_map(|(o, p)| p.map(|p| (o, p)))
-        .collect::<Vec<_>>(),
+        ]),
     )?;
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;

@@ -33,13 +33,10 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         ("--reference", &args.reference),
         args.model.model.as_deref(),
     );
-    let outputs: Vec<(&str, &std::path::Path)> = [
+    let outputs = crate::app::outputs::given(&[
         ("--out", args.out.as_deref()),
         ("--report", args.report.as_deref()),
-    ]
-    .into_iter()
-    .filter_map(|(o, p)| p.map(|p| (o, p)))
-    .collect();
+    ]);
     crate::app::outputs::check_outputs(&inputs, &outputs, &[])?;
     let data = crate::app::data::load_flight(&args.flight, &args.data)?;
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;

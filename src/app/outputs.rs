@@ -88,6 +88,14 @@ fn writable(option: &str, path: &Path, dir: bool) -> anyhow::Result<()> {
     }
 }
 
+/// The options of `pairs` that were given, each with its path (for [`check_outputs`]).
+pub(crate) fn given<'a>(pairs: &[(&'a str, Option<&'a Path>)]) -> Vec<(&'a str, &'a Path)> {
+    pairs
+        .iter()
+        .filter_map(|&(option, path)| path.map(|p| (option, p)))
+        .collect()
+}
+
 /// ` (as NAME)` when the input is spelled otherwise than the output, else nothing.
 fn spelled(out: &Path, input: &Path) -> String {
     if out == input {

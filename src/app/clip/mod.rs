@@ -52,14 +52,11 @@ fn timed<E: Copy, P>(
 /// Unreadable or oversized input, a malformed line (`FILE:LINE: problem`), an algorithm that
 /// does not apply to the input's kind, an unwritable output.
 pub fn run(args: &ClipArgs) -> anyhow::Result<()> {
-    let inputs: Vec<(&str, &std::path::Path)> = [
+    let inputs = crate::app::outputs::given(&[
         ("--input", args.input.as_deref()),
         ("--subject", args.subject.as_deref()),
         ("--clip", args.clip.as_deref()),
-    ]
-    .into_iter()
-    .filter_map(|(o, p)| p.map(|p| (o, p)))
-    .collect();
+    ]);
     // `--demo` writes a directory of pictures into --out; otherwise --out is a file.
     let out = ("--out", args.output.as_path());
     let (files, dirs) = if args.demo {

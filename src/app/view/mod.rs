@@ -81,14 +81,11 @@ pub const KEY_HELP: &[(&str, &str)] = &[
 /// can present to a window, a screenshot that cannot be written.
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     if let Some(shot) = &args.screenshot {
-        let inputs: Vec<(&str, &std::path::Path)> = [
+        let inputs = crate::app::outputs::given(&[
             ("--script", args.script.as_deref()),
             ("--flight", args.flight.as_deref()),
             ("--model", args.model.as_deref()),
-        ]
-        .into_iter()
-        .filter_map(|(o, p)| p.map(|p| (o, p)))
-        .collect();
+        ]);
         crate::app::outputs::check_outputs(&inputs, &[("--screenshot", shot)], &[])?;
         if OutputFormat::of(shot)? != OutputFormat::Png {
             bail!(
