@@ -3,8 +3,9 @@
 //!
 //! One edge per line, comma-separated: `x0,y0,z0,w0,x1,y1,z1,w1` (homogeneous clip space) or
 //! `x0,y0,x1,y1` (2D). A byte-order mark is skipped. Blank lines and lines starting with `#`
-//! are skipped; a first line is a header (echoed to the output) only when none of its fields
-//! is a number and every one looks like a name (starts with a letter or `_`); any other first
+//! are skipped; a first line is a header (echoed to the output) only when it has as many fields
+//! as an edge, none of them a number and every one like a name (starts with a letter or `_`);
+//! any other first
 //! line is an edge, and an error naming the line if it is not one. `nan` and `inf`
 //! are read as such (the clippers drop and count them); a number beyond the `f32` range is
 //! an error. The output has one line per input edge, in order: the clipped edge in the same
@@ -116,7 +117,9 @@ pub fn parse_rows<const N: usize>(
             continue;
         }
         let fields: Vec<&str> = row.split(',').map(str::trim).collect();
-        if std::mem::take(&mut first) && is_header(&fields) {
+        // A header names the edge's values: as many fields as an edge has (a line of text of
+        // another shape is an error, not a header that leaves the file without edges).
+        if std::mem::take(&mut first) && fields.len() == N && is_header(&fields) {
             file.header = Some(row.to_string());
             continue;
         }

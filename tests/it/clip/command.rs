@@ -129,11 +129,18 @@ fn homogeneous_edges_every_algorithm_and_the_batch() {
 #[test]
 fn bad_input_names_the_line_and_exits_2() {
     let dir = tempfile::tempdir().unwrap();
-    let cases: [(&str, &[&str], &str); 6] = [
+    let cases: [(&str, &[&str], &str); 7] = [
         (
             "0,0,0,1,1,1,0,1\n0,0,0,1,1,x,0,1\n",
             &["--algo", "blinn"],
             "in.csv:2: column 6 (y1): `x` is not a number",
+        ),
+        // A first line of text that is not an edge's header is an error, not a header that
+        // leaves the file without edges.
+        (
+            "abc\n0,0,0,1,1,1,0,1\n",
+            &["--algo", "blinn"],
+            "in.csv:1: expected 8 values",
         ),
         (
             "0,0,0,1\n",

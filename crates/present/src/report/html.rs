@@ -1,7 +1,9 @@
 //! The HTML pieces of a report: escaping, base64 for inline images, tables, figures and the
 //! stylesheet. Pure string building.
 
-/// `text` with `&`, `<`, `>` and `"` escaped for HTML text and attribute values.
+/// `text` with `&`, `<`, `>` and `"` escaped for HTML text and attribute values, and control
+/// characters (not allowed in HTML: a file name or a log's field can hold ESC) written as
+/// `\u{1b}`, as on the terminal; newline and tab are kept.
 pub(super) fn esc(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
@@ -10,6 +12,8 @@ pub(super) fn esc(text: &str) -> String {
             '<' => out.push_str("&lt;"),
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
+            '\n' | '\t' => out.push(c),
+            c if c.is_control() => out.push_str(&format!("\\u{{{:x}}}", u32::from(c))),
             c => out.push(c),
         }
     }
@@ -150,6 +154,8 @@ mod tests {
     #[test]
     fn escaping_and_code_spans() {
         assert_eq!(esc("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+        // Control bytes (a title from a file name) are shown, never passed into the page.
+        assert_eq!(esc("f\u{1b}]0;x\u{7}.csv\n"), "f\\u{1b}]0;x\\u{7}.csv\n");
         assert_eq!(esc_code("`c_m_q` <x>"), "<code>c_m_q</code> &lt;x&gt;");
     }
 }
