@@ -117,7 +117,7 @@ impl Sampling {
         f64::from(u8::from(self.at(channel, i)))
     }
 
-    /// Whether every one of `n` rows is a sample of `channel`.
+    /// Whether every row is a sample of `channel`.
     pub fn is_complete(&self, channel: Channel) -> bool {
         self.rows.iter().all(|b| b & channel.bit() != 0)
     }
