@@ -79,6 +79,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         let names = Names {
             flight: &shown(&args.flight),
             samples: data.len(),
+            own_rates: !data.sampling.is_all(),
             duration_s: data.duration(),
             added: &added,
         };

@@ -16,8 +16,11 @@ use crate::conditions::explain_growth;
 pub struct Names<'a> {
     /// The flight, as its file is shown.
     pub flight: &'a str,
-    /// Its samples.
+    /// Its samples (rows, where its channels have their own rates).
     pub samples: usize,
+    /// Whether its channels have their own rates: then `samples` counts rows, the times
+    /// anything was sampled.
+    pub own_rates: bool,
     /// Its duration, s.
     pub duration_s: f64,
     /// The added effects as one label, `+ wind + drag`.
@@ -82,9 +85,10 @@ pub fn assessment_text(a: &Assessment, names: &Names) -> String {
 fn error_table(a: &Assessment, names: &Names) -> String {
     let b = &a.before.comparison;
     let mut out = format!(
-        "{}: {} samples, {:.1} s, {} of {} s; model: {}\n  {}\n",
+        "{}: {} {}, {:.1} s, {} of {} s; model: {}\n  {}\n",
         names.flight,
         names.samples,
+        if names.own_rates { "rows" } else { "samples" },
         names.duration_s,
         count(b.windows.len(), "window"),
         a.config.window_s,
