@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use super::mapped::{ColumnMap, MappedError};
 use super::px4::UlogOptions;
-use super::report::{self, ImportReport};
+use super::report::ImportReport;
 use super::ulog::UlogError;
 use super::{DataError, DataErrorKind, FlightData};
 
@@ -134,11 +134,7 @@ pub fn load(path: &Path, options: &LoadOptions) -> Result<Loaded, ImportError> {
         .find(|r| r.claims(path, &head, options))
         .copied()
         .unwrap_or(&CsvReader);
-    let mut loaded = reader.read(path, options)?;
-    if let Some(report) = &mut loaded.report {
-        report.sampled = report::sampled_channels(&loaded.data);
-    }
-    Ok(loaded)
+    reader.read(path, options)
 }
 
 /// The file's first [`HEAD_BYTES`] (fewer for a shorter file; none when it cannot be read).

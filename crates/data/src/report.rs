@@ -44,7 +44,7 @@ pub struct ImportReport {
     /// Anything doubtful.
     pub notes: Vec<String>,
     /// Each measured channel of the flight data: its own samples and rate
-    /// ([`sampled_channels`]; filled in by [`crate::load`]).
+    /// ([`sampled_channels`]; filled in by the reader).
     pub sampled: Vec<ChannelSampled>,
 }
 
