@@ -6,7 +6,7 @@ use glam::DVec3;
 
 use super::{FlightData, DERIVED_RATES_BODY, DERIVED_VEL_BODY, DERIVED_VEL_NED};
 use crate::derive::{body_rates_from_attitude, Differentiator, Window};
-use crate::sampling::{fill_vec3, Channel};
+use crate::sampling::{fill_linear, Channel};
 
 impl FlightData {
     /// [`derive_missing_with`](Self::derive_missing_with) with the default [`Window`].
@@ -96,7 +96,7 @@ impl FlightData {
                 full[i] = v;
                 sampled[i] = true;
             }
-            fill_vec3(&self.time, &sampled, &mut full);
+            fill_linear(&self.time, &sampled, &mut full);
             full
         };
         if self.vel_ned.is_none() && self.vel_body.is_none() {

@@ -11,7 +11,7 @@
 //! A flight read from a one-rate file has every channel sampled at every row; [`Sampling`]
 //! then holds nothing and costs nothing.
 
-use glam::{DQuat, DVec3};
+use glam::DQuat;
 
 use wireflight_geometry::euler::EulerZyx;
 
@@ -269,11 +269,6 @@ fn fill_with<T: Copy>(
     }
 }
 
-/// [`fill_linear`] for vectors.
-pub fn fill_vec3(time: &[f64], sampled: &[bool], values: &mut [DVec3]) {
-    fill_linear(time, sampled, values);
-}
-
 impl crate::FlightData {
     /// Keeps only the rows `sampled` says as samples of `channel` (one flag per row), and
     /// fills its other rows in from them as a reader would (module docs): what a log with
@@ -287,13 +282,13 @@ impl crate::FlightData {
         let time = &self.time;
         let present = match channel {
             Channel::Position => {
-                fill_vec3(time, sampled, &mut self.pos_ned);
+                fill_linear(time, sampled, &mut self.pos_ned);
                 true
             }
             Channel::Velocity => self
                 .vel_ned
                 .as_mut()
-                .map(|v| fill_vec3(time, sampled, v))
+                .map(|v| fill_linear(time, sampled, v))
                 .is_some(),
             Channel::Attitude => self
                 .attitude
@@ -303,7 +298,7 @@ impl crate::FlightData {
             Channel::Rates => self
                 .rates_body
                 .as_mut()
-                .map(|v| fill_vec3(time, sampled, v))
+                .map(|v| fill_linear(time, sampled, v))
                 .is_some(),
             Channel::Airspeed => self
                 .airspeed
@@ -313,7 +308,7 @@ impl crate::FlightData {
             Channel::Accelerometer => self
                 .accel_body
                 .as_mut()
-                .map(|v| fill_vec3(time, sampled, v))
+                .map(|v| fill_linear(time, sampled, v))
                 .is_some(),
         };
         if present {
