@@ -8,7 +8,9 @@ use crate::analysis::assess::{assess, AssessError, Assessment, Request};
 use crate::analysis::report::{assessment_json, assessment_text, model_label, Names};
 use crate::app::cli::CompareArgs;
 use crate::app::shown;
-use crate::app::workbench::{check_forces_finite, check_report, load_references, model_toml};
+use crate::app::workbench::{
+    check_forces_finite, check_report, load_references, model_toml, stated_sensor_errors,
+};
 use crate::data::FlightData;
 use crate::draw::output::{write_frames, FrameOut};
 use crate::draw::render::Rasterizer;
@@ -52,6 +54,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     let compare = args.windows.config(base.vehicle.kind());
     args.windows.check_fits(&args.flight, &data, &compare)?;
     let named: Vec<(&str, &FlightData)> = references.iter().map(|(n, d)| (n.as_str(), d)).collect();
+    let errors = stated_sensor_errors(args.sensor_errors.as_deref())?;
     let progress = crate::draw::progress::Progress::spinner(
         &format!("comparing over {:.0} s of data", data.duration()),
         args.json,
@@ -60,6 +63,7 @@ pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
         model: &base,
         data: &data,
         references: &named,
+        errors: errors.as_ref(),
         add: &add,
         compare,
         method: args.method.into(),

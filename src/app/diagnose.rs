@@ -12,6 +12,7 @@ use crate::app::cli::DiagnoseArgs;
 use crate::app::shown;
 use crate::app::workbench::{
     add_fitted_on, check_forces_finite, check_model_out, check_report, load_references, model_toml,
+    stated_sensor_errors,
 };
 use crate::data::FlightData;
 use crate::flight::effects::Effect;
@@ -42,6 +43,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
     let references = load_references(&args.reference, &args.flight, &data, &args.data)?;
     let (base, declared, config) = model_and_candidates(args, &data, !references.is_empty())?;
     let named: Vec<(&str, &FlightData)> = references.iter().map(|(n, d)| (n.as_str(), d)).collect();
+    let errors = stated_sensor_errors(args.sensor_errors.as_deref())?;
     let progress = crate::draw::progress::Progress::spinner(
         &format!("diagnosing {:.0} s of data", data.duration()),
         args.json,
@@ -50,6 +52,7 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         model: &base,
         data: &data,
         references: &named,
+        errors: errors.as_ref(),
         declared: &declared,
         config,
         method: args.method.into(),
@@ -65,10 +68,11 @@ pub fn run(args: &DiagnoseArgs) -> anyhow::Result<()> {
         }
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        let noise = d
-            .reference
-            .as_ref()
-            .map_or(&d.base_noise, |r| &r.measured_noise);
+        let noise = match (&d.reference, &d.error_floor) {
+            (Some(r), _) => &r.measured_noise,
+            (None, Some(f)) => &f.measured_noise,
+            (None, None) => &d.base_noise,
+        };
         println!(
             "{}: {} samples, {:.1} s; model {}\n  {}",
             shown(&args.flight),

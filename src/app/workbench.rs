@@ -4,6 +4,14 @@
 
 use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{add_fitted, DiagnoseConfig};
+use crate::flight::sensor_errors::SensorErrors;
+
+/// The `--sensor-errors` argument, read (a preset or a file): None when not given.
+pub(crate) fn stated_sensor_errors(arg: Option<&str>) -> anyhow::Result<Option<SensorErrors>> {
+    arg.map(SensorErrors::from_arg)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!("--sensor-errors: {e}"))
+}
 
 /// The `--reference` flights, read as the test flight is and each checked to be one
 /// ([`crate::analysis::reference::check_reference`]): refused with the reason otherwise. The

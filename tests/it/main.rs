@@ -48,3 +48,4 @@ mod turbulence;
 mod turbulence_fit;
 mod view;
 mod view_gimbal;
+mod wandering_errors;

@@ -9,6 +9,7 @@
 use wireflight_data::FlightData;
 use wireflight_data::VehicleKind;
 use wireflight_flight::model::Model;
+use wireflight_flight::sensor_errors::SensorErrors;
 use wireflight_flight::spec::EffectSpec;
 
 use crate::compare::{
@@ -21,6 +22,7 @@ use crate::diagnose::turbulence::{compare_through_turbulence, Method, Turbulence
 use crate::diagnose::{
     add_fitted, diagnose, promising_numbers, Candidate, DiagnoseConfig, DiagnoseError, Verdict,
 };
+use crate::error_floor::{error_floor, ErrorFloor, DRAWS as ERROR_DRAWS, SEED as ERROR_SEED};
 use crate::filter_error::flight::FilterError;
 use crate::reference::{model_floor, ModelFloor, ReferenceError};
 
@@ -34,6 +36,9 @@ pub struct Request<'a> {
     /// Reference flights of the same aircraft, by name: the model's own error on them is the
     /// floor instead of the noise.
     pub references: &'a [(&'a str, &'a FlightData)],
+    /// The log's sensor errors as stated: the floor is the one they leave on a right model
+    /// ([`crate::error_floor`]) instead of the noise. Not with `references`.
+    pub errors: Option<&'a SensorErrors>,
     /// Effects to add and fit (`--add`).
     pub add: &'a [EffectSpec],
     /// How the flight is cut into windows and fitted.
@@ -77,6 +82,8 @@ pub struct Assessment {
     pub noise: NoiseEstimate,
     /// The floor the model's error is measured against, when reference flights were given.
     pub reference_floor: Option<ReferenceFloor>,
+    /// The floor stated sensor errors leave, when they were stated.
+    pub error_floor: Option<ErrorFloor>,
     /// The model as given.
     pub before: Findings,
     /// The model with the added effects, when any were added.
@@ -124,7 +131,7 @@ impl Assessment {
 
     /// What the error is measured in: the references' floor or the noise.
     pub fn unit(&self) -> &'static str {
-        if self.reference_floor.is_some() {
+        if self.reference_floor.is_some() || self.error_floor.is_some() {
             "floor"
         } else {
             "noise"
@@ -192,6 +199,7 @@ pub fn assess(request: &Request) -> Result<Assessment, AssessError> {
         model: base,
         data,
         references,
+        errors,
         add,
         mut compare,
         method,
@@ -206,6 +214,27 @@ pub fn assess(request: &Request) -> Result<Assessment, AssessError> {
             floor,
         })
     };
+    let mut dcfg = DiagnoseConfig::default();
+    let error_floor = match errors {
+        Some(errors) if references.is_empty() => {
+            let floor = error_floor(
+                base,
+                data,
+                errors,
+                compare,
+                dcfg.at_floor,
+                ERROR_DRAWS,
+                ERROR_SEED,
+            );
+            if let Some(f) = &floor {
+                compare.model_error = Some(f.model_error);
+                compare.colour_floor = Some(f.colour);
+                dcfg.at_floor = f.at_floor;
+            }
+            floor
+        }
+        _ => None,
+    };
     let prep = Prepared::new(data, compare);
     if prep.windows.is_empty() {
         return Err(AssessError::TooShort {
@@ -214,10 +243,7 @@ pub fn assess(request: &Request) -> Result<Assessment, AssessError> {
             window_s: compare.window_s,
         });
     }
-    let dcfg = DiagnoseConfig {
-        compare,
-        ..DiagnoseConfig::default()
-    };
+    dcfg.compare = compare;
     let before = Findings::of(base, data, &prep);
     let mut final_model = base.clone();
     let fitted = add_fitted(&mut final_model, &prep, add, &dcfg).map_err(AssessError::Add)?;
@@ -247,6 +273,7 @@ pub fn assess(request: &Request) -> Result<Assessment, AssessError> {
         measured_noise: prep.measured_noise,
         noise: prep.noise,
         reference_floor,
+        error_floor,
         before,
         after,
         final_model,

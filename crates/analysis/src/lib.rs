@@ -11,6 +11,7 @@ pub mod compare;
 pub mod conditions;
 pub mod diagnose;
 pub mod discover;
+pub mod error_floor;
 pub mod filter_error;
 mod free;
 pub mod identify;

@@ -39,6 +39,12 @@ pub struct CompareArgs {
     /// well as the noise).
     #[arg(long, value_name = "FILE")]
     pub reference: Vec<std::path::PathBuf>,
+    /// The log's wandering sensor errors as you know them: a preset (`independent`,
+    /// `ekf-gnss`) or a TOML file as `simulate --sensor-errors` takes. The flight is judged
+    /// against the error such errors leave on a right model (measured by flying the model's
+    /// own path with them), not against the white noise alone (docs/workbench.md).
+    #[arg(long, value_name = "FILE.toml|PRESET", conflicts_with = "reference")]
+    pub sensor_errors: Option<String>,
     /// Write plots (PNG) into this directory.
     #[arg(long, value_name = "DIR")]
     pub plots: Option<std::path::PathBuf>,
@@ -113,6 +119,12 @@ pub struct DiagnoseArgs {
     /// well as the noise), and causes are reported as changes from them.
     #[arg(long, value_name = "FILE")]
     pub reference: Vec<std::path::PathBuf>,
+    /// The log's wandering sensor errors as you know them: a preset (`independent`,
+    /// `ekf-gnss`) or a TOML file as `simulate --sensor-errors` takes. The flight is judged
+    /// against the error such errors leave on a right model (measured by flying the model's
+    /// own path with them), not against the white noise alone (docs/workbench.md).
+    #[arg(long, value_name = "FILE.toml|PRESET", conflicts_with = "reference")]
+    pub sensor_errors: Option<String>,
     /// Show every step of the search: the candidates at each step, what was added and
     /// dropped, and the causes' joint values after it.
     #[arg(long)]

@@ -78,6 +78,10 @@ pub struct CompareConfig {
     /// ([`crate::reference`]): residuals are weighted by noise and it together. None: by the
     /// measured noise alone.
     pub model_error: Option<NoiseEstimate>,
+    /// The least variance factor of each residual row's sum ([`colour_factor`]), where the
+    /// flight's errors are known to wander longer than its residuals show (measured on
+    /// synthetic flights with them: [`crate::error_floor`]). None: the residuals' own.
+    pub colour_floor: Option<[f64; MAX_ROWS]>,
 }
 
 impl CompareConfig {
@@ -105,6 +109,7 @@ impl Default for CompareConfig {
             start_span_s: None,
             start_iterations: 8,
             model_error: None,
+            colour_floor: None,
         }
     }
 }
@@ -232,6 +237,115 @@ pub struct WindowResult {
     /// Σ r_k·r_k+1 over consecutive samples of each residual channel: with `chi2`, the lag-1
     /// autocorrelation of the residuals (0 when they are white noise).
     pub lag1_product: f64,
+    /// Sums for each residual row of a sample on its own ([`AxisSums`]).
+    pub axes: AxisSums,
+}
+
+/// Most residual rows a sample has: position, velocity, attitude and rates (3 each),
+/// airspeed, accelerometer (3).
+pub const MAX_ROWS: usize = 16;
+
+/// Sums over the residuals of each row of a sample on its own (the rows: the axes of
+/// position, velocity, attitude, rates, airspeed and accelerometer, of the channels the data
+/// score, in that order): where one channel's residuals wander and another's are white,
+/// pooling them would hide the wandering.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisSums {
+    /// Σ r² per row.
+    pub chi2: [f64; MAX_ROWS],
+    /// Σ r_k·r_k+1 per row.
+    pub lag1: [f64; MAX_ROWS],
+    /// Σ r_k·r_k+L per row, L = [`LAG_FAR`].
+    pub lag_far: [f64; MAX_ROWS],
+    /// Σ r per row.
+    pub sum: [f64; MAX_ROWS],
+    /// The residuals of each row.
+    pub count: [f64; MAX_ROWS],
+}
+
+/// The longer lag of [`AxisSums::lag_far`], samples.
+pub const LAG_FAR: usize = 10;
+
+/// The variance factor of a sum of `n` residuals whose lag-1 and lag-L ([`LAG_FAR`])
+/// autocorrelations are `rho1` and `rho_far`: an AR(1) process of coefficient φ with white
+/// noise on it (share 1 − c), whose autocorrelation at lag k is c·φᵏ. φ comes from the ratio of
+/// the two lags, so white noise on a wandering error does not pass for a shorter memory (from
+/// lag 1 alone, 5% of white variance on an error of 5 s at 50 Hz halves the factor); the
+/// factor is (1 − c) + c·(1 + φ)/(1 − φ). A correlation within three standard errors of 0
+/// (3/√n) is taken as none: the ratio of two such would make white residuals read as a long
+/// memory. At least 1; φ at most 0.9999.
+pub fn ar1_factor(rho1: f64, rho_far: f64, n: f64) -> f64 {
+    let seen = 3.0 / n.max(1.0).sqrt();
+    if rho1.is_nan() || rho1 <= seen {
+        return 1.0;
+    }
+    let rho1 = rho1.min(0.9999);
+    if rho_far.is_nan() || rho_far <= seen {
+        return (1.0 + rho1) / (1.0 - rho1);
+    }
+    let phi = (rho_far / rho1)
+        .powf(1.0 / (LAG_FAR as f64 - 1.0))
+        .clamp(rho1, 0.9999);
+    let c = (rho1 / phi).min(1.0);
+    ((1.0 - c) + c * (1.0 + phi) / (1.0 - phi)).max(1.0)
+}
+
+impl AxisSums {
+    fn add(mut self, other: &Self) -> Self {
+        for j in 0..MAX_ROWS {
+            self.chi2[j] += other.chi2[j];
+            self.lag1[j] += other.lag1[j];
+            self.lag_far[j] += other.lag_far[j];
+            self.sum[j] += other.sum[j];
+            self.count[j] += other.count[j];
+        }
+        self
+    }
+}
+
+/// How much a misfit reduction from `before` to `after` overstates the evidence because the
+/// residuals are correlated in time. Where the flight's errors are stated to wander
+/// ([`Comparison::wanders`]): the variance factor of each residual row after
+/// ([`ar1_factor`] of its autocorrelations), averaged with the weights of what each
+/// row's misfit fell. A reduction in rows whose residuals wander counts for as little as their
+/// wandering allows, one in white rows fully, whatever the other rows do; pooling ρ over all
+/// rows instead lets white rows dilute it. Each row's factor is at least its
+/// [`Comparison::colour_floor`]. Where nothing fell, the rows are weighed by their misfit.
+/// Otherwise the pooled lag-1 factor (1 + ρ)/(1 − ρ), ρ at most 0.99. At least 1.
+pub fn colour_factor(before: &Comparison, after: &Comparison) -> f64 {
+    if !after.wanders() {
+        // No stated wandering errors: the residuals' colour is mostly the model's own
+        // smooth error, which the windows' scatter (the cluster sandwich) measures; the
+        // pooled lag-1 factor stands for the rest.
+        let rho = after.residual_autocorrelation().clamp(0.0, 0.99);
+        return (1.0 + rho) / (1.0 - rho);
+    }
+    let (b, a) = (before.axis_sums(), after.axis_sums());
+    let factor = |j: usize| {
+        let own = if a.chi2[j] > 0.0 {
+            ar1_factor(a.lag1[j] / a.chi2[j], a.lag_far[j] / a.chi2[j], a.count[j])
+        } else {
+            1.0
+        };
+        own.max(after.colour_floor[j])
+    };
+    let (mut fell, mut weighed) = (0.0, 0.0);
+    for j in 0..MAX_ROWS {
+        let d = (b.chi2[j] - a.chi2[j]).max(0.0);
+        fell += d;
+        weighed += d * factor(j);
+    }
+    if fell > 0.0 {
+        return (weighed / fell).max(1.0);
+    }
+    // Nothing fell: each row as much as its misfit.
+    let total: f64 = a.chi2.iter().sum();
+    if total > 0.0 {
+        let weighed: f64 = (0..MAX_ROWS).map(|j| a.chi2[j] * factor(j)).sum();
+        (weighed / total).max(1.0)
+    } else {
+        1.0
+    }
 }
 
 /// The model's prediction at every sample of the compared windows.
@@ -315,6 +429,9 @@ pub struct Comparison {
     pub chi2: f64,
     /// Degrees of freedom: residuals minus fitted start parameters.
     pub dof: f64,
+    /// The least variance factor of each residual row ([`CompareConfig::colour_floor`]; 1
+    /// where none was given).
+    pub colour_floor: [f64; MAX_ROWS],
 }
 
 impl Comparison {
@@ -347,6 +464,18 @@ impl Comparison {
     pub fn independent_residuals(&self) -> f64 {
         let rho = self.residual_autocorrelation().max(0.0);
         (self.dof * (1.0 - rho) / (1.0 + rho)).max(1.0)
+    }
+
+    /// Whether the flight's errors were stated to wander ([`CompareConfig::colour_floor`]).
+    pub fn wanders(&self) -> bool {
+        self.colour_floor.iter().any(|&f| f > 1.0)
+    }
+
+    /// [`AxisSums`] over all windows.
+    pub fn axis_sums(&self) -> AxisSums {
+        self.windows
+            .iter()
+            .fold(AxisSums::default(), |acc, w| acc.add(&w.axes))
     }
 
     /// The fitted start states, one per window (to warm-start another comparison).
@@ -530,7 +659,7 @@ fn compare_window(
         _ => prep.window_residuals(model, window, &x0, &mut scratch, &mut rows),
     }
     let chi2: f64 = rows.iter().map(|r| r * r).sum();
-    let (residuals, lag1_product) = prep.measured_rows(model, window, &rows);
+    let (residuals, lag1_product, axes) = prep.measured_rows(model, window, &rows);
     let errors = window_errors(model, prep, window, &scratch.predicted);
     WindowOutcome {
         result: WindowResult {
@@ -543,6 +672,7 @@ fn compare_window(
             chi2,
             residuals,
             lag1_product,
+            axes,
         },
         predicted: std::mem::take(&mut scratch.predicted),
         fit: if keep_fit { fit } else { None },
@@ -792,6 +922,59 @@ mod tests {
     use wireflight_flight::effects::Origin;
     use wireflight_flight::simulate::{simulate, Noise, SimSpec};
     use wireflight_flight::spec::ModelSpec;
+
+    /// The lag-1 and lag-L autocorrelations and the count of a series.
+    fn autocorrelations(y: &[f64]) -> (f64, f64, f64) {
+        let chi2: f64 = y.iter().map(|v| v * v).sum();
+        let lag = |k: usize| y.iter().zip(&y[k..]).map(|(a, b)| a * b).sum::<f64>() / chi2;
+        (lag(1), lag(LAG_FAR), y.len() as f64)
+    }
+
+    /// The variance of the mean of `y` over that of white residuals, measured: the mean of
+    /// each of `blocks` blocks, their spread against the samples'.
+    fn measured_factor(y: &[f64], blocks: usize) -> f64 {
+        let n = y.len() / blocks;
+        let var = y.iter().map(|v| v * v).sum::<f64>() / y.len() as f64;
+        let means: Vec<f64> = y
+            .chunks_exact(n)
+            .map(|c| c.iter().sum::<f64>() / n as f64)
+            .collect();
+        let var_mean = means.iter().map(|m| m * m).sum::<f64>() / means.len() as f64;
+        n as f64 * var_mean / var
+    }
+
+    /// White residuals read 1; a wandering error read through 5% of white noise reads what a
+    /// sum of it varies by (from lag 1 alone it would read half); tiny correlations of white
+    /// residuals are not taken for a long memory.
+    #[test]
+    fn the_colour_factor_is_what_a_sum_of_the_residuals_varies_by() {
+        use rand::SeedableRng;
+        use rand_distr::{Distribution, Normal};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let unit = Normal::new(0.0, 1.0).unwrap();
+        let white: Vec<f64> = (0..200_000).map(|_| unit.sample(&mut rng)).collect();
+        let (r1, rf, n) = autocorrelations(&white);
+        assert_eq!(ar1_factor(r1, rf, n), 1.0, "{r1} {rf}");
+        // A Gauss–Markov error of τ = 2.5 s at 50 Hz (φ = 0.992) with white noise of 5% of
+        // its variance on it.
+        let phi: f64 = 0.992;
+        let mut x = 0.0;
+        let y: Vec<f64> = (0..400_000)
+            .map(|_| {
+                x = phi * x + (1.0 - phi * phi).sqrt() * unit.sample(&mut rng);
+                x + 0.05f64.sqrt() * unit.sample(&mut rng)
+            })
+            .collect();
+        let (r1, rf, n) = autocorrelations(&y);
+        let f = ar1_factor(r1, rf, n);
+        let truth = measured_factor(&y, 200);
+        assert!((f / truth - 1.0).abs() < 0.3, "factor {f} against {truth}");
+        let lag1_only = (1.0 + r1) / (1.0 - r1);
+        assert!(lag1_only < 0.7 * truth, "{lag1_only} against {truth}");
+        // Correlations within three standard errors of zero are none.
+        assert_eq!(ar1_factor(0.005, 0.007, 2000.0), 1.0);
+        assert!(ar1_factor(f64::NAN, 0.5, 100.0) == 1.0);
+    }
 
     /// The screening subset taken from prepared data is the data prepared with that many
     /// windows: the same windows, noise and weights, without estimating the noise again.

@@ -3,7 +3,7 @@
 
 use super::attitude::attitude_residuals;
 use super::predict::Predicted;
-use super::Prepared;
+use super::{AxisSums, Prepared, LAG_FAR, MAX_ROWS};
 use wireflight_data::Channel;
 use wireflight_flight::model::Model;
 
@@ -63,41 +63,70 @@ impl Prepared<'_> {
     }
 
     /// Of the residual rows `rows` of `window` ([`Self::residual_rows`] per sample): how
-    /// many are measurements, and Σ r_k·r_k+1 over consecutive samples of each residual
-    /// channel (consecutive samples of the channel, where it has its own rate).
+    /// many are measurements, Σ r_k·r_k+1 over consecutive samples of each residual channel
+    /// (consecutive samples of the channel, where it has its own rate), and the sums of
+    /// each row of a sample on its own ([`AxisSums`]).
     pub(crate) fn measured_rows(
         &self,
         model: &Model,
         (start, end): (usize, usize),
         rows: &[f64],
-    ) -> (usize, f64) {
+    ) -> (usize, f64, AxisSums) {
         let per_sample = rows.len() / (end - start).max(1);
         let sampling = &self.data.sampling;
-        if sampling.is_all() || per_sample == 0 {
-            let lag1 = rows
-                .iter()
-                .zip(rows.iter().skip(per_sample))
-                .map(|(a, b)| a * b)
-                .sum();
-            return (rows.len(), lag1);
+        let mut axes = AxisSums::default();
+        if per_sample == 0 {
+            return (rows.len(), 0.0, axes);
         }
-        let layout = self.residual_layout(model);
-        let (mut count, mut lag1) = (0, 0.0);
-        for (j, &channel) in layout.iter().enumerate().take(per_sample) {
+        let all = sampling.is_all();
+        let layout = if all {
+            Vec::new()
+        } else {
+            self.residual_layout(model)
+        };
+        let mut count = 0;
+        for j in 0..per_sample {
+            let channel = layout.get(j).copied();
             let mut previous: Option<f64> = None;
+            // The row's last LAG_FAR own samples (a ring), for the longer lag.
+            let mut recent = [0.0; LAG_FAR];
+            let (mut chi2, mut lag1, mut lag_far, mut sum, mut seen) = (0.0, 0.0, 0.0, 0.0, 0usize);
             for (k, i) in (start..end).enumerate() {
-                if !sampling.at(channel, i) {
-                    continue;
+                if let Some(c) = channel {
+                    if !sampling.at(c, i) {
+                        continue;
+                    }
                 }
-                let r = rows[k * per_sample + j];
+                let Some(&r) = rows.get(k * per_sample + j) else {
+                    break;
+                };
                 count += 1;
+                chi2 += r * r;
+                sum += r;
                 if let Some(p) = previous {
                     lag1 += p * r;
                 }
                 previous = Some(r);
+                let slot = seen % LAG_FAR;
+                if seen >= LAG_FAR {
+                    lag_far += recent[slot] * r;
+                }
+                recent[slot] = r;
+                seen += 1;
+            }
+            if j < MAX_ROWS {
+                axes.chi2[j] = chi2;
+                axes.lag1[j] = lag1;
+                axes.lag_far[j] = lag_far;
+                axes.sum[j] = sum;
+                axes.count[j] = seen as f64;
             }
         }
-        (count, lag1)
+        let lag1 = axes.lag1.iter().sum();
+        if all {
+            count = rows.len();
+        }
+        (count, lag1, axes)
     }
 
     /// The change of the residual rows over `span` (laid out as `out`, [`Self::residual_rows`]

@@ -9,6 +9,7 @@ use super::predict::Predicted;
 use super::start::param_count;
 use super::{
     AxisError, ChannelErrors, Comparison, Prediction, Prepared, WindowOutcome, WindowResult,
+    MAX_ROWS,
 };
 use wireflight_data::Channel;
 use wireflight_flight::model::{AirData, Model};
@@ -88,6 +89,7 @@ pub(super) fn assemble_as(
         axes,
         chi2,
         dof: rows.saturating_sub(fitted) as f64,
+        colour_floor: prep.cfg.colour_floor.unwrap_or([1.0; MAX_ROWS]),
     }
 }
 

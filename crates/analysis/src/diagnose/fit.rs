@@ -10,7 +10,7 @@
 use super::{AircraftChange, Candidate, Correction, DiagnoseConfig, DiagnoseError};
 use crate::compare::start::StartFit;
 use crate::compare::{
-    compare_from_jacobians, compare_refit, compare_with_fits, Comparison, Prepared,
+    colour_factor, compare_from_jacobians, compare_refit, compare_with_fits, Comparison, Prepared,
 };
 use crate::free::{aircraft_free, effect, values, Free, Owner};
 use crate::lm::{Lm, FIT_TOL};
@@ -26,7 +26,9 @@ use wireflight_flight::numeric::{chi2_quantile, invert};
 ///
 /// Two estimates, the correlations the first's:
 /// * the model-based one, (D̃ᵀD̃)⁻¹ scaled by the misfit per residual when it exceeds 1 and
-///   by the residuals' lag-1 autocorrelation ρ, (1+ρ)/(1−ρ);
+///   by the residuals' colour where the fit moved them, `colour`
+///   ([`crate::compare::colour_factor`]: the same factor that deflates the fit's
+///   likelihood ratio, so that a test of one parameter and its ± agree);
 /// * with at least three more windows than parameters, the sandwich A⁻¹BA⁻¹ with each
 ///   window a cluster, B = W/(W−1)·Σ (g_w − ḡ)(g_w − ḡ)ᵀ of the windows' gradient shares
 ///   `grads`: how much the windows' own pulls on the parameters scatter, whatever makes the
@@ -38,13 +40,12 @@ use wireflight_flight::numeric::{chi2_quantile, invert};
 pub(crate) fn covariance(
     a: &[f64],
     free: &[Free],
-    cmp: &Comparison,
+    (cmp, colour): (&Comparison, f64),
     grads: Option<&[Vec<f64>]>,
 ) -> Option<Vec<f64>> {
     let np = free.len();
     let inv = invert(a, np)?;
-    let rho = cmp.residual_autocorrelation().clamp(0.0, 0.99);
-    let s2 = (cmp.chi2 / cmp.dof.max(1.0)).max(1.0) * (1.0 + rho) / (1.0 - rho);
+    let s2 = (cmp.chi2 / cmp.dof.max(1.0)).max(1.0) * colour.max(1.0);
     let mut model: Vec<f64> = inv.iter().map(|v| v * s2).collect();
     if let Some((sandwich, windows)) = grads.and_then(|g| sandwich(&inv, g, np)) {
         // The windows' scatter replaces a σ only where it is larger than noise in the
@@ -263,7 +264,8 @@ pub(crate) fn fit(
         let own = at_absent_values(model, free, &theta);
         let ((a, _), grads) =
             normal_equations_by_window(model, (free, own), &theta, prep, &lin, flown.as_deref());
-        let cov = covariance(&a, free, &baseline.comparison, Some(&grads));
+        let b = &baseline.comparison;
+        let cov = covariance(&a, free, (b, colour_factor(b, b)), Some(&grads));
         return (baseline.comparison.clone(), cov);
     }
     // The linearisation is around the starts of the model without the effect; the starts are
@@ -305,7 +307,8 @@ pub(crate) fn fit(
     // The starts are the model's own fits (refitted at least once above).
     let ((a, _), grads) =
         normal_equations_by_window(model, (free, true), &theta, prep, &lin, flown.as_deref());
-    let cov = covariance(&a, free, &cmp, Some(&grads));
+    let colour = colour_factor(&baseline.comparison, &cmp);
+    let cov = covariance(&a, free, (&cmp, colour), Some(&grads));
     (cmp, cov)
 }
 
@@ -487,6 +490,22 @@ pub(crate) fn excess_removed(nu_b: f64, nu_a: f64) -> f64 {
     ((nu_b - nu_a) / (nu_b - 1.0).max(NOISE_SLACK)).clamp(-1.5, 1.5)
 }
 
+/// The likelihood-ratio statistic of `after` (a correction fitted) against `before`:
+/// N·ln(χ²₀/χ²₁), N the effectively independent residuals: with stated wandering errors the
+/// degrees of freedom over their colour where the misfit fell ([`colour_factor`]), else
+/// [`Comparison::independent_residuals`].
+pub(crate) fn likelihood_ratio(before: &Comparison, after: &Comparison) -> f64 {
+    if after.chi2.is_nan() || after.chi2 <= 0.0 {
+        return f64::INFINITY;
+    }
+    let independent = if after.wanders() {
+        (after.dof / colour_factor(before, after)).max(1.0)
+    } else {
+        after.independent_residuals()
+    };
+    independent * (before.chi2 / after.chi2).ln()
+}
+
 /// The χ² quantile a candidate's likelihood-ratio statistic must beat: the family-wise level
 /// split over all `candidates` (Bonferroni), for `np` fitted parameters.
 pub(crate) fn lr_critical(cfg: &DiagnoseConfig, candidates: usize, np: usize) -> f64 {
@@ -597,7 +616,7 @@ pub(crate) fn make_candidate(
     let (nu_b, nu_a) = (before.noise_units(), after.noise_units());
     let excess_removed = excess_removed(nu_b, nu_a);
     let lr = if after.chi2 > 0.0 {
-        after.independent_residuals() * (before.chi2 / after.chi2).ln()
+        likelihood_ratio(before, after)
     } else {
         f64::INFINITY
     };

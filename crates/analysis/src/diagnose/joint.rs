@@ -15,7 +15,7 @@ use std::ops::Range;
 use super::fit::{covariance, effect_free, fit, lr_critical, make_candidate, Baseline, Trial};
 use super::{Candidate, Correction, DiagnoseConfig, DiagnoseError};
 use crate::compare::start::Scratch;
-use crate::compare::{compare_corrections, Comparison, Prepared};
+use crate::compare::{colour_factor, compare_corrections, Comparison, Prepared};
 use crate::free::{aircraft_free, effect, set_values, values, Free};
 use crate::lm::newton_trial;
 use crate::profile::{add_into, perturbed_models, window_normal_towards, Linearised};
@@ -132,14 +132,10 @@ pub(crate) fn fit_joint(
     })
 }
 
-/// The likelihood-ratio statistic of a fit with misfit `chi2_with` against one without a
-/// member (misfit `chi2_without`): N·ln(χ²₀/χ²₁), N the independent residuals of the fit.
-fn lr_statistic(with: &Comparison, chi2_without: f64) -> f64 {
-    if with.chi2 > 0.0 {
-        with.independent_residuals() * (chi2_without / with.chi2).ln()
-    } else {
-        f64::INFINITY
-    }
+/// The likelihood-ratio statistic of a fit `with` a member against the fit `without` it
+/// ([`super::fit::likelihood_ratio`]).
+fn lr_statistic(with: &Comparison, without: &Comparison) -> f64 {
+    super::fit::likelihood_ratio(without, with)
 }
 
 impl JointFit {
@@ -230,7 +226,7 @@ impl JointFit {
                 continue;
             }
             let without = self.without(k, base, prep, iterations)?;
-            lr.push(lr_statistic(&self.comparison, without.comparison.chi2));
+            lr.push(lr_statistic(&self.comparison, &without.comparison));
             fits.push((k, without));
         }
         self.lr = lr;
@@ -240,7 +236,7 @@ impl JointFit {
     /// The statistic of a newest member whose fit without it is `without` (the previous
     /// rung's joint fit, already optimal without it).
     pub(crate) fn lr_against(&self, without: &Comparison) -> f64 {
-        lr_statistic(&self.comparison, without.chi2)
+        lr_statistic(&self.comparison, without)
     }
 
     /// Each member as a candidate record: its values and ± from the joint fit (its block of
@@ -392,7 +388,10 @@ pub(crate) fn full_pass(
         })
         .collect();
     let cov = (np > 0)
-        .then(|| covariance(&a, free, &after, Some(&grads)))
+        .then(|| {
+            let colour = colour_factor(&base_cmp, &after);
+            covariance(&a, free, (&after, colour), Some(&grads))
+        })
         .flatten();
     let refitted = JointFit {
         members: joint.members.clone(),

@@ -20,10 +20,14 @@
 //!   residuals, scaled by the misfit per residual when it exceeds 1 and by the residuals'
 //!   autocorrelation (AR(1): (1+ρ)/(1−ρ)); where the windows' scatter (a cluster sandwich)
 //!   exceeds it beyond chance, that. 1σ, with the correlation matrix. All windows count.
+//!   Where the flight's errors are stated to wander ([`crate::error_floor`]), the
+//!   autocorrelation factor is each residual row's own where the fit moved it
+//!   ([`crate::compare::colour_factor`]), the same that deflates the likelihood ratio.
 //! * **Significance**: the likelihood-ratio statistic N·ln(χ²₀/χ²₁) over the effectively
 //!   independent residuals N (ν·(1−ρ)/(1+ρ): white residuals count fully, a smooth misfit
-//!   hardly) against the χ² quantile for the number of fitted parameters at the family-wise
-//!   level α split over all candidates, the screened aircraft numbers included (Bonferroni);
+//!   hardly; with stated wandering errors ν over [`crate::compare::colour_factor`]) against
+//!   the χ² quantile for the number of fitted parameters at the family-wise level α split
+//!   over all candidates, the screened aircraft numbers included (Bonferroni);
 //!   the candidate must remove at least a fifth of the misfit above the noise, and no fitted
 //!   value may end at a limit of its range.
 //! * **Several causes** (`joint`): forward selection with backward elimination — the best
@@ -33,9 +37,10 @@
 //! * **Verdict**: the causes kept, when together they bring the error to the noise
 //!   (≤ `at_floor` noise units); `unexplained` when they leave it above (what was found is
 //!   part of the answer), or when nothing is significant and the error is above the noise;
-//!   `none` when nothing is significant and the error is at the noise. An unexplained verdict
-//!   comes with evidence: where the error is (channel and axis), the terms of the model that
-//!   would reduce it most, and the conditions it follows.
+//!   `none` when nothing is significant and the error is at the noise (the noise: with
+//!   references their floor, with stated wandering errors the floor those leave). An
+//!   unexplained verdict comes with evidence: where the error is (channel and axis), the
+//!   terms of the model that would reduce it most, and the conditions it follows.
 //!
 //! Long flights are screened on a subset of windows (`screen_windows`), and the causes found
 //! then fitted on all of them.
@@ -323,6 +328,9 @@ pub struct Diagnosis {
     /// Against reference flights ([`reference::diagnose_against`]): the floor they measured
     /// and each cause's change from them. None for a diagnosis against the noise alone.
     pub reference: Option<reference::ReferenceVerdict>,
+    /// The floor stated sensor errors leave, where the diagnosis was judged against it
+    /// ([`crate::error_floor`]). None against the noise alone or against reference flights.
+    pub error_floor: Option<crate::error_floor::ErrorFloor>,
     /// The filter-error method's account where it was tried ([`turbulence`]).
     pub turbulence: Option<turbulence::TurbulenceFinding>,
 }
@@ -862,6 +870,7 @@ pub fn diagnose(
         evidence,
         alternatives,
         reference: None,
+        error_floor: None,
     })
 }
 

@@ -5,10 +5,12 @@
 use wireflight_data::FlightData;
 use wireflight_flight::effects::Effect;
 use wireflight_flight::model::Model;
+use wireflight_flight::sensor_errors::SensorErrors;
 
 use super::reference::{diagnose_against, AgainstError};
 use super::turbulence::{through_turbulence, Method};
 use super::{diagnose, DiagnoseConfig, DiagnoseError, Diagnosis};
+use crate::error_floor::{error_floor, DRAWS, SEED};
 use crate::filter_error::flight::FilterError;
 
 /// What a diagnosis is asked.
@@ -20,6 +22,9 @@ pub struct Request<'a> {
     pub data: &'a FlightData,
     /// Reference flights of the same aircraft, by name: causes become changes from them.
     pub references: &'a [(&'a str, &'a FlightData)],
+    /// The log's sensor errors as stated: the flight is judged against the floor they leave
+    /// on a right model ([`crate::error_floor`]). Not with `references`, which measure it.
+    pub errors: Option<&'a SensorErrors>,
     /// Candidate effects beyond the catalogue (a model file's terms without values, the
     /// terms `discover` proposes).
     pub declared: &'a [Box<dyn Effect>],
@@ -53,14 +58,17 @@ pub fn run(request: &Request) -> Result<Diagnosis, RunError> {
         model,
         data,
         references,
+        errors,
         declared,
         config,
         method,
     } = *request;
-    let mut d = if references.is_empty() {
-        diagnose(model, data, declared, &config)?
-    } else {
-        diagnose_against(model, data, references, declared, &config)?
+    let mut d = match errors {
+        _ if !references.is_empty() => {
+            diagnose_against(model, data, references, declared, &config)?
+        }
+        Some(errors) => diagnose_with_errors(model, data, errors, declared, &config)?,
+        None => diagnose(model, data, declared, &config)?,
     };
     // (Against reference flights the diagnosis's noise is their floor, the model's own error
     // included: the filter weighs its innovations by it as output error does.)
@@ -74,5 +82,35 @@ pub fn run(request: &Request) -> Result<Diagnosis, RunError> {
         method,
     )
     .map_err(RunError::Filter)?;
+    Ok(d)
+}
+
+/// Diagnose `data` against the floor `errors` leave on a right model: weighed by its noise
+/// and that floor together, at the floor up to as far as the floor's own draws reach.
+fn diagnose_with_errors(
+    model: &Model,
+    data: &FlightData,
+    errors: &SensorErrors,
+    declared: &[Box<dyn Effect>],
+    config: &DiagnoseConfig,
+) -> Result<Diagnosis, DiagnoseError> {
+    let Some(floor) = error_floor(
+        model,
+        data,
+        errors,
+        config.compare,
+        config.at_floor,
+        DRAWS,
+        SEED,
+    ) else {
+        // Too short for one window: the diagnosis says so.
+        return diagnose(model, data, declared, config);
+    };
+    let mut cfg = *config;
+    cfg.compare.model_error = Some(floor.model_error);
+    cfg.compare.colour_floor = Some(floor.colour);
+    cfg.at_floor = floor.at_floor;
+    let mut d = diagnose(model, data, declared, &cfg)?;
+    d.error_floor = Some(floor);
     Ok(d)
 }

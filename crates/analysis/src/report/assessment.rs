@@ -4,9 +4,9 @@ use serde_json::{json, Value};
 use wireflight_data::format::{fixed, signed};
 
 use super::{
-    axes_text, candidate_json, comparison_json, conditions_json, count, fmt_opt, fmt_params,
-    innovations_text, model_label, noise_json, noise_text, reference_floor_text, turbulence_json,
-    turbulence_text, windows_json, Table,
+    axes_text, candidate_json, comparison_json, conditions_json, count, error_floor_json,
+    error_floor_text, fmt_opt, fmt_params, innovations_text, model_label, noise_json, noise_text,
+    reference_floor_text, turbulence_json, turbulence_text, windows_json, Table,
 };
 use crate::assess::Assessment;
 use crate::compare::Comparison;
@@ -41,6 +41,7 @@ pub fn assessment_json(a: &Assessment, flight: &str) -> Value {
             "noise_units": r.floor.noise_units,
             "model_error": noise_json(&r.floor.model_error),
         })),
+        "error_floor": a.error_floor.as_ref().map(error_floor_json),
         "windows": windows_json(&before.comparison),
         "conditions": conditions_json(&before.conditions),
         "growth_exponent": before.growth,
@@ -98,6 +99,9 @@ fn error_table(a: &Assessment, names: &Names) -> String {
     if let Some(r) = &a.reference_floor {
         out += &reference_floor_text(&r.names, &r.floor);
     }
+    if let Some(f) = &a.error_floor {
+        out += &error_floor_text(f);
+    }
     out += "\n";
     let after = a.after.as_ref().map(|f| &f.comparison);
     let mut t = match after {
@@ -131,6 +135,12 @@ fn error_table(a: &Assessment, names: &Names) -> String {
         format!(
             "  floor {} (the total the model leaves on these data when it errs as on the \
              reference flights)\n",
+            fixed(a.floor, 3)
+        )
+    } else if a.error_floor.is_some() {
+        format!(
+            "  floor {} (the total a right model leaves on these data with the stated sensor \
+             errors)\n",
             fixed(a.floor, 3)
         )
     } else {

@@ -17,6 +17,7 @@ use crate::compare::{AxisError, ChannelErrors, Comparison, NoiseEstimate};
 use crate::conditions::Condition;
 use crate::diagnose::reference::ReferenceVerdict;
 use crate::diagnose::{Candidate, Diagnosis, Verdict};
+use crate::error_floor::ErrorFloor;
 use crate::reference::ModelFloor;
 use wireflight_data::format::{fixed, fmt_number, signed};
 use wireflight_data::VehicleKind;
@@ -377,6 +378,7 @@ pub fn diagnosis_json(d: &Diagnosis) -> Value {
         "evidence": d.evidence,
         "alternatives": d.alternatives,
         "reference": d.reference.as_ref().map(reference_json),
+        "error_floor": d.error_floor.as_ref().map(error_floor_json),
         "turbulence": d.turbulence.as_ref().map(turbulence_json),
         "aircraft_scores": d.aircraft_scores.iter().take(10).map(|s| json!({
             "key": s.key.name, "term": s.key.term, "reduction_chi2": s.reduction,
@@ -582,6 +584,9 @@ pub fn diagnosis_text(d: &Diagnosis) -> String {
     let mut out = String::new();
     if let Some(r) = &d.reference {
         out.push_str(&reference_floor_text(&r.names, &r.floor));
+    }
+    if let Some(f) = &d.error_floor {
+        out.push_str(&error_floor_text(f));
     }
     let unit = floor_word(d);
     let _ = writeln!(
@@ -801,7 +806,7 @@ fn cause_text(c: &Candidate) -> String {
 /// What a diagnosis's misfit is in units of: `noise`, or against reference flights `floor`
 /// (noise and the model's own error).
 fn floor_word(d: &Diagnosis) -> &'static str {
-    if d.reference.is_some() {
+    if d.reference.is_some() || d.error_floor.is_some() {
         "floor"
     } else {
         "noise"
@@ -822,6 +827,32 @@ pub fn reference_floor_text(names: &[String], floor: &ModelFloor) -> String {
         flights.join(", "),
         noise_text(&floor.model_error).trim_start_matches("measurement noise (1σ per axis): ")
     )
+}
+
+/// The stated sensor errors and the floor they leave, two lines.
+pub fn error_floor_text(f: &ErrorFloor) -> String {
+    let (lo, hi) = f.draw_range();
+    format!(
+        "  judged against the floor `{}` sensor errors leave on a right model (1σ per axis, \
+         added to the noise): {}\n  a right model reads {}–{} × this floor on {}; at the floor \
+         up to {}\n",
+        f.errors,
+        noise_text(&f.model_error).trim_start_matches("measurement noise (1σ per axis): "),
+        fixed(lo, 2),
+        fixed(hi, 2),
+        count(f.draws.len(), "draw"),
+        fixed(f.at_floor, 2)
+    )
+}
+
+/// The floor stated sensor errors leave, for JSON.
+pub(crate) fn error_floor_json(f: &ErrorFloor) -> Value {
+    json!({
+        "errors": f.errors,
+        "model_error": noise_json(&f.model_error),
+        "draws_noise_units": f.draws,
+        "at_floor": f.at_floor,
+    })
 }
 
 /// Each cause's parameters on the test flight against the references, and the causes the
@@ -962,6 +993,11 @@ fn verdict_against_noise(d: &Diagnosis, fall: &str) -> String {
                 parts.join("; ")
             )
         }
+        Verdict::None if d.error_floor.is_some() => format!(
+            "none — the error is at the floor the stated sensor errors leave ({} × it): \
+             nothing is missing that these data can show",
+            fixed(d.noise_units, 2)
+        ),
         Verdict::None => format!(
             "none — the error is at the noise floor ({} × the noise): nothing is missing that \
              these data can show",

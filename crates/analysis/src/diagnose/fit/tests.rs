@@ -235,6 +235,7 @@ fn comparison(chi2: f64, dof: f64) -> Comparison {
         axes: Vec::new(),
         chi2,
         dof,
+        colour_floor: [1.0; crate::compare::MAX_ROWS],
     }
 }
 
