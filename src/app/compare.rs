@@ -281,7 +281,11 @@ fn write_report(
         diagnosis: None,
         fitted: &a.fitted,
         replay: Some(crate::present::report::ReplaySize::default()),
-        at_floor: crate::analysis::diagnose::DiagnoseConfig::default().at_floor,
+        at_floor: a.error_floor.as_ref().map_or(
+            crate::analysis::diagnose::DiagnoseConfig::default().at_floor,
+            |f| f.at_floor,
+        ),
+        unit: a.unit(),
         turbulence: a.turbulence.as_ref().map(|(t, _)| t),
     };
     crate::present::report::write_report(path, &report)?;

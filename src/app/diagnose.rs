@@ -5,8 +5,8 @@
 use crate::analysis::compare::Prepared;
 use crate::analysis::diagnose::{self, DiagnoseConfig, Diagnosis, Request};
 use crate::analysis::report::{
-    diagnosis_json, diagnosis_text, ladder_json, model_label, next_step_text, noise_text,
-    steps_text,
+    diagnosis_json, diagnosis_text, floor_word, ladder_json, model_label, next_step_text,
+    noise_text, steps_text,
 };
 use crate::app::cli::DiagnoseArgs;
 use crate::app::shown;
@@ -210,7 +210,19 @@ fn write_report(
     cfg: &DiagnoseConfig,
     path: &std::path::Path,
 ) -> anyhow::Result<()> {
-    let prep = Prepared::new(data, cfg.compare);
+    // The causes' comparison weighed as the diagnosis was: by the references' floor or the
+    // stated errors' where it was judged against one.
+    let mut compare = cfg.compare;
+    let mut at_floor = cfg.at_floor;
+    if let Some(r) = &d.reference {
+        compare.model_error = Some(r.floor.model_error);
+    }
+    if let Some(f) = &d.error_floor {
+        compare.model_error = Some(f.model_error);
+        compare.colour_floor = Some(f.colour);
+        at_floor = f.at_floor;
+    }
+    let prep = Prepared::new(data, compare);
     let after =
         (!d.found.is_empty()).then(|| crate::analysis::compare::compare_prepared(model, &prep));
     let label = format!(
@@ -236,7 +248,8 @@ fn write_report(
         diagnosis: Some(d),
         fitted: &d.found,
         replay: Some(crate::present::report::ReplaySize::default()),
-        at_floor: cfg.at_floor,
+        at_floor,
+        unit: floor_word(d),
         turbulence: d.turbulence.as_ref(),
     };
     crate::present::report::write_report(path, &report)?;

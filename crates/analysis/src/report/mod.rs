@@ -805,7 +805,7 @@ fn cause_text(c: &Candidate) -> String {
 
 /// What a diagnosis's misfit is in units of: `noise`, or against reference flights `floor`
 /// (noise and the model's own error).
-fn floor_word(d: &Diagnosis) -> &'static str {
+pub fn floor_word(d: &Diagnosis) -> &'static str {
     if d.reference.is_some() || d.error_floor.is_some() {
         "floor"
     } else {

@@ -115,6 +115,9 @@ pub struct Report<'a> {
     pub replay: Option<ReplaySize>,
     /// Misfit in noise units that counts as at the noise (`DiagnoseConfig::at_floor`).
     pub at_floor: f64,
+    /// What the misfit is in units of: `noise`, or `floor` against reference flights or
+    /// stated sensor errors.
+    pub unit: &'static str,
     /// The filter-error method's account, where it ran (the diagnosis's, or compare's).
     pub turbulence: Option<&'a TurbulenceFinding>,
 }
@@ -345,13 +348,19 @@ fn fitted_rows(c: &Candidate) -> Vec<Vec<String>> {
 /// The verdict in words, with every cause named by what it is.
 fn verdict_section(r: &Report) -> String {
     let mut out = String::from("<h2>Verdict</h2>\n");
+    let unit = r.unit;
     let Some(d) = r.diagnosis else {
         // compare: the error, and what the added effects do.
         let b = r.before;
         let mut text = format!(
-            "The model's error is {} ({} × the measurement noise; a right model leaves {}).",
+            "The model's error is {} ({} × the {}; a right model leaves {}).",
             fixed(b.total, 3),
             fixed(b.noise_units(), 2),
+            if unit == "noise" {
+                "measurement noise"
+            } else {
+                "floor"
+            },
             fixed(r.noise_floor, 3)
         );
         let class = match &r.after {
@@ -360,7 +369,7 @@ fn verdict_section(r: &Report) -> String {
                     r.fitted.iter().map(|c| physical_name(&c.effect)).collect();
                 let _ = write!(
                     text,
-                    " With {} ({label}) it falls to {} ({} × the noise){}.",
+                    " With {} ({label}) it falls to {} ({} × the {unit}){}.",
                     if names.is_empty() {
                         label.clone()
                     } else {
@@ -369,9 +378,9 @@ fn verdict_section(r: &Report) -> String {
                     fixed(a.total, 3),
                     fixed(a.noise_units(), 2),
                     if a.noise_units() <= r.at_floor {
-                        ": at the noise"
+                        format!(": at the {unit}")
                     } else {
-                        ", still above the noise"
+                        format!(", still above the {unit}")
                     }
                 );
                 if a.noise_units() <= r.at_floor {
@@ -392,7 +401,7 @@ fn verdict_section(r: &Report) -> String {
     };
     let names: Vec<String> = d.found.iter().map(|c| physical_name(&c.effect)).collect();
     let fall = format!(
-        "the error falls {} → {} ({} × the noise)",
+        "the error falls {} → {} ({} × the {unit})",
         fixed(d.base_error, 3),
         fixed(d.found_error, 3),
         fixed(d.found_noise_units, 2)
@@ -421,15 +430,15 @@ fn verdict_section(r: &Report) -> String {
         Verdict::None => (
             "none",
             format!(
-                "Nothing is missing that these data can show: the error is at the noise ({} × \
-                 the noise).",
+                "Nothing is missing that these data can show: the error is at the {unit} ({} \
+                 × the {unit}).",
                 fixed(d.noise_units, 2)
             ),
         ),
         Verdict::Unexplained if !d.found.is_empty() => (
             "unexplained",
             format!(
-                "Unexplained: with {} {fall}, still above the noise, and no further candidate \
+                "Unexplained: with {} {fall}, still above the {unit}, and no further candidate \
                  is significant — part of the answer.",
                 names.join(" and ")
             ),
@@ -437,7 +446,7 @@ fn verdict_section(r: &Report) -> String {
         Verdict::Unexplained => (
             "unexplained",
             format!(
-                "Unexplained: the error stays {} × the noise and no candidate is significant.",
+                "Unexplained: the error stays {} × the {unit} and no candidate is significant.",
                 fixed(d.noise_units, 2)
             ),
         ),
