@@ -241,7 +241,11 @@ fn write_report(
         model_name: model_label(base),
         before: &d.base,
         after: after.as_ref().map(|a| (a, label)),
-        noise: &d.base_noise,
+        noise: match (&d.reference, &d.error_floor) {
+            (Some(r), _) => &r.measured_noise,
+            (None, Some(f)) => &f.measured_noise,
+            (None, None) => &d.base_noise,
+        },
         noise_floor: d.noise_floor,
         window_s: cfg.compare.window_s,
         conditions: &conditions,

@@ -210,7 +210,7 @@ pub fn report_html(path: &Path, r: &Report) -> Result<String, ReportError> {
     );
     body.push_str(&verdict_section(r));
     if let Some(d) = r.diagnosis {
-        body.push_str(&ladder_section(d));
+        body.push_str(&ladder_section(d, r.unit));
     }
     body.push_str(&errors_section(r));
     body.push_str(&fitted_section(r));
@@ -492,7 +492,7 @@ fn verdict_section(r: &Report) -> String {
 }
 
 /// The ladder: each step's model, its error, what it added and dropped.
-fn ladder_section(d: &Diagnosis) -> String {
+fn ladder_section(d: &Diagnosis, unit: &str) -> String {
     let mut rows = Vec::new();
     for (i, s) in d.steps.iter().enumerate() {
         let model = if s.effects.is_empty() {
@@ -517,9 +517,10 @@ fn ladder_section(d: &Diagnosis) -> String {
             },
             if s.added.is_some() {
                 format!(
-                    "{} ({} × noise)",
+                    "{} ({} × {})",
                     fixed(s.error_after, 3),
-                    fixed(s.noise_units_after, 2)
+                    fixed(s.noise_units_after, 2),
+                    unit
                 )
             } else {
                 "—".to_string()
@@ -535,7 +536,7 @@ fn ladder_section(d: &Diagnosis) -> String {
                 "step",
                 "model",
                 "error",
-                "× noise",
+                &format!("× {}", unit),
                 "added",
                 "dropped",
                 "after, fitted together"
@@ -572,7 +573,7 @@ fn errors_section(r: &Report) -> String {
         rows.push(row);
     }
     let mut total = vec!["total".to_string(), fixed(r.before.total, 3)];
-    let mut units = vec!["× noise".to_string(), fixed(r.before.noise_units(), 2)];
+    let mut units = vec![format!("× {}", r.unit), fixed(r.before.noise_units(), 2)];
     if let Some(a) = a {
         total.push(fixed(a.total, 3));
         units.push(fixed(a.noise_units(), 2));
@@ -586,8 +587,13 @@ fn errors_section(r: &Report) -> String {
     out.push_str(&table(&head, &rows));
     let _ = writeln!(
         out,
-        "<p class=\"note\">Noise floor {}: the total a right model leaves on these \
+        "<p class=\"note\">{} {}: the total a right model leaves on these \
          data.</p>\n</div>\n<div>",
+        if r.unit == "noise" {
+            "Noise floor"
+        } else {
+            "Floor"
+        },
         fixed(r.noise_floor, 3)
     );
     let mut rows = Vec::new();
