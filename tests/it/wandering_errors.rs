@@ -261,3 +261,40 @@ fn two_causes_under_wandering_errors_have_honest_errors_over_forty_flights_each(
         );
     }
 }
+
+/// Light turbulence on a log with a navigation filter's wandering errors: `turbulence`, each
+/// gust σ within 30% of what was flown, and no aircraft number added by the filter's own
+/// search (it weighs the stated errors as white noise, and stays off).
+#[test]
+#[ignore = "validation tier: cargo test -- --ignored"]
+fn turbulence_under_wandering_errors_is_named_and_adds_no_number() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = flight("ekf-gnss", 31)
+        .turbulence("light")
+        .write(dir.path(), "turbulent.csv");
+    let d = diagnose(&path, Some("ekf-gnss"));
+    assert_eq!(d["verdict"], "turbulence", "{:#}", d["turbulence"]);
+    let t = &d["turbulence"];
+    assert_eq!(t["aircraft_searched"], false);
+    // The flown intensities, from the file's record.
+    let text = std::fs::read_to_string(&path).unwrap();
+    let record = text
+        .lines()
+        .find(|l| l.starts_with("# turbulence:"))
+        .expect("a turbulence record");
+    let flown = |key: &str| -> f64 {
+        record
+            .split_whitespace()
+            .find_map(|w| w.strip_prefix(key))
+            .and_then(|v| v.parse().ok())
+            .unwrap_or_else(|| panic!("{key} in {record}"))
+    };
+    let truth = [flown("sigma_u="), flown("sigma_v="), flown("sigma_w=")];
+    for (k, want) in truth.iter().enumerate() {
+        let got = t["sigma_mps"][k].as_f64().unwrap();
+        assert!(
+            (got / want - 1.0).abs() < 0.3,
+            "axis {k}: {got} against {want}"
+        );
+    }
+}

@@ -402,7 +402,10 @@ pub(crate) fn through_turbulence(
     // Against reference flights the search stays off: the filter's values on a turbulent
     // flight and on calm ones differ by more than a changed number where the gust model and
     // the aircraft's response to gusts are not exact (module docs).
-    let aircraft_searched = gusts.significant() && references.is_empty();
+    // With stated wandering errors too: the filter weighs them as white noise of their size,
+    // so its likelihood overstates what a number explains (on a calm-numbered flight in
+    // light turbulence with `ekf-gnss` errors it added the propeller disc and c_y_r).
+    let aircraft_searched = gusts.significant() && references.is_empty() && d.error_floor.is_none();
     if aircraft_searched {
         let mut taken: Vec<String> = refits.iter().map(|r| r.param.clone()).collect();
         for _ in 0..MOST_CAUSES {

@@ -1039,6 +1039,12 @@ fn verdict_against_noise(d: &Diagnosis, fall: &str) -> String {
             let searched = d.turbulence.as_ref().is_some_and(|t| t.aircraft_searched);
             if names.is_empty() && searched {
                 format!("turbulence — {gusts}; no deterministic cause besides")
+            } else if names.is_empty() && d.error_floor.is_some() {
+                format!(
+                    "turbulence — {gusts}; no cause named, and none ruled out: the filter weighs \
+                     the stated sensor errors as white noise, which overstates what a number \
+                     explains, so its numbers were not searched (docs/turbulence.md)"
+                )
             } else if names.is_empty() {
                 format!(
                     "turbulence — {gusts}; no cause named, and none ruled out: against calm \
