@@ -163,5 +163,52 @@ fn filter_error(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, one_hour, filter_error);
+/// `diagnose` of a 120 s flight test at 50 Hz with a navigation filter's wandering errors
+/// (`ekf-gnss`), aircraft unchanged: against the white noise alone (auto: output error ends
+/// unexplained and the filter-error method runs; and output error alone), and against the
+/// floor the stated errors leave (`--sensor-errors ekf-gnss`).
+fn wandering_errors(c: &mut Criterion) {
+    use wireflight::analysis::diagnose::turbulence::Method;
+    use wireflight::analysis::diagnose::{run, Request};
+    use wireflight::flight::sensor_errors::SensorErrors;
+
+    let base = ModelSpec::baseline(VehicleKind::FixedWing);
+    let model = base.build(Origin::default()).unwrap();
+    let errors = SensorErrors::preset("ekf-gnss").unwrap();
+    let spec = SimSpec {
+        sensor_errors: Some(errors.clone()),
+        ..SimSpec::new(Manoeuvre::FlightTest, 120.0)
+    };
+    let data = simulate(&model, &spec).unwrap();
+    let mut group = c.benchmark_group("flight_test_120s_50hz_ekf_gnss");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(data.len() as u64));
+    for (label, stated, method) in [
+        ("against the noise (auto)", None, Method::Auto),
+        (
+            "against the noise (output error)",
+            None,
+            Method::OutputError,
+        ),
+        (
+            "against the stated errors' floor",
+            Some(&errors),
+            Method::Auto,
+        ),
+    ] {
+        let request = Request {
+            model: &model,
+            data: &data,
+            references: &[],
+            errors: stated,
+            declared: &[],
+            config: DiagnoseConfig::default(),
+            method,
+        };
+        group.bench_function(label, |b| b.iter(|| run(&request)));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, one_hour, filter_error, wandering_errors);
 criterion_main!(benches);
