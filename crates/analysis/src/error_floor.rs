@@ -39,9 +39,10 @@ use rayon::prelude::*;
 
 use crate::compare::estimate_noise;
 use crate::compare::{
-    compare, compare_prepared, CompareConfig, Comparison, NoiseEstimate, Prepared, MAX_ROWS,
+    compare, compare_prepared, AxisSums, CompareConfig, Comparison, NoiseEstimate, Prepared,
+    MAX_ROWS,
 };
-use crate::reference::model_floor;
+use crate::reference::{model_floor, ModelFloor};
 use glam::DVec3;
 use wireflight_data::FlightData;
 use wireflight_flight::model::Model;
@@ -87,8 +88,11 @@ impl ErrorFloor {
 }
 
 /// The floor `errors` leave on `model` flown along `data` (module docs), measured on `draws`
-/// synthetic flights from `seed` on; "at the floor" reaches at least `at_floor`. None when the
-/// flight is too short for one window or `draws` is 0.
+/// synthetic flights whose seeds are mixed from `seed`; "at the floor" reaches at least
+/// `at_floor`. None when the flight is too short for one window or `draws` is 0.
+///
+/// A draw is made again each time it is needed (its seed makes it the same) rather than
+/// kept: sixteen copies of an hour's flight would be a gigabyte.
 pub fn error_floor(
     model: &Model,
     data: &FlightData,
@@ -102,14 +106,23 @@ pub fn error_floor(
         model_error: None,
         ..cfg
     };
-    let flights = synthetic_flights(model, data, errors, cfg, draws, seed);
-    if flights.is_empty() {
+    let maker = DrawMaker::new(model, data, errors, cfg, seed)?;
+    // Each draw's own floor: the pooled one and each half's are averages of these.
+    let floors: Vec<ModelFloor> = (0..draws as u64)
+        .into_par_iter()
+        .map(|k| {
+            let d = maker.draw(k);
+            model_floor(model, &[("draw", &d)], cfg).ok()
+        })
+        .collect::<Option<_>>()?;
+    if floors.is_empty() {
         return None;
     }
-    let pooled = model_floor(model, &named(&flights), cfg).ok()?;
-    let compared = compare_all(model, &flights, cfg, pooled.model_error);
-    let colour = colour_of_sums(&compared);
-    let first = mean_units(&compared);
+    let all: Vec<usize> = (0..floors.len()).collect();
+    let pooled = pooled_floor(&floors, &all);
+    let first: Vec<(f64, AxisSums)> = maker.compared(&all, pooled);
+    let colour = colour_of_sums(&first);
+    let first = first.iter().map(|(u, _)| u).sum::<f64>() / first.len() as f64;
     if !(first > 0.0 && first.is_finite()) {
         return None;
     }
@@ -117,30 +130,25 @@ pub fn error_floor(
     // shares differ between the RMS errors and the weighted misfit): each axis's total
     // deviation is scaled by that.
     let measured_noise = estimate_noise(data);
-    let model_error = rescaled(&pooled.model_error, &measured_noise, first);
+    let model_error = rescaled(&pooled, &measured_noise, first);
     // How far a right model's error strays is measured on draws the floor was not measured
     // on: each half against the other half's floor (scaled alike). A draw against a floor
     // fitted to it reads closer to 1 than a flight does.
-    let half = flights.len() / 2;
-    let units = if half >= 2 {
-        let (a, b) = flights.split_at(half);
-        let held_out = |on: &[FlightData], from: &[FlightData]| -> Option<Vec<f64>> {
-            let f = model_floor(model, &named(from), cfg).ok()?;
-            let e = rescaled(&f.model_error, &measured_noise, first);
-            Some(
-                compare_all(model, on, cfg, e)
-                    .iter()
-                    .map(Comparison::noise_units)
-                    .collect(),
-            )
+    let half = floors.len() / 2;
+    let units: Vec<f64> = if half >= 2 {
+        let (a, b): (Vec<usize>, Vec<usize>) = all.iter().partition(|&&k| k < half);
+        let held_out = |on: &[usize], from: &[usize]| -> Vec<f64> {
+            let e = rescaled(&pooled_floor(&floors, from), &measured_noise, first);
+            maker.compared(on, e).into_iter().map(|(u, _)| u).collect()
         };
-        let mut units = held_out(a, b)?;
-        units.extend(held_out(b, a)?);
+        let mut units = held_out(&a, &b);
+        units.extend(held_out(&b, &a));
         units
     } else {
-        compare_all(model, &flights, cfg, model_error)
-            .iter()
-            .map(Comparison::noise_units)
+        maker
+            .compared(&all, model_error)
+            .into_iter()
+            .map(|(u, _)| u)
             .collect()
     };
     let n = units.len() as f64;
@@ -165,31 +173,30 @@ pub fn error_floor(
     })
 }
 
-/// The flights as references for [`model_floor`].
-fn named(flights: &[FlightData]) -> Vec<(&str, &FlightData)> {
-    flights.iter().map(|f| ("draw", f)).collect()
-}
-
-/// `model` compared with each of `flights`, weighed by their noise and `model_error`.
-fn compare_all(
-    model: &Model,
-    flights: &[FlightData],
-    cfg: CompareConfig,
-    model_error: NoiseEstimate,
-) -> Vec<Comparison> {
-    let weighed = CompareConfig {
-        model_error: Some(model_error),
-        ..cfg
+/// The model's error of the draws `which`, from each draw's own: per axis the mean square
+/// over their samples ([`model_floor`]'s pooling of several references).
+fn pooled_floor(floors: &[ModelFloor], which: &[usize]) -> NoiseEstimate {
+    let total: f64 = which.iter().map(|&k| floors[k].samples as f64).sum();
+    let pool = |get: &dyn Fn(&NoiseEstimate) -> f64| -> f64 {
+        let sum: f64 = which
+            .iter()
+            .map(|&k| floors[k].samples as f64 * get(&floors[k].model_error).powi(2))
+            .sum();
+        (sum / total.max(1.0)).sqrt()
     };
-    flights
-        .par_iter()
-        .map(|f| compare(model, f, weighed))
-        .collect()
-}
-
-/// The mean of the comparisons' errors in noise units.
-fn mean_units(compared: &[Comparison]) -> f64 {
-    compared.iter().map(Comparison::noise_units).sum::<f64>() / compared.len().max(1) as f64
+    let three = |get: &dyn Fn(&NoiseEstimate) -> [f64; 3]| -> [f64; 3] {
+        std::array::from_fn(|i| pool(&|e| get(e)[i]))
+    };
+    NoiseEstimate {
+        pos_axes: three(&|e| e.pos_axes),
+        vel_axes: three(&|e| e.vel_axes),
+        att_axes: three(&|e| e.att_axes),
+        rate_axes: three(&|e| e.rate_axes),
+        accel_axes: three(&|e| e.accel_axes),
+        airspeed_mps: pool(&|e| e.airspeed_mps),
+        ..NoiseEstimate::default()
+    }
+    .with_rms()
 }
 
 /// The model error `e` that, added to the noise `white`, makes each axis's total deviation
@@ -209,8 +216,71 @@ fn rescaled(e: &NoiseEstimate, white: &NoiseEstimate, by: f64) -> NoiseEstimate 
     .with_rms()
 }
 
-/// `draws` synthetic flights of `model` along `data` with `errors` (module docs), from `seed`
-/// on; empty when the flight is too short for one window.
+/// Makes the draws of one flight (module docs): the model's path once, then each draw from
+/// it on demand.
+struct DrawMaker<'a> {
+    model: &'a Model,
+    errors: &'a SensorErrors,
+    cfg: CompareConfig,
+    seed: u64,
+    path: FlightData,
+    white: NoiseEstimate,
+}
+
+impl<'a> DrawMaker<'a> {
+    /// None when the flight is too short for one window.
+    fn new(
+        model: &'a Model,
+        data: &FlightData,
+        errors: &'a SensorErrors,
+        cfg: CompareConfig,
+        seed: u64,
+    ) -> Option<Self> {
+        let prep = Prepared::new(data, cfg);
+        if prep.windows.is_empty() {
+            return None;
+        }
+        let cmp = compare_prepared(model, &prep);
+        let path = model_path(data, &cmp, prep.measured.for_vehicle(model).attitude);
+        Some(Self {
+            model,
+            errors,
+            cfg,
+            seed,
+            path,
+            white: prep.measured_noise,
+        })
+    }
+
+    /// Draw `k`: the stated errors (its own seed) and the white noise topped up.
+    fn draw(&self, k: u64) -> FlightData {
+        let mut d = self.path.clone();
+        let s = draw_seed(self.seed, k);
+        self.errors.apply(&mut d, s);
+        top_up_white_noise(&mut d, &self.white, s);
+        d
+    }
+
+    /// Draws `which` compared with the model, weighed by their noise and `model_error`: each
+    /// one's error in noise units and its residual rows' sums.
+    fn compared(&self, which: &[usize], model_error: NoiseEstimate) -> Vec<(f64, AxisSums)> {
+        let weighed = CompareConfig {
+            model_error: Some(model_error),
+            ..self.cfg
+        };
+        which
+            .par_iter()
+            .map(|&k| {
+                let c = compare(self.model, &self.draw(k as u64), weighed);
+                (c.noise_units(), c.axis_sums())
+            })
+            .collect()
+    }
+}
+
+/// `draws` synthetic flights of `model` along `data` with `errors` (module docs), their seeds
+/// mixed from `seed`; empty when the flight is too short for one window. (All at once: for
+/// inspection and tests; [`error_floor`] makes them one at a time.)
 pub fn synthetic_flights(
     model: &Model,
     data: &FlightData,
@@ -219,28 +289,14 @@ pub fn synthetic_flights(
     draws: usize,
     seed: u64,
 ) -> Vec<FlightData> {
-    let prep = Prepared::new(
-        data,
-        CompareConfig {
-            model_error: None,
-            ..cfg
-        },
-    );
-    if prep.windows.is_empty() {
-        return Vec::new();
+    let cfg = CompareConfig {
+        model_error: None,
+        ..cfg
+    };
+    match DrawMaker::new(model, data, errors, cfg, seed) {
+        Some(maker) => (0..draws as u64).map(|k| maker.draw(k)).collect(),
+        None => Vec::new(),
     }
-    let cmp = compare_prepared(model, &prep);
-    let path = model_path(data, &cmp, prep.measured.for_vehicle(model).attitude);
-    (0..draws as u64)
-        .into_par_iter()
-        .map(|k| {
-            let mut d = path.clone();
-            let s = draw_seed(seed, k);
-            errors.apply(&mut d, s);
-            top_up_white_noise(&mut d, &prep.measured_noise, s);
-            d
-        })
-        .collect()
 }
 
 /// `data` with every compared sample replaced by the model's prediction `cmp` (attitude,
@@ -329,12 +385,11 @@ fn draw_seed(seed: u64, k: u64) -> u64 {
 /// of k degrees of freedom, so a factor estimated from a dozen draws is half the true one
 /// one time in ten; a factor too small makes a wandering error's mean pass for a cause
 /// (an attitude offset on a log whose attitude errors wander for a minute). At least 1.
-fn colour_of_sums(compared: &[Comparison]) -> [f64; MAX_ROWS] {
+fn colour_of_sums(compared: &[(f64, AxisSums)]) -> [f64; MAX_ROWS] {
     let k = compared.len().max(1) as f64;
     let bound = k / chi2_quantile(0.1, k);
     let (mut sum2, mut chi2) = ([0.0; MAX_ROWS], [0.0; MAX_ROWS]);
-    for c in compared {
-        let s = c.axis_sums();
+    for (_, s) in compared {
         for j in 0..MAX_ROWS {
             sum2[j] += s.sum[j] * s.sum[j];
             chi2[j] += s.chi2[j];
