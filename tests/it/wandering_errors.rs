@@ -69,7 +69,7 @@ fn an_unchanged_aircraft_reads_none_under_wandering_errors() {
     let dir = tempfile::tempdir().unwrap();
     let slow = slow_navigation(dir.path());
     for errors in ["independent", "ekf-gnss", slow.as_str()] {
-        let verdicts = unchanged_verdicts(dir.path(), errors, 101..103);
+        let verdicts = unchanged_verdicts(dir.path(), errors, 101..102);
         assert!(
             verdicts.iter().all(|v| v == "none"),
             "{errors}: {verdicts:?}"

@@ -102,10 +102,6 @@ pub fn error_floor(
     draws: usize,
     seed: u64,
 ) -> Option<ErrorFloor> {
-    let cfg = CompareConfig {
-        model_error: None,
-        ..cfg
-    };
     let maker = DrawMaker::new(model, data, errors, cfg, seed)?;
     // Each draw's own floor: the pooled one and each half's are averages of these.
     let floors: Vec<ModelFloor> = (0..draws as u64)
@@ -236,6 +232,12 @@ impl<'a> DrawMaker<'a> {
         cfg: CompareConfig,
         seed: u64,
     ) -> Option<Self> {
+        // The draws are compared with the model as on the flight, weighed by their own noise
+        // unless a pass says otherwise.
+        let cfg = CompareConfig {
+            model_error: None,
+            ..cfg
+        };
         let prep = Prepared::new(data, cfg);
         if prep.windows.is_empty() {
             return None;
@@ -289,10 +291,6 @@ pub fn synthetic_flights(
     draws: usize,
     seed: u64,
 ) -> Vec<FlightData> {
-    let cfg = CompareConfig {
-        model_error: None,
-        ..cfg
-    };
     match DrawMaker::new(model, data, errors, cfg, seed) {
         Some(maker) => (0..draws as u64).map(|k| maker.draw(k)).collect(),
         None => Vec::new(),
